@@ -1,0 +1,21 @@
+// The armfault subcommands. Each returns the process exit status:
+// 0 success, 1 a floor missed, 2 invalid input or usage, 3 some runs failed.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace armfault {
+
+struct TraceOptions {
+  std::string run_file;                 // empty: thesis experiment 1
+  std::string robot;                    // overrides the file's robot (preset name)
+  double duration_s = -1;               // < 0: keep
+  long long seed = -1;                  // < 0: keep
+  std::vector<std::string> joint_specs; // "J=<trajectory JSON>"
+  std::string output = "trace.csv";
+  bool quiet = false;
+};
+int RunTrace(const TraceOptions& options);
+
+}  // namespace armfault

@@ -1,0 +1,104 @@
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+
+#include "app/commands.h"
+#include "core/json_input.h"
+#include "core/run_config.h"
+#include "core/simulation.h"
+#include "reports/trace_csv.h"
+
+namespace armfault {
+
+namespace {
+
+// Tracking and current statistics gathered from the ticks, for the printed summary.
+struct JointStats {
+  double sum_sq_error = 0, max_error = 0, peak_cmd = 0, sum_sq_cmd = 0;
+  long count = 0;
+};
+
+nlohmann::json BuildRunJson(const TraceOptions& o, InputContext* context) {
+  nlohmann::json run;
+  if (o.run_file.empty()) {
+    run = ThesisExperiment1Json();
+    const bool overridden = !o.robot.empty() || o.duration_s >= 0 || o.seed >= 0 || !o.joint_specs.empty();
+    context->source = overridden ? "<command line>" : "<thesis experiment 1>";
+  } else {
+    run = ReadJsonFile(o.run_file);
+    context->source = o.run_file;
+    context->base_dir = std::filesystem::path(o.run_file).parent_path().string();
+    if (context->base_dir.empty()) context->base_dir = ".";
+    if (!run.is_object()) throw InputError(o.run_file, "", "expected a JSON object describing a run");
+  }
+  if (!o.robot.empty()) run["robot"] = o.robot;
+  if (o.duration_s >= 0) run["duration_s"] = o.duration_s;
+  if (o.seed >= 0) run["seed"] = o.seed;
+  for (const std::string& spec : o.joint_specs) {
+    const auto eq = spec.find('=');
+    if (eq == std::string::npos || eq == 0) {
+      throw InputError("--joint", "", "expected J=<trajectory JSON>, got \"" + spec + "\"");
+    }
+    run["joints"][spec.substr(0, eq)] = ParseJsonText(spec.substr(eq + 1), "--joint " + spec.substr(0, eq));
+  }
+  return run;
+}
+
+}  // namespace
+
+int RunTrace(const TraceOptions& o) {
+  InputContext context;
+  const RunConfig run = RunConfigFromJson(BuildRunJson(o, &context), "", context);
+  const ArmModel model(run.robot);
+  const int n = model.joint_count();
+
+  std::ofstream file(o.output, std::ios::binary);
+  if (!file) throw InputError(o.output, "", "cannot open the trace file for writing");
+  TraceCsvWriter writer(&file, n);
+  std::vector<JointStats> stats(n);
+  const RunResult result = Simulate(model, MakeRunSpec(run), [&](const Tick& tick) {
+    writer.Write(tick);
+    for (int j = 0; j < n; ++j) {
+      const JointTick& jt = (*tick.joints)[j];
+      const double err = (jt.q_rad - jt.q_ref_rad) * 180.0 / M_PI;
+      JointStats& s = stats[j];
+      s.sum_sq_error += err * err;
+      s.max_error = std::max(s.max_error, std::fabs(err));
+      s.peak_cmd = std::max(s.peak_cmd, std::fabs(jt.i_cmd_A));
+      s.sum_sq_cmd += jt.i_cmd_A * jt.i_cmd_A;
+      ++s.count;
+    }
+  });
+  file.close();
+  if (!file) throw InputError(o.output, "", "error while writing the trace file");
+
+  if (!o.quiet) {
+    std::printf("run: robot %s, %.3g s, seed %llu -> %s\n", run.robot.name.c_str(), run.duration_s,
+                static_cast<unsigned long long>(run.seed), o.output.c_str());
+    std::printf("%-5s %12s %12s %10s %10s %10s %10s %10s %10s\n", "joint", "rms_err_deg", "max_err_deg",
+                "peak_i_A", "rms_i_A", "supply_J", "copper_J", "friction_J", "mech_out_J");
+    double supply = 0, losses = 0;
+    for (int j = 0; j < n; ++j) {
+      const JointStats& s = stats[j];
+      const JointEnergy& e = result.energy[j];
+      std::printf("%-5d %12.4f %12.4f %10.3f %10.3f %10.3f %10.3f %10.3f %10.3f\n", j + 1,
+                  std::sqrt(s.sum_sq_error / std::max(1L, s.count)), s.max_error, s.peak_cmd,
+                  std::sqrt(s.sum_sq_cmd / std::max(1L, s.count)), e.supply_J, e.copper_J, e.friction_J,
+                  e.mech_out_J);
+      supply += e.supply_J;
+      losses += e.copper_J + e.inverter_J + e.quiescent_J + e.friction_J + e.magnetic_J;
+    }
+    const double stored = (result.kinetic_end_J - result.kinetic_start_J) + (result.potential_end_J - result.potential_start_J);
+    std::printf("energy balance: supply %.4f J = stored %.4f J + losses %.4f J; residual %.4f J (%.3f %% of supply)\n",
+                supply, stored, losses, supply - stored - losses, 100.0 * (supply - stored - losses) / supply);
+  }
+  if (!result.ok) {
+    std::fprintf(stderr, "armfault: run failed: %s\n", result.failure_reason.c_str());
+    return 3;
+  }
+  return 0;
+}
+
+}  // namespace armfault

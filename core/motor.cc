@@ -1,0 +1,180 @@
+#include "core/motor.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace armfault {
+
+namespace {
+
+constexpr double kSixth = M_PI / 3.0;
+constexpr double kTwelfth = M_PI / 6.0;
+
+double WrapAngle(double theta) {
+  double w = std::fmod(theta, 2.0 * M_PI);
+  return w < 0 ? w + 2.0 * M_PI : w;
+}
+
+// Conducting pair for positive torque in each 60-degree sector starting at 30 deg:
+// the phase on its +1 plateau is high, the one on its -1 plateau is low.
+constexpr int kHigh[6] = {0, 0, 1, 1, 2, 2};
+constexpr int kLow[6] = {1, 2, 2, 0, 0, 1};
+
+int Sector(double theta_e) {
+  int k = static_cast<int>(std::floor(WrapAngle(theta_e - kTwelfth) / kSixth));
+  return std::clamp(k, 0, 5);
+}
+
+}  // namespace
+
+double BackEmfShape(double theta_e) {
+  double t = WrapAngle(theta_e);
+  if (t < kTwelfth) return t / kTwelfth;
+  if (t <= 5 * kTwelfth) return 1.0;
+  if (t < 7 * kTwelfth) return 1.0 - (t - 5 * kTwelfth) / kTwelfth;
+  if (t <= 11 * kTwelfth) return -1.0;
+  return -1.0 + (t - 11 * kTwelfth) / kTwelfth;
+}
+
+DriveConstants MakeDriveConstants(const ModuleParams& m, double substep_s) {
+  DriveConstants c;
+  c.substep_s = substep_s;
+  c.kt_Nm_per_A = m.motor.kt_Nm_per_A;
+  c.resistance_ohm = m.motor.phase_resistance_ohm;
+  c.inductance_H = m.motor.phase_inductance_H;
+  c.pole_pairs = m.motor.pole_pairs;
+  c.decay = std::exp(-c.resistance_ohm * substep_s / c.inductance_H);
+  const double wc = 2.0 * M_PI * m.inverter.current_loop_bandwidth_Hz;
+  c.kp_V_per_A = 2.0 * c.inductance_H * wc;
+  c.ki_V_per_A_s = 2.0 * c.resistance_ohm * wc;
+  c.inverter = m.inverter;
+  return c;
+}
+
+void StepDrive(const DriveConstants& c, const HardwareCondition& cond, const DriveInputs& in,
+               int substeps, DriveState* s, DriveOutputs* out) {
+  const double h = c.substep_s;
+  const double ud = c.inverter.bus_voltage_V;
+  const double vd = c.inverter.diode_drop_V;
+  const double ke = 0.5 * c.kt_Nm_per_A * cond.kt_factor;  // per-phase back-EMF constant
+  const double r = c.resistance_ohm * cond.resistance_factor;
+  const double decay = cond.resistance_factor == 1.0 ? c.decay : std::exp(-r * h / c.inductance_H);
+  const double sw_loss_per_A = ud * c.inverter.switching_time_s * c.inverter.pwm_frequency_Hz;
+  const double omega = in.motor_speed_rad_s;
+  const bool driving = in.enabled && !s->tripped;
+  const double command = driving ? in.current_command_A : 0.0;
+  const double reference = std::fabs(command);
+  if (!driving) s->pi_integral_V = 0.0;
+
+  double torque_sum = 0, p_rail = 0, p_copper = 0, p_emf = 0, p_switch = 0, p_diode = 0;
+  double peak = 0;
+  std::array<double, 3>& i = s->phase_current_A;
+  const double stored0 = i[0] * i[0] + i[1] * i[1] + i[2] * i[2];
+
+  for (int k = 0; k < substeps; ++k) {
+    const double theta_m = in.motor_angle_rad + omega * (k + 0.5) * h;
+    const double theta_e = c.pole_pairs * theta_m;
+    std::array<double, 3> shape = {BackEmfShape(theta_e), BackEmfShape(theta_e - 2.0 * M_PI / 3.0),
+                                   BackEmfShape(theta_e - 4.0 * M_PI / 3.0)};
+    std::array<double, 3> emf;
+    for (int x = 0; x < 3; ++x) emf[x] = ke * omega * shape[x];
+
+    // Leg voltages (relative to the negative rail) and which legs conduct.
+    std::array<double, 3> v{};      // terminal voltage
+    std::array<double, 3> rail{};   // the rail voltage the leg current is exchanged with
+    std::array<bool, 3> known{};    // terminal voltage is imposed (switch or diode conducting)
+    std::array<bool, 3> switched{};
+    int high = -1, low = -1;
+    if (driving) {
+      int sector = Sector(theta_e);
+      high = kHigh[sector];
+      low = kLow[sector];
+      if (command < 0) std::swap(high, low);
+      const double error = reference - i[high];
+      double u = c.kp_V_per_A * error + s->pi_integral_V;
+      u = std::clamp(u, -ud, ud);
+      s->pi_integral_V = std::clamp(s->pi_integral_V + c.ki_V_per_A_s * error * h, -ud, ud);
+      v[high] = rail[high] = 0.5 * (ud + u);
+      v[low] = rail[low] = 0.5 * (ud - u);
+      known[high] = known[low] = switched[high] = switched[low] = true;
+    }
+    for (int x = 0; x < 3; ++x) {
+      if (switched[x] || i[x] == 0.0) continue;
+      // Off leg still carrying current: a freewheeling diode conducts.
+      known[x] = true;
+      if (i[x] > 0) {  // current into the motor comes up through the low-side diode
+        v[x] = -vd;
+        rail[x] = 0.0;
+      } else {  // current out of the motor returns to the bus through the high-side diode
+        v[x] = ud + vd;
+        rail[x] = ud;
+      }
+    }
+
+    int n_known = 0;
+    double sum = 0;
+    for (int x = 0; x < 3; ++x) {
+      if (!known[x]) continue;
+      ++n_known;
+      sum += v[x] - r * i[x] - emf[x];
+    }
+    std::array<double, 3> i_new = {0, 0, 0};
+    if (n_known >= 2) {
+      const double vn = sum / n_known;  // star point: keeps sum i = 0
+      for (int x = 0; x < 3; ++x) {
+        if (!known[x]) continue;
+        i_new[x] = i[x] * decay + (v[x] - vn - emf[x]) / r * (1.0 - decay);
+      }
+      // A freewheeling current stops at zero (the diode blocks); the residual goes to the
+      // conducting legs so that the star-point current law still holds.
+      double residual = 0;
+      int n_switched = 0;
+      for (int x = 0; x < 3; ++x) {
+        if (known[x] && !switched[x] && i_new[x] * i[x] < 0) {
+          residual += i_new[x];
+          i_new[x] = 0.0;
+        }
+        if (switched[x]) ++n_switched;
+      }
+      if (residual != 0.0 && n_switched > 0) {
+        for (int x = 0; x < 3; ++x) {
+          if (switched[x]) i_new[x] += residual / n_switched;
+        }
+      }
+    }
+
+    for (int x = 0; x < 3; ++x) {
+      const double i_mid = 0.5 * (i[x] + i_new[x]);
+      const double i_sq = (i[x] * i[x] + i[x] * i_new[x] + i_new[x] * i_new[x]) / 3.0;
+      torque_sum += ke * shape[x] * i_mid;
+      p_emf += emf[x] * i_mid;
+      p_copper += r * i_sq;
+      if (known[x]) p_rail += rail[x] * i_mid;
+      if (switched[x]) {
+        p_switch += c.inverter.switch_resistance_ohm * i_sq + sw_loss_per_A * std::fabs(i_mid);
+      } else if (known[x]) {
+        p_diode += vd * std::fabs(i_mid);
+      }
+      peak = std::max(peak, std::fabs(i_new[x]));
+    }
+    i = i_new;
+  }
+
+  const double inv_n = 1.0 / substeps;
+  const double stored1 = i[0] * i[0] + i[1] * i[1] + i[2] * i[2];
+  out->torque_Nm = torque_sum * inv_n;
+  out->p_copper_W = p_copper * inv_n;
+  out->p_emf_W = p_emf * inv_n;
+  out->p_magnetic_W = 0.5 * c.inductance_H * (stored1 - stored0) / (substeps * h);
+  out->p_inverter_W = (p_switch + p_diode) * inv_n;
+  out->p_quiescent_W = c.inverter.quiescent_power_W;
+  // Bus side: the averaged legs exchange rail voltage x current with the bus; switch losses
+  // come on top (the averaged leg voltage is ideal). Diode drops are paid by the motor side
+  // (the terminal sits beyond the rail), so they are inside the rail power already.
+  out->p_supply_W = (p_rail + p_switch) * inv_n + out->p_quiescent_W;
+  out->peak_phase_current_A = peak;
+  out->phase_current_A = i;
+  out->supply_current_A = out->p_supply_W / ud;
+}
+
+}  // namespace armfault

@@ -1,0 +1,155 @@
+// Robot description as plain data: joint modules (motor, inverter, harmonic drive, friction,
+// brake, torque sensor, encoder, controller gains) and links. Parsed strictly from JSON,
+// validated right after parsing, and shipped as presets ("mrr-config1").
+//
+// Conventions: SI units; "motor side" quantities act on the motor shaft, "link side" on the
+// joint output; angles in JSON are degrees, inside the code radians. Geometry is given in
+// the world frame at the zero pose (all joint angles 0), z up.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace armfault {
+
+// Brushless DC motor, three phases in star, trapezoidal back-EMF (thesis eq 4-1 ... 4-3).
+struct MotorParams {
+  double kt_Nm_per_A = 0.165;           // torque constant = line back-EMF constant [V s/rad]
+  double phase_resistance_ohm = 0.6;    // per phase (assumption, docs/assumptions.md)
+  double phase_inductance_H = 0.4e-3;   // per phase (assumption)
+  double pole_pairs = 3;                // (assumption)
+  double rotor_inertia_kg_m2 = 3.46e-5; // thesis table 5-2
+};
+
+// Inverter (driver power stage) fed from the DC bus, with its current loop.
+struct InverterParams {
+  double bus_voltage_V = 70.0;             // thesis table 5-1
+  double current_per_volt_A_per_V = 4.0;   // driver conversion factor, thesis table 5-1
+  double command_limit_A = 6.0;            // DAC range 0..3 V around 1.5 V: +-1.5 V x 4 A/V
+  double current_loop_bandwidth_Hz = 1500; // PI current loop crossover (assumption)
+  double switch_resistance_ohm = 0.03;     // MOSFET on-resistance per switch (assumption)
+  double switching_time_s = 100e-9;        // rise + fall time per transition (assumption)
+  double pwm_frequency_Hz = 20000;         // (assumption)
+  double diode_drop_V = 0.8;               // freewheeling diode forward drop (assumption)
+  double quiescent_power_W = 2.0;          // driver logic, DSP, sensors (assumption)
+  double overcurrent_trip_A = 20.0;        // over-current protection threshold (assumption)
+  double supply_current_noise_A = 0.005;   // supply-current sensor noise, 1 sigma (assumption)
+};
+
+// Harmonic drive: rigid ratio plus a load-dependent mesh loss (torque-proportional friction
+// of the wave generator and flexspline), which the controller's friction model does not know.
+struct HarmonicDriveParams {
+  double ratio = 101.0;               // thesis table 5-1
+  double mesh_loss_fraction = 0.10;   // Coulomb-like loss = fraction x |transmitted torque| (assumption)
+};
+
+// Friction on the motor shaft, thesis eq 3-8, as a function of the link velocity q_dot
+// (the thesis's DSP code evaluates it that way):
+//   f = b q_dot + (F_c + F_s exp(-F_t q_dot^2)) sat(q_dot)   [N m, motor side]
+struct FrictionParams {
+  double viscous_Nm_s_per_rad = 0.00124;  // b, table 5-2
+  double coulomb_Nm = 0.025;              // F_c, table 5-2
+  double static_Nm = 0.027;               // F_s, table 5-2
+  double stribeck_s2_per_rad2 = 15.0;     // F_t, table 5-2
+};
+
+// Power-off brake on the motor shaft: engaged when unpowered.
+struct BrakeParams {
+  double holding_torque_Nm = 0.5;  // motor side (assumption: x101 = 50 N m at the link)
+};
+
+// Strain-gauge joint torque sensor on the harmonic-drive output with amplifier and ADC.
+// Reading chain: V = center_V + (tau - offset_Nm) * (adc_range_V/2) / full_scale_Nm + noise,
+// clipped to [0, adc_range_V], quantised to adc_bits; mapped back with the thesis formula
+// tau = full_scale_Nm (V - center_V) / (adc_range_V/2) + offset_Nm.
+struct TorqueSensorParams {
+  double full_scale_Nm = 28.0;
+  double offset_Nm = 3.5077;
+  double adc_range_V = 3.0;
+  double adc_bits = 12;
+  double noise_Nm = 0.03;   // 1 sigma at the amplifier output, in N m (assumption)
+};
+
+// Incremental encoder on the motor shaft.
+struct EncoderParams {
+  double counts_per_rev = 2540;  // thesis DSP code: pi/1270 rad per count
+};
+
+// The thesis joint controller (appendix C), run at rate_Hz.
+struct ControllerParams {
+  double rate_Hz = 500;
+  double lambda_per_s = 70;          // error-mixing gain
+  double kp_adaptive = 1e-3;         // K_P of the parametric term
+  double ku_robust_Nm = 0.025;       // K_u
+  double epsilon_robust = 0.1;       // boundary layer of the robust term
+  double kt_hat_Nm_per_A = 0.167;    // the controller's torque constant
+  double b_hat = 0.002728;           // friction model in the controller (motor side, link velocity)
+  double fc_hat_Nm = 0.02558;
+  double fs_hat_Nm = 0.027;
+  double ft_hat = 15.0;
+  double im_hat_kg_m2 = 3.46e-5;
+  double torque_filter_rad_s = 50;   // torque-sensor low-pass cut-off
+  double velocity_window = 16;       // max samples of the adaptive backward difference
+  double velocity_min_counts = 8;    // counts that end the adaptive window early
+};
+
+struct ModuleParams {
+  std::string type = "MRR2";
+  double min_angle_deg = -120.0;
+  double max_angle_deg = 120.0;
+  MotorParams motor;
+  InverterParams inverter;
+  HarmonicDriveParams drive;
+  FrictionParams friction;
+  BrakeParams brake;
+  TorqueSensorParams torque_sensor;
+  EncoderParams encoder;
+  ControllerParams controller;
+};
+
+// Link i follows joint i. It starts at the joint anchor and extends along `direction` by
+// length_m; joint i+1 sits at its end. Mass properties: a solid cylinder of radius_m unless
+// inertia_kg_m2 gives the principal moments about the centre of mass (about the link
+// direction and two perpendicular axes).
+struct LinkParams {
+  double mass_kg = 1.0;
+  double length_m = 0.2;
+  double radius_m = 0.04;
+  double com_fraction = 0.5;                  // centre of mass along the link, 0 = joint end
+  std::array<double, 3> direction = {1, 0, 0};
+  std::array<double, 3> joint_axis = {0, 1, 0};
+  bool has_inertia = false;
+  std::array<double, 3> inertia_kg_m2 = {0, 0, 0};  // (along, perp1, perp2)
+};
+
+struct RobotConfig {
+  std::string name = "custom";
+  std::vector<ModuleParams> modules;   // one per joint, base first
+  std::vector<LinkParams> links;       // one per joint
+  std::array<double, 3> base_position_m = {0, 0, 0};
+  double payload_kg = 0.0;             // point mass at the end of the last link
+  double gravity_m_s2 = 9.81;
+  double physics_rate_Hz = 1000;
+  int electrical_substeps = 20;        // per physics step; 20 at 1 kHz = 50 us << L/R
+};
+
+// Module defaults by type ("MRR1", "MRR2"); throws InputError for an unknown type.
+ModuleParams ModuleDefaults(const std::string& type, const std::string& pointer);
+
+// Robot presets ("mrr-config1", "pendulum"). Throws InputError naming the known presets.
+RobotConfig RobotPreset(const std::string& name, const std::string& pointer = "");
+std::vector<std::string> RobotPresetNames();
+
+// A robot from JSON: a preset name (string), or an object {"name", "modules", "links", ...};
+// each module starts from its type's defaults and overrides the fields given.
+// Unknown keys and out-of-range values throw InputError with their JSON pointer.
+RobotConfig RobotFromJson(const nlohmann::json& value, const std::string& pointer);
+nlohmann::json RobotToJson(const RobotConfig& robot);
+
+// Cross-field checks (counts match, directions non-zero, ...); throws InputError.
+void Validate(const RobotConfig& robot, const std::string& pointer);
+
+}  // namespace armfault

@@ -1,0 +1,43 @@
+// One run as data: the robot, a duration, a seed and a reference trajectory per joint.
+// JSON shape (the same "joints" object as a campaign's trajectories):
+//   {"robot": "mrr-config1", "duration_s": 10, "seed": 1,
+//    "joints": {"3": {"type": "sine_pair", "amplitude_deg": 25, "omega_rad_s": 1.2732}}}
+// Joints are numbered from 1 at the base; a joint without a trajectory holds its angle.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <map>
+#include <memory>
+#include <string>
+
+#include "core/robot_config.h"
+#include "core/simulation.h"
+#include "core/trajectory.h"
+
+namespace armfault {
+
+struct RunConfig {
+  RobotConfig robot;
+  double duration_s = 10.0;
+  uint64_t seed = 1;
+  std::map<int, std::shared_ptr<const Trajectory>> trajectories;  // key: joint number (1-based)
+  nlohmann::json trajectories_json = nlohmann::json::object();    // as given, for records
+};
+
+// Parses the "joints" object of a run or campaign trajectory and checks each trajectory
+// against the joint's range over [0, duration_s]. Throws InputError with JSON pointers.
+std::map<int, std::shared_ptr<const Trajectory>> JointTrajectoriesFromJson(
+    const nlohmann::json& joints, const std::string& pointer, const RobotConfig& robot, double duration_s,
+    const InputContext& context);
+
+RunConfig RunConfigFromJson(const nlohmann::json& value, const std::string& pointer, const InputContext& context);
+
+// Thesis experiment 1: mrr-config1, the top joint on sine_pair 25 deg at 8/(2 pi) rad/s, 10 s.
+RunConfig ThesisExperiment1();
+nlohmann::json ThesisExperiment1Json();
+
+// The RunSpec for Simulate(): trajectories in joint order.
+RunSpec MakeRunSpec(const RunConfig& run);
+
+}  // namespace armfault

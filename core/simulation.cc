@@ -1,0 +1,450 @@
+#include "core/simulation.h"
+
+#include <ode/ode.h>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "core/brake.h"
+#include "core/encoder.h"
+#include "core/friction.h"
+#include "core/json_input.h"
+#include "core/ode_runtime.h"
+#include "core/rng.h"
+#include "core/torque_sensor.h"
+
+namespace armfault {
+
+namespace {
+
+constexpr double kMaxLinkSpeed_rad_s = 100.0;  // far beyond any drive: the run has diverged
+
+Eigen::Vector3d Vec(const std::array<double, 3>& a) { return Eigen::Vector3d(a[0], a[1], a[2]); }
+
+// Inertia of a link about its centre of mass in zero-pose world axes.
+Eigen::Matrix3d LinkInertia(const LinkParams& l, const Eigen::Vector3d& dir, const Eigen::Vector3d& axis) {
+  double along, perp1, perp2;
+  if (l.has_inertia) {
+    along = l.inertia_kg_m2[0];
+    perp1 = l.inertia_kg_m2[1];
+    perp2 = l.inertia_kg_m2[2];
+  } else {  // solid cylinder
+    along = 0.5 * l.mass_kg * l.radius_m * l.radius_m;
+    perp1 = perp2 = l.mass_kg * (3.0 * l.radius_m * l.radius_m + l.length_m * l.length_m) / 12.0;
+  }
+  // perp1 along the joint axis component orthogonal to the link, perp2 completes the frame.
+  Eigen::Vector3d e1 = axis - axis.dot(dir) * dir;
+  if (e1.norm() < 1e-9) e1 = dir.unitOrthogonal();
+  e1.normalize();
+  const Eigen::Vector3d e2 = dir.cross(e1);
+  return along * dir * dir.transpose() + perp1 * e1 * e1.transpose() + perp2 * e2 * e2.transpose();
+}
+
+Eigen::Matrix3d PointInertia(double mass, const Eigen::Vector3d& r) {
+  return mass * (r.squaredNorm() * Eigen::Matrix3d::Identity() - r * r.transpose());
+}
+
+Eigen::Vector3d ToEigen(const dReal* v) { return Eigen::Vector3d(v[0], v[1], v[2]); }
+
+// The ODE side of one run: its own world and threading implementation, bodies and hinges.
+class OdeWorld {
+ public:
+  OdeWorld(const ArmModel& model, const std::vector<double>& q0, const std::vector<double>& qd0) {
+    EnsureOdeThreadData();
+    world_ = dWorldCreate();
+    const double g = model.config().gravity_m_s2;
+    dWorldSetGravity(world_, 0, 0, -g);
+    threading_ = dThreadingAllocateSelfThreadedImplementation();
+    dWorldSetStepThreadingImplementation(world_, dThreadingImplementationGetFunctions(threading_), threading_);
+
+    const int n = model.joint_count();
+    bodies_.resize(n);
+    joints_.resize(n);
+    feedback_.resize(n);
+    // Forward kinematics at the initial angles: X_i = X_{i-1} o (rotation about joint i).
+    Eigen::Matrix3d rot = Eigen::Matrix3d::Identity();
+    Eigen::Vector3d trans = Eigen::Vector3d::Zero();
+    Eigen::Vector3d omega = Eigen::Vector3d::Zero();
+    std::vector<Eigen::Vector3d> anchors(n), axes(n);
+    for (int i = 0; i < n; ++i) {
+      const JointModel& jm = model.joint(i);
+      anchors[i] = rot * jm.anchor_m + trans;
+      axes[i] = rot * jm.axis;
+      const Eigen::Matrix3d q_rot = Eigen::AngleAxisd(q0[i], jm.axis).toRotationMatrix();
+      trans = rot * (jm.anchor_m - q_rot * jm.anchor_m) + trans;
+      rot = rot * q_rot;
+      omega += qd0[i] * axes[i];
+
+      dBodyID b = dBodyCreate(world_);
+      dMass mass;
+      const Eigen::Matrix3d& I = jm.inertia_kg_m2;
+      dMassSetParameters(&mass, jm.mass_kg, 0, 0, 0, I(0, 0), I(1, 1), I(2, 2), I(0, 1), I(0, 2), I(1, 2));
+      dBodySetMass(b, &mass);
+      const Eigen::Vector3d com = rot * jm.com_m + trans;
+      dBodySetPosition(b, com.x(), com.y(), com.z());
+      dMatrix3 R;
+      for (int r = 0; r < 3; ++r) {
+        for (int c = 0; c < 3; ++c) R[4 * r + c] = rot(r, c);
+        R[4 * r + 3] = 0;
+      }
+      dBodySetRotation(b, R);
+      Eigen::Vector3d v = Eigen::Vector3d::Zero();
+      for (int k = 0; k <= i; ++k) v += qd0[k] * axes[k].cross(com - anchors[k]);
+      dBodySetLinearVel(b, v.x(), v.y(), v.z());
+      dBodySetAngularVel(b, omega.x(), omega.y(), omega.z());
+      bodies_[i] = b;
+
+      dJointID j = dJointCreateHinge(world_, nullptr);
+      // Child first: the hinge rate is then (omega_child - omega_parent) . axis and the
+      // hinge torque acts positively on the child.
+      dJointAttach(j, b, i == 0 ? nullptr : bodies_[i - 1]);
+      dJointSetHingeAnchor(j, anchors[i].x(), anchors[i].y(), anchors[i].z());
+      dJointSetHingeAxis(j, axes[i].x(), axes[i].y(), axes[i].z());
+      dJointSetFeedback(j, &feedback_[i]);
+      joints_[i] = j;
+    }
+  }
+  ~OdeWorld() {
+    dWorldDestroy(world_);  // destroys its bodies and joints
+    dThreadingFreeImplementation(threading_);
+  }
+  OdeWorld(const OdeWorld&) = delete;
+  OdeWorld& operator=(const OdeWorld&) = delete;
+
+  dWorldID world() const { return world_; }
+  dBodyID body(int i) const { return bodies_[i]; }
+  dJointID joint(int i) const { return joints_[i]; }
+  const dJointFeedback& feedback(int i) const { return feedback_[i]; }
+
+  double KineticEnergy() const {
+    double e = 0;
+    for (dBodyID b : bodies_) {
+      dMass m;
+      dBodyGetMass(b, &m);
+      const Eigen::Vector3d v = ToEigen(dBodyGetLinearVel(b));
+      Eigen::Vector3d w_world = ToEigen(dBodyGetAngularVel(b));
+      dVector3 w_body;
+      dBodyVectorFromWorld(b, w_world.x(), w_world.y(), w_world.z(), w_body);
+      Eigen::Matrix3d I;
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) I(r, c) = m.I[4 * r + c];
+      const Eigen::Vector3d wb = ToEigen(w_body);
+      e += 0.5 * m.mass * v.squaredNorm() + 0.5 * wb.dot(I * wb);
+    }
+    return e;
+  }
+  double PotentialEnergy(double g) const {
+    double e = 0;
+    for (dBodyID b : bodies_) {
+      dMass m;
+      dBodyGetMass(b, &m);
+      e += m.mass * g * dBodyGetPosition(b)[2];
+    }
+    return e;
+  }
+
+ private:
+  dWorldID world_ = nullptr;
+  dThreadingImplementationID threading_ = nullptr;
+  std::vector<dBodyID> bodies_;
+  std::vector<dJointID> joints_;
+  std::vector<dJointFeedback> feedback_;
+};
+
+// Per-joint data of one run.
+struct JointRuntime {
+  DriveState drive;
+  ControllerState controller;
+  Rng rng{0};
+  double q_initial = 0;
+  double q = 0, qd = 0;
+  double tau_transmitted = 0;  // latest true transmitted torque
+  double drive_torque = 0;     // ratio x motor torque applied in the current physics step
+  double viscous_torque = 0;   // viscous friction torque of the current physics step
+  double axis_omega_before = 0;  // child angular velocity along the axis before the step
+  double i_cmd = 0;
+  int last_adc_code = 0;
+  bool brake_engaged = false;
+  bool driver_enabled = true;
+  bool limit_stop = false;
+  // sums over the current control period
+  double sum_supply = 0, sum_copper = 0, sum_inverter = 0, sum_quiescent = 0, sum_friction = 0;
+  double sum_mech = 0, sum_emf = 0, sum_magnetic = 0, peak_current = 0;
+  std::array<double, 3> phase_current{};
+};
+
+double WrapPi(double a) { return std::remainder(a, 2.0 * M_PI); }
+
+std::string FormatFailure(double t, int joint, const std::string& what, double value) {
+  std::ostringstream s;
+  s << "simulation diverged at t=" << t << " s: joint " << joint + 1 << " " << what << " " << value;
+  return s.str();
+}
+
+}  // namespace
+
+ArmModel::ArmModel(RobotConfig config) : config_(std::move(config)) {
+  Validate(config_, "");
+  physics_dt_s_ = 1.0 / config_.physics_rate_Hz;
+  const double rate = config_.modules[0].controller.rate_Hz;
+  for (size_t i = 1; i < config_.modules.size(); ++i) {
+    if (config_.modules[i].controller.rate_Hz != rate) {
+      throw InputError("", "/modules/" + std::to_string(i) + "/controller/rate_Hz",
+                       "all joint controllers must run at the same rate (" + std::to_string(rate) + " Hz)");
+    }
+  }
+  steps_per_tick_ = static_cast<int>(std::lround(config_.physics_rate_Hz / rate));
+  const double substep = physics_dt_s_ / config_.electrical_substeps;
+
+  Eigen::Vector3d anchor = Vec(config_.base_position_m);
+  const int n = static_cast<int>(config_.modules.size());
+  for (int i = 0; i < n; ++i) {
+    const ModuleParams& m = config_.modules[i];
+    const LinkParams& l = config_.links[i];
+    JointModel jm;
+    jm.params = m;
+    jm.drive = MakeDriveConstants(m, substep);
+    jm.controller = MakeControllerConstants(m);
+    jm.ratio = m.drive.ratio;
+    jm.reflected_rotor_inertia_kg_m2 = m.motor.rotor_inertia_kg_m2 * m.drive.ratio * m.drive.ratio;
+    jm.axis = Vec(l.joint_axis).normalized();
+    const Eigen::Vector3d dir = Vec(l.direction).normalized();
+    jm.anchor_m = anchor;
+    const Eigen::Vector3d end = anchor + l.length_m * dir;
+    Eigen::Vector3d com = anchor + l.com_fraction * l.length_m * dir;
+    Eigen::Matrix3d inertia = LinkInertia(l, dir, jm.axis);
+    double mass = l.mass_kg;
+    if (i == n - 1 && config_.payload_kg > 0) {
+      const double mp = config_.payload_kg;
+      const Eigen::Vector3d c = (mass * com + mp * end) / (mass + mp);
+      inertia += PointInertia(mass, com - c) + PointInertia(mp, end - c);
+      mass += mp;
+      com = c;
+    }
+    // The rotor spins ratio times faster than the link: it adds I_m ratio^2 about the axis.
+    inertia += jm.reflected_rotor_inertia_kg_m2 * jm.axis * jm.axis.transpose();
+    jm.mass_kg = mass;
+    jm.com_m = com;
+    jm.inertia_kg_m2 = inertia;
+    joints_.push_back(jm);
+    anchor = end;
+  }
+}
+
+RunResult Simulate(const ArmModel& model, const RunSpec& spec, const TickObserver& observer) {
+  const int n = model.joint_count();
+  std::vector<JointRunOptions> options = spec.joints;
+  if (options.empty()) options.resize(n);
+  if (static_cast<int>(options.size()) != n) {
+    throw InputError("", "", "the run specifies " + std::to_string(options.size()) + " joints, the robot has " +
+                                 std::to_string(n));
+  }
+  std::vector<double> q0(n), qd0(n);
+  std::vector<JointRuntime> rt(n);
+  for (int j = 0; j < n; ++j) {
+    const JointRunOptions& o = options[j];
+    q0[j] = o.has_initial_angle ? o.initial_angle_rad : (o.trajectory ? o.trajectory->At(0).q_rad : 0.0);
+    qd0[j] = o.initial_velocity_rad_s;
+    rt[j].q_initial = rt[j].q = q0[j];
+    rt[j].qd = qd0[j];
+    rt[j].rng = Rng(MixSeed(spec.seed, static_cast<uint64_t>(j)));
+    rt[j].driver_enabled = o.powered;
+    rt[j].brake_engaged = !o.powered && !o.brake_held_released;
+  }
+
+  OdeWorld ode(model, q0, qd0);
+  const double g = model.config().gravity_m_s2;
+  RunResult result;
+  result.energy.resize(n);
+  result.kinetic_start_J = ode.KineticEnergy();
+  result.potential_start_J = ode.PotentialEnergy(g);
+
+  std::vector<HardwareCondition> conditions(n);
+  std::vector<JointTick> ticks(n);
+  const double dt = model.physics_dt_s();
+  const double tc = model.control_dt_s();
+  const int steps = model.steps_per_tick();
+  const int substeps = model.config().electrical_substeps;
+  const long total_ticks = std::lround(spec.duration_s / tc);
+
+  for (long k = 0;; ++k) {
+    const double t = k * tc;
+    // --- controller tick: sensors -> controllers -> commands, and the tick record ---
+    for (int j = 0; j < n; ++j) {
+      const JointModel& jm = model.joint(j);
+      JointRuntime& r = rt[j];
+      JointTick& tick = ticks[j];
+      const JointRunOptions& o = options[j];
+      TrajectoryPoint ref;
+      if (o.trajectory) ref = o.trajectory->At(t);
+      else ref.q_rad = r.q_initial;
+
+      const TorqueSensorParams& ts = jm.params.torque_sensor;
+      const HardwareCondition& cond = conditions[j];
+      const double noise = r.rng.Normal();  // drawn every tick so streams stay aligned
+      switch (cond.torque_sensor_lead) {
+        case SensorLead::kHealthy:
+          r.last_adc_code = TorqueSensorAdcCode(ts, TorqueSensorVoltage(ts, r.tau_transmitted + cond.torque_sensor_drift_Nm, noise));
+          break;
+        case SensorLead::kSupply:
+        case SensorLead::kGround:
+          r.last_adc_code = TorqueSensorAdcCode(ts, StuckLeadVoltage(ts, cond.torque_sensor_lead));
+          break;
+        case SensorLead::kOpen:
+          break;  // the ADC input floats at its last held value
+      }
+      ControllerInputs ci;
+      ci.encoder_count = EncoderCount(jm.params.encoder, jm.ratio * r.q);
+      ci.torque_reading_Nm = TorqueFromAdcCode(ts, r.last_adc_code);
+      ci.reference = ref;
+      ControllerOutputs co;
+      if (r.driver_enabled) {
+        StepController(jm.controller, ci, &r.controller, &co);
+        r.i_cmd = co.current_command_A;
+      } else {
+        co.position_rad = ci.encoder_count * jm.controller.link_rad_per_count;
+        r.i_cmd = 0;
+      }
+
+      const double inv = k == 0 ? 0.0 : 1.0 / steps;
+      const double supply_noise = r.rng.Normal();
+      tick.q_ref_rad = ref.q_rad;
+      tick.qd_ref_rad_s = ref.qd_rad_s;
+      tick.q_meas_rad = co.position_rad;
+      tick.qd_est_rad_s = co.velocity_rad_s;
+      tick.tau_sensor_Nm = ci.torque_reading_Nm;
+      tick.i_cmd_A = r.i_cmd;
+      tick.q_rad = r.q;
+      tick.qd_rad_s = r.qd;
+      tick.tau_true_Nm = r.tau_transmitted;
+      tick.i_phase_a_A = r.phase_current[0];
+      tick.v_bus_meas_V = jm.params.inverter.bus_voltage_V;
+      tick.p_supply_W = r.sum_supply * inv;
+      tick.p_copper_W = r.sum_copper * inv;
+      tick.p_inverter_W = r.sum_inverter * inv;
+      tick.p_quiescent_W = r.sum_quiescent * inv;
+      tick.p_friction_W = r.sum_friction * inv;
+      tick.p_mech_out_W = r.sum_mech * inv;
+      tick.p_emf_W = r.sum_emf * inv;
+      tick.p_magnetic_W = r.sum_magnetic * inv;
+      tick.i_supply_A = tick.p_supply_W / jm.params.inverter.bus_voltage_V;
+      tick.i_supply_meas_A = tick.i_supply_A + jm.params.inverter.supply_current_noise_A * supply_noise;
+      tick.peak_phase_current_A = r.peak_current;
+      tick.brake_engaged = r.brake_engaged;
+      tick.driver_enabled = r.driver_enabled && !r.drive.tripped;
+      tick.limit_stop = r.limit_stop;
+
+      JointEnergy& e = result.energy[j];
+      e.supply_J += r.sum_supply * dt;
+      e.copper_J += r.sum_copper * dt;
+      e.inverter_J += r.sum_inverter * dt;
+      e.quiescent_J += r.sum_quiescent * dt;
+      e.friction_J += r.sum_friction * dt;
+      e.mech_out_J += r.sum_mech * dt;
+      e.emf_J += r.sum_emf * dt;
+      e.magnetic_J += r.sum_magnetic * dt;
+      r.sum_supply = r.sum_copper = r.sum_inverter = r.sum_quiescent = r.sum_friction = 0;
+      r.sum_mech = r.sum_emf = r.sum_magnetic = r.peak_current = 0;
+    }
+    result.end_time_s = t;
+    if (observer) observer(Tick{t, &ticks});
+    for (int j = 0; j < n; ++j) {
+      if (!std::isfinite(rt[j].q) || !std::isfinite(rt[j].qd) || std::fabs(rt[j].qd) > kMaxLinkSpeed_rad_s) {
+        result.ok = false;
+        result.failure_reason = FormatFailure(t, j, "velocity [rad/s]", rt[j].qd);
+        return result;
+      }
+    }
+    if (k >= total_ticks) break;
+
+    // --- physics steps until the next tick ---
+    for (int s = 0; s < steps; ++s) {
+      const double ts = t + s * dt;
+      if (spec.hardware) spec.hardware->Apply(ts, &conditions);
+      for (int j = 0; j < n; ++j) {
+        const JointModel& jm = model.joint(j);
+        JointRuntime& r = rt[j];
+        const HardwareCondition& cond = conditions[j];
+        DriveInputs di;
+        di.current_command_A = r.i_cmd;
+        di.enabled = r.driver_enabled;
+        di.motor_angle_rad = jm.ratio * r.q;
+        di.motor_speed_rad_s = jm.ratio * r.qd;
+        DriveOutputs dout;
+        StepDrive(jm.drive, cond, di, substeps, &r.drive, &dout);
+        r.sum_supply += dout.p_supply_W;
+        r.sum_copper += dout.p_copper_W;
+        r.sum_inverter += dout.p_inverter_W;
+        r.sum_quiescent += dout.p_quiescent_W;
+        r.sum_emf += dout.p_emf_W;
+        r.sum_magnetic += dout.p_magnetic_W;
+        r.peak_current = std::max(r.peak_current, dout.peak_phase_current_A);
+        r.phase_current = dout.phase_current_A;
+
+        // Dry friction (Coulomb + Stribeck, mesh loss, brake) as a bounded hinge-motor
+        // constraint with target velocity 0; viscous friction and motor torque as applied torque.
+        const FrictionParams& fp = jm.params.friction;
+        const double dry = jm.ratio * BreakawayFrictionNm(fp, cond.friction_factor, r.qd) +
+                           jm.params.drive.mesh_loss_fraction * std::fabs(r.tau_transmitted) +
+                           jm.ratio * BrakeTorqueLimitNm(jm.params.brake, cond, r.brake_engaged);
+        r.viscous_torque = jm.ratio * ViscousFrictionNm(fp, cond.friction_factor, r.qd);
+        r.drive_torque = jm.ratio * dout.torque_Nm;
+        dJointSetHingeParam(ode.joint(j), dParamVel, 0.0);
+        dJointSetHingeParam(ode.joint(j), dParamFMax, dry);
+        dJointAddHingeTorque(ode.joint(j), r.drive_torque - r.viscous_torque);
+        dVector3 axis;
+        dJointGetHingeAxis(ode.joint(j), axis);
+        r.axis_omega_before = ToEigen(axis).dot(ToEigen(dBodyGetAngularVel(ode.body(j))));
+      }
+      dWorldStep(ode.world(), dt);
+      for (int j = 0; j < n; ++j) {
+        const JointModel& jm = model.joint(j);
+        JointRuntime& r = rt[j];
+        dJointID hinge = ode.joint(j);
+        dVector3 axis_v, anchor_v;
+        dJointGetHingeAxis(hinge, axis_v);
+        dJointGetHingeAnchor(hinge, anchor_v);
+        const Eigen::Vector3d axis = ToEigen(axis_v);
+        const dJointFeedback& fb = ode.feedback(j);
+        const Eigen::Vector3d com = ToEigen(dBodyGetPosition(ode.body(j)));
+        // Constraint torque along the axis about the anchor: the hinge rows act at the
+        // anchor or perpendicular to the axis, so this is the friction/brake row alone.
+        const double dry_torque = (ToEigen(fb.t1) + (com - ToEigen(anchor_v)).cross(ToEigen(fb.f1))).dot(axis);
+        const double qd_new = dJointGetHingeAngleRate(hinge);
+        const double raw = dJointGetHingeAngle(hinge);
+        r.q += WrapPi(raw - WrapPi(r.q - r.q_initial));
+        r.qd = qd_new;
+        // What the harmonic drive passes on to the link: the drive torque less friction,
+        // less the torque that accelerates the rotor (lumped into the link body in ODE).
+        const double omega_after = axis.dot(ToEigen(dBodyGetAngularVel(ode.body(j))));
+        const double rotor_torque = jm.reflected_rotor_inertia_kg_m2 * (omega_after - r.axis_omega_before) / dt;
+        r.tau_transmitted = r.drive_torque - r.viscous_torque + dry_torque - rotor_torque;
+        r.sum_mech += r.tau_transmitted * qd_new;
+        r.sum_friction += (r.viscous_torque - dry_torque) * qd_new;
+        const ModuleParams& m = jm.params;
+        if (!r.limit_stop && (r.q < m.min_angle_deg * M_PI / 180 || r.q > m.max_angle_deg * M_PI / 180)) {
+          // Limit switch: the joint controller disables the drive and engages the brake.
+          r.limit_stop = true;
+          r.driver_enabled = false;
+          r.brake_engaged = true;
+        }
+      }
+    }
+  }
+  result.kinetic_end_J = ode.KineticEnergy();
+  result.potential_end_J = ode.PotentialEnergy(g);
+  return result;
+}
+
+double StepBareOde(const ArmModel& model, double duration_s) {
+  const int n = model.joint_count();
+  OdeWorld ode(model, std::vector<double>(n, 0.0), std::vector<double>(n, 0.0));
+  const long steps = std::lround(duration_s / model.physics_dt_s());
+  for (long s = 0; s < steps; ++s) dWorldStep(ode.world(), model.physics_dt_s());
+  double checksum = 0;
+  for (int j = 0; j < n; ++j) checksum += dJointGetHingeAngle(ode.joint(j));
+  return checksum;
+}
+
+}  // namespace armfault

@@ -1,0 +1,144 @@
+// The arm on ODE with its joint modules and controllers in the loop.
+//
+// Model versus data: ArmModel is built once from a RobotConfig, immutable, and shared
+// read-only between threads; RunState holds everything one run changes (its own ODE world).
+//   RunState state(model, spec);
+//   while (!Finished(model, state)) Advance(model, &state, observer);
+// or simply Simulate(model, spec, observer).
+//
+// Timing: the controllers tick at the controller rate (500 Hz); between ticks the world is
+// stepped with dWorldStep at the physics rate (1 kHz) and each drive's electrical model with
+// `electrical_substeps` sub-steps per physics step. Each tick emits one Tick record.
+#pragma once
+
+#include <Eigen/Dense>
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/controller.h"
+#include "core/hardware_condition.h"
+#include "core/motor.h"
+#include "core/robot_config.h"
+#include "core/trajectory.h"
+
+namespace armfault {
+
+// Immutable description of one joint with its link, derived from the config.
+struct JointModel {
+  ModuleParams params;
+  DriveConstants drive;
+  ControllerConstants controller;
+  double ratio = 0;
+  double reflected_rotor_inertia_kg_m2 = 0;  // I_m ratio^2, about the joint axis
+  Eigen::Vector3d axis;        // unit joint axis, world frame at the zero pose
+  Eigen::Vector3d anchor_m;    // joint position, world frame at the zero pose
+  double mass_kg = 0;          // link (+ payload on the last link)
+  Eigen::Vector3d com_m;       // centre of mass at the zero pose
+  Eigen::Matrix3d inertia_kg_m2;  // about the centre of mass, zero-pose world axes, incl. rotor
+};
+
+class ArmModel {
+ public:
+  // Validates the config (throws InputError) and derives all constants.
+  explicit ArmModel(RobotConfig config);
+
+  const RobotConfig& config() const { return config_; }
+  int joint_count() const { return static_cast<int>(joints_.size()); }
+  const JointModel& joint(int j) const { return joints_[j]; }
+  double physics_dt_s() const { return physics_dt_s_; }
+  double control_dt_s() const { return physics_dt_s_ * steps_per_tick_; }
+  int steps_per_tick() const { return steps_per_tick_; }
+
+ private:
+  RobotConfig config_;
+  std::vector<JointModel> joints_;
+  double physics_dt_s_ = 0;
+  int steps_per_tick_ = 1;
+};
+
+// Changes the hardware condition of the joints over time (fault injection). Called before
+// every physics step; must be deterministic and thread-safe (const).
+class HardwareSchedule {
+ public:
+  virtual ~HardwareSchedule() = default;
+  virtual void Apply(double t_s, std::vector<HardwareCondition>* conditions) const = 0;
+};
+
+struct JointRunOptions {
+  std::shared_ptr<const Trajectory> trajectory;  // null: hold the initial angle under control
+  bool has_initial_angle = false;                // else q_ref(0), or 0 without a trajectory
+  double initial_angle_rad = 0;
+  double initial_velocity_rad_s = 0;
+  bool powered = true;           // unpowered: driver off, brake engaged (unless released below)
+  bool brake_held_released = false;  // keep the brake released even when unpowered
+};
+
+struct RunSpec {
+  double duration_s = 10.0;
+  uint64_t seed = 1;
+  std::vector<JointRunOptions> joints;  // one per joint, or empty for all defaults
+  std::shared_ptr<const HardwareSchedule> hardware;  // null: healthy
+};
+
+// One joint at one controller tick. Sensor values are what the joint's controller (and a
+// monitor) may use; the others are the simulator's truth. Powers are means over the control
+// period that ends at this tick (0 at t = 0).
+struct JointTick {
+  // reference
+  double q_ref_rad = 0, qd_ref_rad_s = 0;
+  // sensors
+  double q_meas_rad = 0;        // encoder, link side
+  double qd_est_rad_s = 0;      // controller's velocity estimate
+  double tau_sensor_Nm = 0;     // torque-sensor reading after the ADC
+  double i_cmd_A = 0;           // commanded current (after the DAC)
+  double i_supply_meas_A = 0;   // supply-current sensor, mean over the period, with noise
+  double v_bus_meas_V = 0;
+  // truth
+  double q_rad = 0, qd_rad_s = 0;
+  double tau_true_Nm = 0;       // torque the drivetrain transmits to the link
+  double i_phase_a_A = 0;
+  double i_supply_A = 0;        // mean over the period
+  double peak_phase_current_A = 0;
+  bool brake_engaged = false;
+  bool driver_enabled = true;
+  bool limit_stop = false;
+  double p_supply_W = 0, p_copper_W = 0, p_inverter_W = 0, p_quiescent_W = 0;
+  double p_friction_W = 0;      // motor friction + harmonic-drive mesh loss + brake, dissipated
+  double p_mech_out_W = 0;      // tau_true x qd: power delivered to the link
+  double p_emf_W = 0;           // electromagnetic power converted to rotor power
+  double p_magnetic_W = 0;
+};
+
+struct Tick {
+  double t_s = 0;
+  const std::vector<JointTick>* joints = nullptr;
+};
+using TickObserver = std::function<void(const Tick&)>;
+
+struct JointEnergy {
+  double supply_J = 0, copper_J = 0, inverter_J = 0, quiescent_J = 0, friction_J = 0;
+  double mech_out_J = 0, emf_J = 0, magnetic_J = 0;
+};
+
+struct RunResult {
+  bool ok = true;
+  std::string failure_reason;  // set when !ok: what diverged, where and when
+  double end_time_s = 0;
+  std::vector<JointEnergy> energy;
+  double kinetic_start_J = 0, kinetic_end_J = 0;
+  double potential_start_J = 0, potential_end_J = 0;
+};
+
+// Runs one simulation; calls `observer` (may be empty) at every controller tick.
+// A run that diverges returns ok = false with the reason; it never throws for that.
+// Throws InputError if the spec does not fit the model (joint count, initial angle range).
+RunResult Simulate(const ArmModel& model, const RunSpec& spec, const TickObserver& observer);
+
+// Bare ODE stepping of the same bodies and joints with no drives, sensors or controllers:
+// the reference cost for benchmarks. Returns a checksum of the final state.
+double StepBareOde(const ArmModel& model, double duration_s);
+
+}  // namespace armfault
