@@ -25,6 +25,27 @@ int Sector(double theta_e) {
   return std::clamp(k, 0, 5);
 }
 
+// Exact RL response of the conducting legs over one span with the star point held:
+// v_n keeps sum i = 0; legs not in `known` carry no current.
+std::array<double, 3> Advance(const std::array<double, 3>& v, const std::array<double, 3>& emf,
+                              const std::array<bool, 3>& known, const std::array<double, 3>& i, double r,
+                              double decay) {
+  std::array<double, 3> i_new = {0, 0, 0};
+  int n_known = 0;
+  double sum = 0;
+  for (int x = 0; x < 3; ++x) {
+    if (!known[x]) continue;
+    ++n_known;
+    sum += v[x] - r * i[x] - emf[x];
+  }
+  if (n_known < 2) return i_new;
+  const double vn = sum / n_known;
+  for (int x = 0; x < 3; ++x) {
+    if (known[x]) i_new[x] = i[x] * decay + (v[x] - vn - emf[x]) / r * (1.0 - decay);
+  }
+  return i_new;
+}
+
 }  // namespace
 
 double BackEmfShape(double theta_e) {
@@ -111,53 +132,56 @@ void StepDrive(const DriveConstants& c, const HardwareCondition& cond, const Dri
       }
     }
 
-    int n_known = 0;
-    double sum = 0;
-    for (int x = 0; x < 3; ++x) {
-      if (!known[x]) continue;
-      ++n_known;
-      sum += v[x] - r * i[x] - emf[x];
-    }
-    std::array<double, 3> i_new = {0, 0, 0};
-    if (n_known >= 2) {
-      const double vn = sum / n_known;  // star point: keeps sum i = 0
-      for (int x = 0; x < 3; ++x) {
-        if (!known[x]) continue;
-        i_new[x] = i[x] * decay + (v[x] - vn - emf[x]) / r * (1.0 - decay);
-      }
-      // A freewheeling current stops at zero (the diode blocks); the residual goes to the
-      // conducting legs so that the star-point current law still holds.
-      double residual = 0;
-      int n_switched = 0;
+    // Integrate the sub-step; a freewheeling current that would reverse stops at zero (its
+    // diode blocks), so the sub-step is split there and the leg opens for the rest of it.
+    double remaining = h;
+    while (remaining > 0) {
+      const double leg_decay = remaining == h ? decay : std::exp(-r * remaining / c.inductance_H);
+      std::array<double, 3> i_new = Advance(v, emf, known, i, r, leg_decay);
+      int turning_off = -1;
+      double fraction = 1.0;
       for (int x = 0; x < 3; ++x) {
         if (known[x] && !switched[x] && i_new[x] * i[x] < 0) {
-          residual += i_new[x];
-          i_new[x] = 0.0;
+          const double f = i[x] / (i[x] - i_new[x]);
+          if (f < fraction) {
+            fraction = f;
+            turning_off = x;
+          }
         }
-        if (switched[x]) ++n_switched;
       }
-      if (residual != 0.0 && n_switched > 0) {
+      double span = remaining;
+      if (turning_off >= 0) {
+        span = remaining * fraction;
+        i_new = Advance(v, emf, known, i, r, std::exp(-r * span / c.inductance_H));
+        // What is left of the current (second order in the split) goes to the driven legs.
+        double residual = i_new[turning_off];
+        i_new[turning_off] = 0.0;
+        known[turning_off] = false;
+        int n_known = 0;
+        for (int x = 0; x < 3; ++x) n_known += known[x];
         for (int x = 0; x < 3; ++x) {
-          if (switched[x]) i_new[x] += residual / n_switched;
+          if (known[x]) i_new[x] += residual / std::max(1, n_known);
         }
       }
-    }
-
-    for (int x = 0; x < 3; ++x) {
-      const double i_mid = 0.5 * (i[x] + i_new[x]);
-      const double i_sq = (i[x] * i[x] + i[x] * i_new[x] + i_new[x] * i_new[x]) / 3.0;
-      torque_sum += ke * shape[x] * i_mid;
-      p_emf += emf[x] * i_mid;
-      p_copper += r * i_sq;
-      if (known[x]) p_rail += rail[x] * i_mid;
-      if (switched[x]) {
-        p_switch += c.inverter.switch_resistance_ohm * i_sq + sw_loss_per_A * std::fabs(i_mid);
-      } else if (known[x]) {
-        p_diode += vd * std::fabs(i_mid);
+      const double w = span / h;
+      for (int x = 0; x < 3; ++x) {
+        const double i_mid = 0.5 * (i[x] + i_new[x]);
+        const double i_sq = (i[x] * i[x] + i[x] * i_new[x] + i_new[x] * i_new[x]) / 3.0;
+        torque_sum += w * ke * shape[x] * i_mid;
+        p_emf += w * emf[x] * i_mid;
+        p_copper += w * r * i_sq;
+        p_rail += w * rail[x] * i_mid;
+        if (switched[x]) {
+          p_switch += w * (c.inverter.switch_resistance_ohm * i_sq + sw_loss_per_A * std::fabs(i_mid));
+        } else {
+          p_diode += w * vd * std::fabs(i_mid);
+        }
+        peak = std::max(peak, std::fabs(i_new[x]));
       }
-      peak = std::max(peak, std::fabs(i_new[x]));
+      i = i_new;
+      remaining -= span;
+      if (turning_off < 0) break;
     }
-    i = i_new;
   }
 
   const double inv_n = 1.0 / substeps;
