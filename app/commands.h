@@ -2,6 +2,7 @@
 // 0 success, 1 a floor missed, 2 invalid input or usage, 3 some runs failed.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -10,8 +11,8 @@ namespace armfault {
 struct TraceOptions {
   std::string run_file;                 // empty: thesis experiment 1
   std::string robot;                    // overrides the file's robot (preset name)
-  double duration_s = -1;               // < 0: keep
-  long long seed = -1;                  // < 0: keep
+  std::optional<double> duration_s;     // overrides the file's duration
+  std::optional<long long> seed;        // overrides the file's seed
   std::vector<std::string> joint_specs; // "J=<trajectory JSON>"
   std::string output = "trace.csv";
   bool quiet = false;

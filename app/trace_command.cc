@@ -24,7 +24,7 @@ nlohmann::json BuildRunJson(const TraceOptions& o, InputContext* context) {
   nlohmann::json run;
   if (o.run_file.empty()) {
     run = ThesisExperiment1Json();
-    const bool overridden = !o.robot.empty() || o.duration_s >= 0 || o.seed >= 0 || !o.joint_specs.empty();
+    const bool overridden = !o.robot.empty() || o.duration_s || o.seed || !o.joint_specs.empty();
     context->source = overridden ? "<command line>" : "<thesis experiment 1>";
   } else {
     run = ReadJsonFile(o.run_file);
@@ -34,8 +34,12 @@ nlohmann::json BuildRunJson(const TraceOptions& o, InputContext* context) {
     if (!run.is_object()) throw InputError(o.run_file, "", "expected a JSON object describing a run");
   }
   if (!o.robot.empty()) run["robot"] = o.robot;
-  if (o.duration_s >= 0) run["duration_s"] = o.duration_s;
-  if (o.seed >= 0) run["seed"] = o.seed;
+  if (o.duration_s) run["duration_s"] = *o.duration_s;
+  if (o.seed) run["seed"] = *o.seed;
+  if (!o.joint_specs.empty() && run.contains("joints") && !run["joints"].is_object()) {
+    throw InputError(context->source, "/joints",
+                     "expected an object mapping joint numbers to trajectories, got " + Describe(run["joints"]));
+  }
   for (const std::string& spec : o.joint_specs) {
     const auto eq = spec.find('=');
     if (eq == std::string::npos || eq == 0) {

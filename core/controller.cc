@@ -13,9 +13,10 @@ ControllerConstants MakeControllerConstants(const ModuleParams& m) {
   c.dt_s = 1.0 / m.controller.rate_Hz;
   c.ratio = m.drive.ratio;
   c.link_rad_per_count = EncoderRadPerCount(m.encoder) / m.drive.ratio;
-  const double k = std::tan(0.5 * m.controller.torque_filter_rad_s * c.dt_s);
-  c.filter_b0 = k / (1.0 + k);
-  c.filter_a1 = (1.0 - k) / (1.0 + k);
+  // The thesis's coefficients (0.04762, 0.9048 at 50 rad/s, 500 Hz): pole exp(-w T),
+  // input taps averaging two samples with unit DC gain.
+  c.filter_a1 = std::exp(-m.controller.torque_filter_rad_s * c.dt_s);
+  c.filter_b0 = 0.5 * (1.0 - c.filter_a1);
   c.amps_per_volt = m.inverter.current_per_volt_A_per_V;
   c.command_limit_A = m.inverter.command_limit_A;
   return c;

@@ -26,7 +26,7 @@ struct ControllerConstants {
   double dt_s = 0;
   double ratio = 0;
   double link_rad_per_count = 0;
-  double filter_b0 = 0, filter_a1 = 0;  // y = b0 (x + x_prev) + a1 y_prev (bilinear)
+  double filter_b0 = 0, filter_a1 = 0;  // y = b0 (x + x_prev) + a1 y_prev
   double amps_per_volt = 0;
   double command_limit_A = 0;
   double dac_range_V = 3.0;

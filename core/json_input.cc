@@ -1,6 +1,7 @@
 #include "core/json_input.h"
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -101,6 +102,16 @@ void ObjectReader::Finish() const {
   }
 }
 
+void ObjectReader::AllowOnly(std::initializer_list<const char*> keys) {
+  for (const char* key : keys) used_.insert(key);
+  Finish();
+}
+
+void ObjectReader::AllowOnly(const std::vector<std::string>& keys) {
+  for (const std::string& key : keys) used_.insert(key);
+  Finish();
+}
+
 double AsNumber(const nlohmann::json& value, const std::string& pointer) {
   if (!value.is_number()) {
     throw InputError("", pointer, "expected a number, got " + TypeName(value) + " " + Describe(value));
@@ -125,24 +136,22 @@ std::string AsString(const nlohmann::json& value, const std::string& pointer) {
   return value.get<std::string>();
 }
 
-namespace {
-std::string Num(double x) {
+std::string FormatNumber(double x) {
   std::ostringstream s;
   s.precision(12);
   s << x;
   return s.str();
 }
-}  // namespace
 
 void RequireAtLeast(double value, double min, const std::string& pointer) {
-  if (!(value >= min)) throw InputError("", pointer, Num(value) + " is below the minimum " + Num(min));
+  if (!(value >= min)) throw InputError("", pointer, FormatNumber(value) + " is below the minimum " + FormatNumber(min));
 }
 void RequireAbove(double value, double min, const std::string& pointer) {
-  if (!(value > min)) throw InputError("", pointer, Num(value) + " must be greater than " + Num(min));
+  if (!(value > min)) throw InputError("", pointer, FormatNumber(value) + " must be greater than " + FormatNumber(min));
 }
 void RequireInRange(double value, double min, double max, const std::string& pointer) {
   if (!(value >= min && value <= max)) {
-    throw InputError("", pointer, Num(value) + " is outside [" + Num(min) + ", " + Num(max) + "]");
+    throw InputError("", pointer, FormatNumber(value) + " is outside [" + FormatNumber(min) + ", " + FormatNumber(max) + "]");
   }
 }
 
@@ -169,6 +178,8 @@ nlohmann::json ParseJsonText(const std::string& text, const std::string& source)
 }
 
 std::string ReadTextFile(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw InputError(path, "", "is a directory, expected a file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, "", "cannot open the file for reading");
   std::ostringstream buffer;

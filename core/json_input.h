@@ -6,7 +6,9 @@
 
 #include <set>
 #include <stdexcept>
+#include <initializer_list>
 #include <string>
+#include <vector>
 
 namespace armfault {
 
@@ -26,6 +28,9 @@ class InputError : public std::runtime_error {
  private:
   std::string source_, pointer_, message_;
 };
+
+// A number for messages: up to 12 significant digits, no trailing zeros ("0.5", "1e-07").
+std::string FormatNumber(double x);
 
 // Compact rendering of a JSON value for error messages (long values are cut).
 std::string Describe(const nlohmann::json& value);
@@ -63,6 +68,10 @@ class ObjectReader {
 
   // Rejects the first key (in document order) that was never read.
   void Finish() const;
+  // Marks `keys` as known and rejects any other key now, before values are checked, so a
+  // misspelt key is reported as such rather than as a missing or defaulted one.
+  void AllowOnly(std::initializer_list<const char*> keys);
+  void AllowOnly(const std::vector<std::string>& keys);
 
  private:
   const nlohmann::json& object_;

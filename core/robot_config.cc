@@ -112,6 +112,9 @@ const Fields<ControllerParams>& ControllerFields() {
 
 template <class T>
 void ReadFields(ObjectReader& reader, const Fields<T>& fields, T* out) {
+  std::vector<std::string> keys;
+  for (const Field<T>& field : fields) keys.push_back(field.key);
+  reader.AllowOnly(keys);
   for (const Field<T>& field : fields) {
     const nlohmann::json* v = reader.Find(field.key);
     if (v == nullptr) continue;
@@ -156,6 +159,8 @@ double Norm(const std::array<double, 3>& v) { return std::sqrt(v[0] * v[0] + v[1
 
 ModuleParams ModuleFromJson(const nlohmann::json& value, const std::string& pointer) {
   ObjectReader reader(value, pointer);
+  reader.AllowOnly({"type", "min_angle_deg", "max_angle_deg", "motor", "inverter", "drive", "friction", "brake",
+                    "torque_sensor", "encoder", "controller"});
   std::string type = "MRR2";
   reader.OptionalString("type", &type);
   ModuleParams m = ModuleDefaults(type, reader.PointerTo("type"));
@@ -175,6 +180,7 @@ ModuleParams ModuleFromJson(const nlohmann::json& value, const std::string& poin
 
 LinkParams LinkFromJson(const nlohmann::json& value, const std::string& pointer) {
   ObjectReader reader(value, pointer);
+  reader.AllowOnly({"mass_kg", "length_m", "radius_m", "com_fraction", "direction", "joint_axis", "inertia_kg_m2"});
   LinkParams link;
   reader.OptionalNumber("mass_kg", &link.mass_kg);
   RequireAbove(link.mass_kg, 0, reader.PointerTo("mass_kg"));
@@ -313,6 +319,8 @@ RobotConfig RobotFromJson(const nlohmann::json& value, const std::string& pointe
     return r;
   }
   ObjectReader reader(value, pointer);
+  reader.AllowOnly({"name", "modules", "links", "base_position_m", "payload_kg", "gravity_m_s2", "physics_rate_Hz",
+                    "electrical_substeps"});
   RobotConfig r;
   reader.OptionalString("name", &r.name);
   const nlohmann::json& modules = reader.Require("modules");
@@ -355,8 +363,8 @@ void Validate(const RobotConfig& r, const std::string& pointer) {
     const std::string mp = PointerJoin(PointerJoin(pointer, "modules"), i);
     if (!(m.min_angle_deg < m.max_angle_deg)) {
       throw InputError("", PointerJoin(mp, "max_angle_deg"),
-                       "the joint range [" + std::to_string(m.min_angle_deg) + ", " +
-                           std::to_string(m.max_angle_deg) + "] deg is empty");
+                       "the joint range [" + FormatNumber(m.min_angle_deg) + ", " +
+                           FormatNumber(m.max_angle_deg) + "] deg is empty");
     }
     RequireInRange(m.min_angle_deg, -360, 0, PointerJoin(mp, "min_angle_deg"));
     RequireInRange(m.max_angle_deg, 0, 360, PointerJoin(mp, "max_angle_deg"));
@@ -364,8 +372,8 @@ void Validate(const RobotConfig& r, const std::string& pointer) {
     double k = r.physics_rate_Hz / m.controller.rate_Hz;
     if (std::fabs(k - std::round(k)) > 1e-9 || k < 1) {
       throw InputError("", PointerJoin(PointerJoin(mp, "controller"), "rate_Hz"),
-                       std::to_string(m.controller.rate_Hz) + " Hz must divide the physics rate " +
-                           std::to_string(r.physics_rate_Hz) + " Hz");
+                       FormatNumber(m.controller.rate_Hz) + " Hz must divide the physics rate " +
+                           FormatNumber(r.physics_rate_Hz) + " Hz");
     }
   }
 }

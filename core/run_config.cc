@@ -17,14 +17,12 @@ std::map<int, std::shared_ptr<const Trajectory>> JointTrajectoriesFromJson(
   const int n = static_cast<int>(robot.modules.size());
   for (auto it = joints.begin(); it != joints.end(); ++it) {
     const std::string ptr = PointerJoin(pointer, it.key());
-    int joint = 0;
-    size_t used = 0;
-    try {
-      joint = std::stoi(it.key(), &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used != it.key().size() || joint < 1 || joint > n) {
+    // Canonical joint numbers only ("3", not "03" or " 3"), so no two keys name one joint.
+    const std::string& key = it.key();
+    const bool canonical = !key.empty() && key.size() <= 4 && key[0] >= '1' && key[0] <= '9' &&
+                           key.find_first_not_of("0123456789") == std::string::npos;
+    const int joint = canonical ? std::stoi(key) : 0;
+    if (joint < 1 || joint > n) {
       throw InputError("", ptr, "\"" + it.key() + "\" is not a joint of robot " + robot.name + " (joints 1.." +
                                     std::to_string(n) + ")");
     }
@@ -46,6 +44,7 @@ std::map<int, std::shared_ptr<const Trajectory>> JointTrajectoriesFromJson(
 RunConfig RunConfigFromJson(const nlohmann::json& value, const std::string& pointer, const InputContext& context) {
   try {
     ObjectReader reader(value, pointer);
+    reader.AllowOnly({"robot", "duration_s", "seed", "joints"});
     RunConfig run;
     if (const auto* robot = reader.Find("robot")) run.robot = RobotFromJson(*robot, reader.PointerTo("robot"));
     else run.robot = RobotPreset("mrr-config1");

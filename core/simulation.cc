@@ -191,7 +191,7 @@ ArmModel::ArmModel(RobotConfig config) : config_(std::move(config)) {
   for (size_t i = 1; i < config_.modules.size(); ++i) {
     if (config_.modules[i].controller.rate_Hz != rate) {
       throw InputError("", "/modules/" + std::to_string(i) + "/controller/rate_Hz",
-                       "all joint controllers must run at the same rate (" + std::to_string(rate) + " Hz)");
+                       "all joint controllers must run at the same rate (" + FormatNumber(rate) + " Hz)");
     }
   }
   steps_per_tick_ = static_cast<int>(std::lround(config_.physics_rate_Hz / rate));

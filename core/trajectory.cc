@@ -40,15 +40,6 @@ std::string KnownTypesText() {
 
 }  // namespace
 
-namespace trajectory_detail {
-std::string FormatNumber(double x) {
-  std::ostringstream s;
-  s.precision(12);
-  s << x;
-  return s.str();
-}
-}  // namespace trajectory_detail
-
 std::unique_ptr<Trajectory> MakeTrajectory(const nlohmann::json& spec, const std::string& pointer,
                                            const InputContext& context) {
   try {

@@ -33,7 +33,7 @@ class CosineRamp final : public Trajectory {
 
 std::unique_ptr<Trajectory> MakeCosineRamp(ObjectReader& reader, const InputContext& /*ctx*/) {
   using namespace trajectory_detail;
-  AcceptOnlyKeys(reader, {"amplitude_deg", "period_s", "offset_deg"});
+  reader.AllowOnly({"amplitude_deg", "period_s", "offset_deg"});
   const double amplitude_deg = reader.RequireNumber("amplitude_deg");
   const double period_s = reader.RequireNumber("period_s");
   RequireAbove(period_s, 0.0, reader.PointerTo("period_s"));

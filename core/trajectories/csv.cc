@@ -162,9 +162,9 @@ std::vector<Row> ParseRows(const std::string& text, const std::string& csv_path)
     }
     if (!rows.empty() && !(values[0] > rows.back().time_s)) {
       throw InputError(csv_path, where,
-                       "time " + trajectory_detail::FormatNumber(values[0]) +
+                       "time " + FormatNumber(values[0]) +
                            " s is not after the previous row's time " +
-                           trajectory_detail::FormatNumber(rows.back().time_s) + " s (line " +
+                           FormatNumber(rows.back().time_s) + " s (line " +
                            std::to_string(rows.back().line) + "); times must strictly increase");
     }
     rows.push_back({values[0], values[1], line_number});
@@ -176,7 +176,7 @@ std::vector<Row> ParseRows(const std::string& text, const std::string& csv_path)
 
 std::unique_ptr<Trajectory> MakeCsv(ObjectReader& reader, const InputContext& ctx) {
   using namespace trajectory_detail;
-  AcceptOnlyKeys(reader, {"path"});
+  reader.AllowOnly({"path"});
   const std::string pointer = reader.PointerTo("path");
   const std::string path = reader.RequireString("path");
   if (path.empty()) throw InputError("", pointer, "expected a file name, got an empty string");

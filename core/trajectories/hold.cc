@@ -24,7 +24,7 @@ class Hold final : public Trajectory {
 
 std::unique_ptr<Trajectory> MakeHold(ObjectReader& reader, const InputContext& /*ctx*/) {
   using namespace trajectory_detail;
-  AcceptOnlyKeys(reader, {"angle_deg"});
+  reader.AllowOnly({"angle_deg"});
   double angle_deg = 0.0;
   reader.OptionalNumber("angle_deg", &angle_deg);
   return std::make_unique<Hold>(DegToRad(angle_deg));

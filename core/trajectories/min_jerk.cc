@@ -54,7 +54,7 @@ class MinJerk final : public Trajectory {
 
 std::unique_ptr<Trajectory> MakeMinJerk(ObjectReader& reader, const InputContext& /*ctx*/) {
   using namespace trajectory_detail;
-  AcceptOnlyKeys(reader, {"waypoints"});
+  reader.AllowOnly({"waypoints"});
   const std::string pointer = reader.PointerTo("waypoints");
   const nlohmann::json& waypoints = reader.Require("waypoints");
   if (!waypoints.is_array() || waypoints.empty()) {

@@ -33,7 +33,7 @@ class SinePair final : public Trajectory {
 
 std::unique_ptr<Trajectory> MakeSinePair(ObjectReader& reader, const InputContext& /*ctx*/) {
   using namespace trajectory_detail;
-  AcceptOnlyKeys(reader, {"amplitude_deg", "omega_rad_s", "offset_deg"});
+  reader.AllowOnly({"amplitude_deg", "omega_rad_s", "offset_deg"});
   const double amplitude_deg = reader.RequireNumber("amplitude_deg");
   const double omega_rad_s = reader.RequireNumber("omega_rad_s");
   RequireAbove(omega_rad_s, 0.0, reader.PointerTo("omega_rad_s"));
