@@ -10,11 +10,19 @@
 namespace armfault {
 namespace {
 
+// Bodies and hinges only.
 void BM_BareOdeStepping10s(benchmark::State& state) {
   const ArmModel model(RobotPreset("mrr-config1"));
-  for (auto _ : state) benchmark::DoNotOptimize(StepBareOde(model, 10.0));
+  for (auto _ : state) benchmark::DoNotOptimize(StepBareOde(model, 10.0, false));
 }
 BENCHMARK(BM_BareOdeStepping10s)->Unit(benchmark::kMillisecond);
+
+// Bodies and hinges with the dry-friction rows a run adds (a bounded LCP).
+void BM_BareOdeSteppingWithFrictionRows10s(benchmark::State& state) {
+  const ArmModel model(RobotPreset("mrr-config1"));
+  for (auto _ : state) benchmark::DoNotOptimize(StepBareOde(model, 10.0, true));
+}
+BENCHMARK(BM_BareOdeSteppingWithFrictionRows10s)->Unit(benchmark::kMillisecond);
 
 void BM_FullRunExperiment1_10s(benchmark::State& state) {
   const RunConfig run = ThesisExperiment1();

@@ -437,9 +437,14 @@ RunResult Simulate(const ArmModel& model, const RunSpec& spec, const TickObserve
   return result;
 }
 
-double StepBareOde(const ArmModel& model, double duration_s) {
+double StepBareOde(const ArmModel& model, double duration_s, bool friction_rows) {
   const int n = model.joint_count();
   OdeWorld ode(model, std::vector<double>(n, 0.0), std::vector<double>(n, 0.0));
+  for (int j = 0; friction_rows && j < n; ++j) {
+    const JointModel& jm = model.joint(j);
+    dJointSetHingeParam(ode.joint(j), dParamVel, 0.0);
+    dJointSetHingeParam(ode.joint(j), dParamFMax, jm.ratio * BreakawayFrictionNm(jm.params.friction, 1.0, 1.0));
+  }
   const long steps = std::lround(duration_s / model.physics_dt_s());
   for (long s = 0; s < steps; ++s) dWorldStep(ode.world(), model.physics_dt_s());
   double checksum = 0;

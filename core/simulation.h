@@ -138,7 +138,9 @@ struct RunResult {
 RunResult Simulate(const ArmModel& model, const RunSpec& spec, const TickObserver& observer);
 
 // Bare ODE stepping of the same bodies and joints with no drives, sensors or controllers:
-// the reference cost for benchmarks. Returns a checksum of the final state.
-double StepBareOde(const ArmModel& model, double duration_s);
+// the reference cost for benchmarks. With `friction_rows`, each hinge also carries the
+// bounded velocity row the simulation uses for dry friction (at the breakaway torque), so
+// the LCP is the same size as in a full run. Returns a checksum of the final state.
+double StepBareOde(const ArmModel& model, double duration_s, bool friction_rows);
 
 }  // namespace armfault
