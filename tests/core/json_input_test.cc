@@ -1,4 +1,5 @@
 #include "core/json_input.h"
+#include "tests/core/test_support.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -21,17 +22,7 @@ using testing::HasSubstr;
 using testing::Not;
 using testing::StartsWith;
 
-// Runs `f`, which must throw an InputError, and returns it (a test failure if it does not).
-template <class F>
-InputError ErrorOf(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e;
-  }
-  ADD_FAILURE() << "no InputError thrown";
-  return InputError("", "", "");
-}
+using testing_support::ErrorOf;
 
 std::string Nested(int depth) { return std::string(depth, '[') + std::string(depth, ']'); }
 
@@ -348,21 +339,9 @@ TEST(JsonInputParse, NestingDeeperThan64IsRejected) {
 
 class JsonInputFile : public testing::Test {
  protected:
-  void SetUp() override {
-    const std::string test = testing::UnitTest::GetInstance()->current_test_info()->name();
-    dir_ = fs::temp_directory_path() / ("armfault_json_input_test_" + std::to_string(getpid()) + "_" + test);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-  std::string Write(const std::string& name, const std::string& text) {
-    const fs::path path = dir_ / name;
-    std::ofstream(path, std::ios::binary) << text;
-    return path.string();
-  }
-  fs::path dir_;
+  std::string Write(const std::string& name, const std::string& text) { return scratch_.Write(name, text); }
+  testing_support::ScratchDir scratch_{"armfault_json_input_test"};
+  const fs::path& dir_ = scratch_.path();
 };
 
 TEST_F(JsonInputFile, ReadsAValidFile) {

@@ -1,6 +1,7 @@
 #include "core/robot_config.h"
 
 #include "core/json_input.h"
+#include "tests/core/test_support.h"
 #include "core/run_config.h"
 
 #include <gmock/gmock.h>
@@ -16,17 +17,7 @@ using nlohmann::json;
 using testing::ElementsAre;
 using testing::HasSubstr;
 
-// Runs `f`, which must throw an InputError, and returns it (a test failure if it does not).
-template <class F>
-InputError ErrorOf(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e;
-  }
-  ADD_FAILURE() << "no InputError thrown";
-  return InputError("", "", "");
-}
+using testing_support::ErrorOf;
 
 InputError RobotError(const json& value, const std::string& pointer = "") {
   return ErrorOf([&] { RobotFromJson(value, pointer); });

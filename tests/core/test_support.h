@@ -1,12 +1,57 @@
 // Shared helpers for the core tests.
 #pragma once
 
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
 #include <memory>
+#include <string>
 #include <vector>
 
+#include "core/json_input.h"
 #include "core/simulation.h"
 
 namespace armfault::testing_support {
+
+// Runs `f`, which must throw an InputError, and returns it (a test failure if it does not).
+template <class F>
+InputError ErrorOf(F&& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e;
+  }
+  ADD_FAILURE() << "no InputError thrown";
+  return InputError("", "", "");
+}
+
+// A fresh directory for one test, removed with everything in it at the end.
+class ScratchDir {
+ public:
+  explicit ScratchDir(const std::string& prefix) {
+    const std::string test = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    path_ = std::filesystem::temp_directory_path() / (prefix + "_" + std::to_string(getpid()) + "_" + test);
+    std::filesystem::create_directories(path_);
+  }
+  ~ScratchDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path_, ec);
+  }
+  ScratchDir(const ScratchDir&) = delete;
+  ScratchDir& operator=(const ScratchDir&) = delete;
+  // Writes `text` to <dir>/name; returns the full path.
+  std::string Write(const std::string& name, const std::string& text) const {
+    const std::filesystem::path path = path_ / name;
+    std::ofstream(path, std::ios::binary) << text;
+    return path.string();
+  }
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
 
 // A hardware condition applied to one joint (0-based) from t = 0: the simplest fault.
 class ConstantCondition : public HardwareSchedule {

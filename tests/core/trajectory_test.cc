@@ -1,6 +1,7 @@
 #include "core/trajectory.h"
 
 #include "core/json_input.h"
+#include "tests/core/test_support.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -217,22 +218,8 @@ TEST(SampleRange, IncludesTheEndBetweenSamples) {
 
 class CsvTrajectory : public testing::Test {
  protected:
-  void SetUp() override {
-    const std::string test = testing::UnitTest::GetInstance()->current_test_info()->name();
-    dir_ = fs::temp_directory_path() /
-           ("armfault_trajectory_test_" + std::to_string(getpid()) + "_" + test);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
   // Writes `text` to dir_/name; returns the full path.
-  std::string Write(const std::string& name, const std::string& text) {
-    const fs::path path = dir_ / name;
-    std::ofstream(path, std::ios::binary) << text;
-    return path.string();
-  }
+  std::string Write(const std::string& name, const std::string& text) { return scratch_.Write(name, text); }
   InputContext Context() const {
     InputContext ctx;
     ctx.source = "experiment.json";
@@ -247,7 +234,8 @@ class CsvTrajectory : public testing::Test {
     Write("traj.csv", text);
     return ErrorOf({{"type", "csv"}, {"path", "traj.csv"}}, Context());
   }
-  fs::path dir_;
+  testing_support::ScratchDir scratch_{"armfault_trajectory_test"};
+  const fs::path& dir_ = scratch_.path();
 };
 
 TEST_F(CsvTrajectory, ReproducesRowsWithHeaderCommentsBlanksAndWhitespace) {
