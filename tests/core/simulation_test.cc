@@ -57,6 +57,8 @@ TEST(PendulumTest, PassiveSwingMatchesAnalyticSmallAnglePeriod) {
   const double rod = l.mass_kg * (3 * l.radius_m * l.radius_m + l.length_m * l.length_m) / 12 + l.mass_kg * d * d;
   const double rotor = robot.modules[0].motor.rotor_inertia_kg_m2 * 101.0 * 101.0;
   const double analytic = 2 * M_PI * std::sqrt((rod + rotor) / (l.mass_kg * robot.gravity_m_s2 * d));
+  RecordProperty("measured_period_s", std::to_string(measured));
+  RecordProperty("analytic_period_s", std::to_string(analytic));
   EXPECT_NEAR(measured / analytic, 1.0, 0.005) << "measured " << measured << " s, analytic " << analytic << " s";
 }
 
@@ -90,6 +92,8 @@ TEST(EnergyBalanceTest, SupplyEnergyEqualsStoredPlusLossesOnExperiment1) {
   const double stored = (r.result.kinetic_end_J - r.result.kinetic_start_J) +
                         (r.result.potential_end_J - r.result.potential_start_J);
   EXPECT_GT(supply, 0);
+  RecordProperty("supply_J", std::to_string(supply));
+  RecordProperty("residual_J", std::to_string(supply - stored - losses));
   EXPECT_NEAR(supply, stored + losses, 0.01 * supply);
   // The electrical side closes by itself: supply = copper + emf + magnetic + inverter + quiescent.
   for (const JointEnergy& e : r.result.energy) {
@@ -106,6 +110,7 @@ TEST(Experiment1Test, TopJointTracksWithinHalfADegree) {
     err.push_back((tick[2].q_rad - tick[2].q_ref_rad) * 180 / M_PI);
     peak_ref = std::max(peak_ref, std::fabs(tick[2].q_ref_rad) * 180 / M_PI);
   }
+  RecordProperty("rms_error_deg", std::to_string(Rms(err)));
   EXPECT_LT(Rms(err), 0.5);
   EXPECT_GT(peak_ref, 25.0);  // the motion really happened
   // The lower joints hold still.
@@ -125,8 +130,10 @@ TEST(Experiment1Test, HalvedTorqueConstantStillTracksWithAboutTwiceTheCurrent) {
     i_healthy.push_back(healthy.rec.ticks[k][2].i_cmd_A);
     i_weak.push_back(weak.rec.ticks[k][2].i_cmd_A);
   }
+  RecordProperty("rms_error_deg", std::to_string(Rms(err)));
   EXPECT_LT(Rms(err), 0.5);
   const double ratio = Rms(i_weak) / Rms(i_healthy);
+  RecordProperty("current_ratio", std::to_string(ratio));
   EXPECT_NEAR(ratio, 2.0, 0.3) << "commanded current ratio " << ratio;
 }
 
