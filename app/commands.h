@@ -14,6 +14,7 @@ struct TraceOptions {
   std::optional<double> duration_s;     // overrides the file's duration
   std::optional<long long> seed;        // overrides the file's seed
   std::vector<std::string> joint_specs; // "J=<trajectory JSON>"
+  std::vector<std::string> fault_specs; // fault JSON objects, added to the file's "faults"
   std::string output = "trace.csv";
   bool quiet = false;
 };

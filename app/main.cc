@@ -23,6 +23,8 @@ int main(int argc, char** argv) {
   trace_cmd->add_option("--seed", trace.seed, "noise seed");
   trace_cmd->add_option("--joint", trace.joint_specs,
                         "J=<trajectory JSON>, e.g. 3='{\"type\":\"sine_pair\",\"amplitude_deg\":25,\"omega_rad_s\":1.2732}'");
+  trace_cmd->add_option("--fault", trace.fault_specs,
+                        "fault JSON, e.g. '{\"family\":\"kt_degradation\",\"joint\":3,\"kt_factor\":0.6,\"onset_s\":2}'");
   trace_cmd->add_option("-o,--output", trace.output, "trace CSV path")->capture_default_str();
   trace_cmd->add_flag("-q,--quiet", trace.quiet, "no summary");
 

@@ -8,6 +8,7 @@
 #include "core/json_input.h"
 #include "core/run_config.h"
 #include "core/simulation.h"
+#include "faults/fault.h"
 #include "reports/trace_csv.h"
 
 namespace armfault {
@@ -24,7 +25,8 @@ nlohmann::json BuildRunJson(const TraceOptions& o, InputContext* context) {
   nlohmann::json run;
   if (o.run_file.empty()) {
     run = ThesisExperiment1Json();
-    const bool overridden = !o.robot.empty() || o.duration_s || o.seed || !o.joint_specs.empty();
+    const bool overridden =
+        !o.robot.empty() || o.duration_s || o.seed || !o.joint_specs.empty() || !o.fault_specs.empty();
     context->source = overridden ? "<command line>" : "<thesis experiment 1>";
   } else {
     run = ReadJsonFile(o.run_file);
@@ -47,6 +49,10 @@ nlohmann::json BuildRunJson(const TraceOptions& o, InputContext* context) {
     }
     run["joints"][spec.substr(0, eq)] = ParseJsonText(spec.substr(eq + 1), "--joint " + spec.substr(0, eq));
   }
+  if (!o.fault_specs.empty() && run.contains("faults") && !run["faults"].is_array()) {
+    throw InputError(context->source, "/faults", "expected an array of faults, got " + Describe(run["faults"]));
+  }
+  for (const std::string& spec : o.fault_specs) run["faults"].push_back(ParseJsonText(spec, "--fault"));
   return run;
 }
 
@@ -57,13 +63,23 @@ int RunTrace(const TraceOptions& o) {
   const RunConfig run = RunConfigFromJson(BuildRunJson(o, &context), "", context);
   const ArmModel model(run.robot);
   const int n = model.joint_count();
+  std::vector<std::shared_ptr<const Fault>> faults;
+  try {
+    for (auto& fault : MakeFaults(run.faults_json, "/faults", run.robot)) faults.push_back(std::move(fault));
+  } catch (const InputError& e) {
+    throw e.source().empty() ? e.WithSource(context.source) : e;
+  }
+  RunSpec spec = MakeRunSpec(run);
+  if (!faults.empty()) spec.hardware = std::make_shared<FaultSchedule>(faults);
+  EffectRecorder effects(model, faults);
 
   std::ofstream file(o.output, std::ios::binary);
   if (!file) throw InputError(o.output, "", "cannot open the trace file for writing");
   TraceCsvWriter writer(&file, n);
   std::vector<JointStats> stats(n);
-  const RunResult result = Simulate(model, MakeRunSpec(run), [&](const Tick& tick) {
+  const RunResult result = Simulate(model, spec, [&](const Tick& tick) {
     writer.Write(tick);
+    effects.Observe(tick);
     for (int j = 0; j < n; ++j) {
       const JointTick& jt = (*tick.joints)[j];
       const double err = (jt.q_rad - jt.q_ref_rad) * 180.0 / M_PI;
@@ -97,6 +113,14 @@ int RunTrace(const TraceOptions& o) {
     const double stored = (result.kinetic_end_J - result.kinetic_start_J) + (result.potential_end_J - result.potential_start_J);
     std::printf("energy balance: supply %.4f J = stored %.4f J + losses %.4f J; residual %.4f J (%.3f %% of supply)\n",
                 supply, stored, losses, supply - stored - losses, 100.0 * (supply - stored - losses) / supply);
+  }
+  if (!o.quiet && !faults.empty()) {
+    const std::vector<FaultEffect> measured = effects.Results();
+    for (size_t k = 0; k < faults.size(); ++k) {
+      const FaultEffect& e = measured[k];
+      std::printf("fault %s -> %s: healthy %.4g, faulty %.4g: %s\n", faults[k]->ToJson().dump().c_str(),
+                  e.measure.c_str(), e.healthy, e.faulty, e.took_effect ? "took effect" : ("NO EFFECT (" + e.note + ")").c_str());
+    }
   }
   if (!result.ok) {
     std::fprintf(stderr, "armfault: run failed: %s\n", result.failure_reason.c_str());

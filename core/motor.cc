@@ -226,6 +226,7 @@ void StepDrive(const DriveConstants& c, const HardwareCondition& cond, const Dri
   // The back-EMF power is e . i = torque x omega exactly, so it is not summed separately.
   out->torque_Nm = ke * torque_sum * inv_n;
   out->p_copper_W = r * p_copper * inv_n;
+  out->current_sq_A2 = p_copper * inv_n;
   out->p_emf_W = out->torque_Nm * omega;
   p_diode *= vd;
   out->p_magnetic_W = 0.5 * c.inductance_H * (stored1 - stored0) / (substeps * h);

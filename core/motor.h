@@ -63,6 +63,7 @@ struct DriveOutputs {
   double p_inverter_W = 0;   // switch conduction, switching and diode losses
   double p_quiescent_W = 0;
   double supply_current_A = 0;
+  double current_sq_A2 = 0;  // mean of i_a^2 + i_b^2 + i_c^2 (copper loss / R)
   double peak_phase_current_A = 0;
   std::array<double, 3> phase_current_A{};
 };

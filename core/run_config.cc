@@ -44,7 +44,7 @@ std::map<int, std::shared_ptr<const Trajectory>> JointTrajectoriesFromJson(
 RunConfig RunConfigFromJson(const nlohmann::json& value, const std::string& pointer, const InputContext& context) {
   try {
     ObjectReader reader(value, pointer);
-    reader.AllowOnly({"robot", "duration_s", "seed", "joints"});
+    reader.AllowOnly({"robot", "duration_s", "seed", "joints", "faults"});
     RunConfig run;
     if (const auto* robot = reader.Find("robot")) run.robot = RobotFromJson(*robot, reader.PointerTo("robot"));
     else run.robot = RobotPreset("mrr-config1");
@@ -60,6 +60,12 @@ RunConfig RunConfigFromJson(const nlohmann::json& value, const std::string& poin
     if (const auto* joints = reader.Find("joints")) {
       run.trajectories = JointTrajectoriesFromJson(*joints, reader.PointerTo("joints"), run.robot, run.duration_s, context);
       run.trajectories_json = *joints;
+    }
+    if (const auto* faults = reader.Find("faults")) {
+      if (!faults->is_array()) {
+        throw InputError("", reader.PointerTo("faults"), "expected an array of faults, got " + Describe(*faults));
+      }
+      run.faults_json = *faults;
     }
     reader.Finish();
     return run;

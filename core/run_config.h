@@ -23,6 +23,8 @@ struct RunConfig {
   uint64_t seed = 1;
   std::map<int, std::shared_ptr<const Trajectory>> trajectories;  // key: joint number (1-based)
   nlohmann::json trajectories_json = nlohmann::json::object();    // as given, for records
+  // "faults": kept as given; the faults library (which core does not depend on) builds them.
+  nlohmann::json faults_json = nlohmann::json::array();
 };
 
 // Parses the "joints" object of a run or campaign trajectory and checks each trajectory

@@ -171,6 +171,8 @@ struct JointRuntime {
   // sums over the current control period
   double sum_supply = 0, sum_copper = 0, sum_inverter = 0, sum_quiescent = 0, sum_friction = 0;
   double sum_mech = 0, sum_emf = 0, sum_magnetic = 0, peak_current = 0;
+  double sum_torque = 0, sum_current_sq = 0, sum_brake = 0;
+  double brake_share = 0;  // brake's part of the dry-friction bound in the current step
   std::array<double, 3> phase_current{};
 };
 
@@ -331,6 +333,9 @@ RunResult Simulate(const ArmModel& model, const RunSpec& spec, const TickObserve
       tick.i_supply_A = tick.p_supply_W / jm.params.inverter.bus_voltage_V;
       tick.i_supply_meas_A = tick.i_supply_A + jm.params.inverter.supply_current_noise_A * supply_noise;
       tick.peak_phase_current_A = r.peak_current;
+      tick.torque_motor_Nm = r.sum_torque * inv;
+      tick.current_sq_A2 = r.sum_current_sq * inv;
+      tick.brake_torque_Nm = r.sum_brake * inv;
       tick.brake_engaged = r.brake_engaged;
       tick.driver_enabled = r.driver_enabled && !r.drive.tripped;
       tick.limit_stop = r.limit_stop;
@@ -346,6 +351,7 @@ RunResult Simulate(const ArmModel& model, const RunSpec& spec, const TickObserve
       e.magnetic_J += r.sum_magnetic * dt;
       r.sum_supply = r.sum_copper = r.sum_inverter = r.sum_quiescent = r.sum_friction = 0;
       r.sum_mech = r.sum_emf = r.sum_magnetic = r.peak_current = 0;
+      r.sum_torque = r.sum_current_sq = r.sum_brake = 0;
     }
     result.end_time_s = t;
     if (observer) observer(Tick{t, &ticks});
@@ -380,14 +386,17 @@ RunResult Simulate(const ArmModel& model, const RunSpec& spec, const TickObserve
         r.sum_emf += dout.p_emf_W;
         r.sum_magnetic += dout.p_magnetic_W;
         r.peak_current = std::max(r.peak_current, dout.peak_phase_current_A);
+        r.sum_torque += dout.torque_Nm;
+        r.sum_current_sq += dout.current_sq_A2;
         r.phase_current = dout.phase_current_A;
 
         // Dry friction (Coulomb + Stribeck, mesh loss, brake) as a bounded hinge-motor
         // constraint with target velocity 0; viscous friction and motor torque as applied torque.
         const FrictionParams& fp = jm.params.friction;
+        const double brake = jm.ratio * BrakeTorqueLimitNm(jm.params.brake, cond, r.brake_engaged);
         const double dry = jm.ratio * BreakawayFrictionNm(fp, cond.friction_factor, r.qd) +
-                           jm.params.drive.mesh_loss_fraction * std::fabs(r.tau_transmitted) +
-                           jm.ratio * BrakeTorqueLimitNm(jm.params.brake, cond, r.brake_engaged);
+                           jm.params.drive.mesh_loss_fraction * std::fabs(r.tau_transmitted) + brake;
+        r.brake_share = dry > 0 ? brake / dry : 0.0;
         r.viscous_torque = jm.ratio * ViscousFrictionNm(fp, cond.friction_factor, r.qd);
         r.drive_torque = jm.ratio * dout.torque_Nm;
         dJointSetHingeParam(ode.joint(j), dParamVel, 0.0);
@@ -422,6 +431,9 @@ RunResult Simulate(const ArmModel& model, const RunSpec& spec, const TickObserve
         r.tau_transmitted = r.drive_torque - r.viscous_torque + dry_torque - rotor_torque;
         r.sum_mech += r.tau_transmitted * qd_new;
         r.sum_friction += (r.viscous_torque - dry_torque) * qd_new;
+        // The dry elements share the constraint torque in proportion to their bounds (exact
+        // while slipping, when each is at its bound).
+        r.sum_brake += std::fabs(dry_torque) * r.brake_share;
         const ModuleParams& m = jm.params;
         if (!r.limit_stop && (r.q < m.min_angle_deg * M_PI / 180 || r.q > m.max_angle_deg * M_PI / 180)) {
           // Limit switch: the joint controller disables the drive and engages the brake.

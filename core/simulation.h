@@ -110,6 +110,10 @@ struct JointTick {
   double p_mech_out_W = 0;      // tau_true x qd: power delivered to the link
   double p_emf_W = 0;           // electromagnetic power converted to rotor power
   double p_magnetic_W = 0;
+  // plant-level truth for checking that a fault took effect (means over the period)
+  double torque_motor_Nm = 0;   // electromagnetic torque on the rotor
+  double current_sq_A2 = 0;     // i_a^2 + i_b^2 + i_c^2
+  double brake_torque_Nm = 0;   // |torque| the brake exerts, link side
 };
 
 struct Tick {

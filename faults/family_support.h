@@ -1,0 +1,63 @@
+// Shared pieces of the fault families: the common JSON fields and the effect meters.
+// Only the family files and registry.cc include this.
+#pragma once
+
+#include <functional>
+#include <initializer_list>
+#include <memory>
+#include <string>
+
+#include "core/json_input.h"
+#include "faults/fault.h"
+
+namespace armfault {
+
+struct FaultCommon {
+  int joint_index = 0;  // 0-based
+  FaultTiming timing;
+};
+
+// Accepts exactly the common keys plus `own_keys` (rejecting any other key first), then reads
+// and checks the common fields: joint (1..joints of the robot), onset_s >= 0, profile, and
+// the profile's ramp_s, period_s, duty.
+FaultCommon ReadFaultCommon(ObjectReader& reader, const RobotConfig& robot, std::initializer_list<const char*> own_keys);
+
+// Ticks after onset + settle_s count as "faulty"; before onset as "healthy".
+constexpr double kEffectSettle_s = 0.05;
+
+// Ratio of two sums over the selected ticks, before and after onset: e.g. torque per ampere
+// = sum(T i) / sum(i^2). Healthy is the pre-onset ratio, or `nominal` when fewer than
+// `min_samples` ticks were seen before onset. Took effect when |faulty/healthy - 1| > threshold.
+struct RatioTerms {
+  bool include = false;
+  double numerator = 0, denominator = 0;
+};
+std::unique_ptr<EffectMeter> MakeRatioMeter(std::string measure, double onset_s, double nominal, double threshold,
+                                            std::function<RatioTerms(const JointTick&)> terms);
+
+// Root mean square of a quantity before and after onset; took effect when the faulty RMS
+// exceeds factor x healthy + margin.
+std::unique_ptr<EffectMeter> MakeRmsMeter(std::string measure, double onset_s, double factor, double margin,
+                                          std::function<double(const JointTick&)> value);
+
+// Mean of a quantity before and after onset; took effect when faulty > healthy + margin.
+std::unique_ptr<EffectMeter> MakeMeanMeter(std::string measure, double onset_s, double margin,
+                                           std::function<double(const JointTick&)> value);
+
+// Standard deviation of a quantity before and after onset; took effect when the faulty
+// value is flat: std below `fraction` x healthy std (a stuck signal).
+std::unique_ptr<EffectMeter> MakeFlatnessMeter(std::string measure, double onset_s, double fraction,
+                                               std::function<double(const JointTick&)> value);
+
+// Factory signature of a family (registry.cc).
+using FaultFactory = std::unique_ptr<Fault> (*)(ObjectReader& reader, const RobotConfig& robot);
+
+std::unique_ptr<Fault> MakeKtDegradation(ObjectReader& reader, const RobotConfig& robot);
+std::unique_ptr<Fault> MakeFrictionIncrease(ObjectReader& reader, const RobotConfig& robot);
+std::unique_ptr<Fault> MakeBrakeLock(ObjectReader& reader, const RobotConfig& robot);
+std::unique_ptr<Fault> MakeTorqueSensorStuck(ObjectReader& reader, const RobotConfig& robot);
+std::unique_ptr<Fault> MakeInverterShort(ObjectReader& reader, const RobotConfig& robot);
+std::unique_ptr<Fault> MakeWindingResistance(ObjectReader& reader, const RobotConfig& robot);
+std::unique_ptr<Fault> MakeTorqueSensorDrift(ObjectReader& reader, const RobotConfig& robot);
+
+}  // namespace armfault

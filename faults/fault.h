@@ -1,0 +1,116 @@
+// Fault injection: a fault is a change to the simulated hardware (a HardwareCondition of one
+// joint) over time, never to the monitor.
+//
+// One family = one file in faults/ implementing Fault + one line in the table in registry.cc.
+// JSON shape (campaign files, run files, `armfault trace --fault`):
+//   {"family": "kt_degradation", "joint": 3, "kt_factor": 0.6,
+//    "onset_s": 2.0, "profile": "abrupt" | "incipient" | "intermittent",
+//    "ramp_s": 2.0 (incipient), "period_s": 1.0, "duty": 0.5 (intermittent)}
+// Joints are numbered from 1 at the base.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/hardware_condition.h"
+#include "core/json_input.h"
+#include "core/robot_config.h"
+#include "core/simulation.h"
+
+namespace armfault {
+
+enum class FaultProfile { kAbrupt, kIncipient, kIntermittent };
+
+// When and how strongly a fault acts: Severity() is the fraction of the full magnitude.
+//   abrupt:       1 from onset_s on;
+//   incipient:    rises linearly from 0 at onset_s to 1 at onset_s + ramp_s;
+//   intermittent: 1 during the first duty x period_s of every period_s from onset_s, else 0.
+// Discrete faults (a stuck lead, a short) are present while the severity is at least 0.5.
+struct FaultTiming {
+  double onset_s = 0.0;
+  FaultProfile profile = FaultProfile::kAbrupt;
+  double ramp_s = 1.0;
+  double period_s = 1.0;
+  double duty = 0.5;
+  double Severity(double t_s) const;
+};
+
+// Plant-level evidence that a fault changed the hardware, measured from the simulator's
+// truth (never from the monitor): the measure on the healthy plant and under the fault.
+struct FaultEffect {
+  std::string measure;        // e.g. "torque_per_ampere_Nm_per_A"
+  double healthy = 0.0;       // before onset, or the healthy plant's value
+  double faulty = 0.0;        // after onset
+  bool took_effect = false;   // false: reported as "no effect", never silently counted
+  std::string note;           // why not, when there was no effect
+  nlohmann::json ToJson() const;
+};
+
+// Watches the ticks of the faulted joint during a run and judges the effect at the end.
+class EffectMeter {
+ public:
+  virtual ~EffectMeter() = default;
+  virtual void Observe(double t_s, const JointTick& joint) = 0;
+  virtual FaultEffect Result() const = 0;
+};
+
+class Fault {
+ public:
+  Fault(std::string family, int joint_index, FaultTiming timing)
+      : family_(std::move(family)), joint_index_(joint_index), timing_(timing) {}
+  virtual ~Fault() = default;
+
+  const std::string& family() const { return family_; }
+  int joint_index() const { return joint_index_; }  // 0-based
+  const FaultTiming& timing() const { return timing_; }
+
+  // Changes `condition` for a severity in (0, 1] at time t_s; composes with other faults on
+  // the same joint (factors multiply, drags add).
+  virtual void Apply(double severity, double t_s, HardwareCondition* condition) const = 0;
+  // The family's own parameters as written in JSON (e.g. {"kt_factor": 0.6}).
+  virtual nlohmann::json Parameters() const = 0;
+  virtual std::unique_ptr<EffectMeter> MakeEffectMeter(const JointModel& joint) const = 0;
+
+  // The whole fault as JSON, in the input shape.
+  nlohmann::json ToJson() const;
+
+ private:
+  std::string family_;
+  int joint_index_;
+  FaultTiming timing_;
+};
+
+// Builds one fault from JSON, checking it against the robot (joint exists, values in range).
+// Throws InputError naming the family, the JSON pointer and the value.
+std::unique_ptr<Fault> MakeFault(const nlohmann::json& spec, const std::string& pointer, const RobotConfig& robot);
+std::vector<std::unique_ptr<Fault>> MakeFaults(const nlohmann::json& specs, const std::string& pointer,
+                                               const RobotConfig& robot);
+std::vector<std::string> FaultFamilyNames();
+
+// All faults of a run as the plant's hardware schedule.
+class FaultSchedule : public HardwareSchedule {
+ public:
+  explicit FaultSchedule(std::vector<std::shared_ptr<const Fault>> faults) : faults_(std::move(faults)) {}
+  void Apply(double t_s, std::vector<HardwareCondition>* conditions) const override;
+  const std::vector<std::shared_ptr<const Fault>>& faults() const { return faults_; }
+
+ private:
+  std::vector<std::shared_ptr<const Fault>> faults_;
+};
+
+// Observes a run's ticks with one meter per fault; Results() in fault order.
+class EffectRecorder {
+ public:
+  EffectRecorder(const ArmModel& model, const std::vector<std::shared_ptr<const Fault>>& faults);
+  void Observe(const Tick& tick);
+  std::vector<FaultEffect> Results() const;
+
+ private:
+  std::vector<int> joints_;
+  std::vector<std::unique_ptr<EffectMeter>> meters_;
+};
+
+}  // namespace armfault

@@ -1,0 +1,55 @@
+// The fault families: one line each. A new family is a new file plus a line here.
+#include "faults/family_support.h"
+
+namespace armfault {
+
+namespace {
+
+struct Family {
+  const char* name;
+  FaultFactory make;
+};
+
+const Family kFamilies[] = {
+    {"kt_degradation", &MakeKtDegradation},
+    {"friction_increase", &MakeFrictionIncrease},
+    {"brake_lock", &MakeBrakeLock},
+    {"torque_sensor_stuck", &MakeTorqueSensorStuck},
+    {"inverter_short", &MakeInverterShort},
+    {"winding_resistance", &MakeWindingResistance},
+    {"torque_sensor_drift", &MakeTorqueSensorDrift},
+};
+
+}  // namespace
+
+std::vector<std::string> FaultFamilyNames() {
+  std::vector<std::string> names;
+  for (const Family& f : kFamilies) names.push_back(f.name);
+  return names;
+}
+
+std::unique_ptr<Fault> MakeFault(const nlohmann::json& spec, const std::string& pointer, const RobotConfig& robot) {
+  ObjectReader reader(spec, pointer);
+  const std::string family = reader.RequireString("family");
+  for (const Family& f : kFamilies) {
+    if (family != f.name) continue;
+    try {
+      return f.make(reader, robot);
+    } catch (const InputError& e) {
+      throw InputError(e.source(), e.pointer(), family + ": " + e.message());
+    }
+  }
+  std::string known;
+  for (const std::string& name : FaultFamilyNames()) known += (known.empty() ? "" : ", ") + name;
+  throw InputError("", reader.PointerTo("family"), "unknown fault family \"" + family + "\" (known: " + known + ")");
+}
+
+std::vector<std::unique_ptr<Fault>> MakeFaults(const nlohmann::json& specs, const std::string& pointer,
+                                               const RobotConfig& robot) {
+  if (!specs.is_array()) throw InputError("", pointer, "expected an array of faults, got " + Describe(specs));
+  std::vector<std::unique_ptr<Fault>> faults;
+  for (size_t i = 0; i < specs.size(); ++i) faults.push_back(MakeFault(specs[i], PointerJoin(pointer, i), robot));
+  return faults;
+}
+
+}  // namespace armfault
