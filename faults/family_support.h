@@ -49,6 +49,9 @@ std::unique_ptr<EffectMeter> MakeMeanMeter(std::string measure, double onset_s, 
 std::unique_ptr<EffectMeter> MakeFlatnessMeter(std::string measure, double onset_s, double fraction,
                                                std::function<double(const JointTick&)> value);
 
+// Either meter's evidence: the first that took effect, else the first's result.
+std::unique_ptr<EffectMeter> MakeEitherMeter(std::unique_ptr<EffectMeter> first, std::unique_ptr<EffectMeter> second);
+
 // Factory signature of a family (registry.cc).
 using FaultFactory = std::unique_ptr<Fault> (*)(ObjectReader& reader, const RobotConfig& robot);
 

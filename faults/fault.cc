@@ -145,6 +145,26 @@ class FlatnessMeter : public EffectMeter {
   Split sum_, sq_;
 };
 
+class EitherMeter : public EffectMeter {
+ public:
+  EitherMeter(std::unique_ptr<EffectMeter> a, std::unique_ptr<EffectMeter> b) : a_(std::move(a)), b_(std::move(b)) {}
+  void Observe(double t, const JointTick& j) override {
+    a_->Observe(t, j);
+    b_->Observe(t, j);
+  }
+  FaultEffect Result() const override {
+    FaultEffect a = a_->Result();
+    if (a.took_effect) return a;
+    FaultEffect b = b_->Result();
+    if (b.took_effect) return b;
+    a.note += "; " + b.note;
+    return a;
+  }
+
+ private:
+  std::unique_ptr<EffectMeter> a_, b_;
+};
+
 }  // namespace
 
 double FaultTiming::Severity(double t) const {
@@ -264,6 +284,9 @@ std::unique_ptr<EffectMeter> MakeRmsMeter(std::string measure, double onset_s, d
 std::unique_ptr<EffectMeter> MakeFlatnessMeter(std::string measure, double onset_s, double fraction,
                                                std::function<double(const JointTick&)> value) {
   return std::make_unique<FlatnessMeter>(std::move(measure), onset_s, fraction, std::move(value));
+}
+std::unique_ptr<EffectMeter> MakeEitherMeter(std::unique_ptr<EffectMeter> first, std::unique_ptr<EffectMeter> second) {
+  return std::make_unique<EitherMeter>(std::move(first), std::move(second));
 }
 std::unique_ptr<EffectMeter> MakeMeanMeter(std::string measure, double onset_s, double margin,
                                            std::function<double(const JointTick&)> value) {

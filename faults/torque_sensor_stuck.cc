@@ -1,7 +1,8 @@
 // torque_sensor_stuck: a torque-sensor lead pinched by the harmonic-drive edge, shorted to the
 // 5 V supply or to ground, or broken (open): the ADC reads the supply rail (full scale), 0 V,
 // or holds its last sample. Magnitude: lead = supply | ground | open. Effect: the reading
-// goes flat (its standard deviation, noise included, collapses).
+// goes flat (its standard deviation, noise included, collapses) or, when the lead comes and
+// goes (intermittent), the reading's error against the true torque jumps.
 #include "faults/family_support.h"
 
 namespace armfault {
@@ -17,8 +18,10 @@ class TorqueSensorStuck : public Fault {
   }
   nlohmann::json Parameters() const override { return {{"lead", name_}}; }
   std::unique_ptr<EffectMeter> MakeEffectMeter(const JointModel&) const override {
-    return MakeFlatnessMeter("sensor_reading_std_Nm", timing().onset_s, 0.2,
-                             [](const JointTick& j) { return j.tau_sensor_Nm; });
+    return MakeEitherMeter(MakeFlatnessMeter("sensor_reading_std_Nm", timing().onset_s, 0.2,
+                                             [](const JointTick& j) { return j.tau_sensor_Nm; }),
+                           MakeRmsMeter("sensor_error_rms_Nm", timing().onset_s, 3.0, 0.1,
+                                        [](const JointTick& j) { return j.tau_sensor_Nm - j.tau_true_Nm; }));
   }
 
  private:
