@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/Dense>
+
 namespace armfault {
 
 namespace {
@@ -79,8 +81,198 @@ DriveConstants MakeDriveConstants(const ModuleParams& m, double substep_s) {
   return c;
 }
 
+namespace {
+
+enum class LegMode { kOff, kSwitched, kDiodeHigh, kDiodeLow };
+
+// The drive with a short in it (HardwareCondition::short_kind): a small nodal network per
+// sub-step, integrated with backward Euler. Unknowns: terminal voltages v_a..v_c, star point
+// v_n, winding currents i_a..i_c (end of sub-step) and leg currents g_a..g_c (into each
+// terminal from its inverter leg). The fault resistor joins a-b (phase_phase), a-ground
+// (phase_ground) or the positive rail-a (a shorted high-side switch). Legs that are off
+// conduct through a diode when their terminal leaves the rails. A leg current above the
+// trip level opens all switches (latched), as a driver's over-current protection does.
+void StepDriveNetwork(const DriveConstants& c, const HardwareCondition& cond, const DriveInputs& in, int substeps,
+                      DriveState* s, DriveOutputs* out) {
+  using Matrix = Eigen::Matrix<double, 10, 10>;
+  using Vector = Eigen::Matrix<double, 10, 1>;
+  const double h = c.substep_s;
+  const double ud = c.inverter.bus_voltage_V;
+  const double vd = c.inverter.diode_drop_V;
+  const double ke = 0.5 * c.kt_Nm_per_A * cond.kt_factor;
+  const double r = c.resistance_ohm * cond.resistance_factor;
+  const double l_over_h = c.inductance_H / h;
+  const double g_fault = 1.0 / cond.short_resistance_ohm;
+  const double sw_loss_per_A = ud * c.inverter.switching_time_s * c.inverter.pwm_frequency_Hz;
+  const double omega = in.motor_speed_rad_s;
+  std::array<double, 3>& i = s->phase_current_A;
+
+  double torque_sum = 0, p_bus = 0, p_inverter = 0, p_magnetic = 0, sq_sum = 0, peak = 0;
+  std::array<LegMode, 3> mode = {LegMode::kOff, LegMode::kOff, LegMode::kOff};
+  for (int k = 0; k < substeps; ++k) {
+    const double theta = WrapAngle(c.pole_pairs * (in.motor_angle_rad + omega * (k + 0.5) * h));
+    const std::array<double, 3> shape = {ShapeWrapped(theta), ShapeWrapped(ShiftWrapped(theta, 2.0 * M_PI / 3.0)),
+                                         ShapeWrapped(ShiftWrapped(theta, 4.0 * M_PI / 3.0))};
+    const bool driving = in.enabled && !s->tripped;
+    std::array<double, 3> leg_voltage{};
+    for (int x = 0; x < 3; ++x) {
+      if (mode[x] == LegMode::kSwitched) mode[x] = LegMode::kOff;
+    }
+    if (driving) {
+      int high = kHigh[SectorWrapped(theta)], low = kLow[SectorWrapped(theta)];
+      if (in.current_command_A < 0) std::swap(high, low);
+      const double error = std::fabs(in.current_command_A) - i[high];
+      const double u = std::clamp(c.kp_V_per_A * error + s->pi_integral_V, -ud, ud);
+      s->pi_integral_V = std::clamp(s->pi_integral_V + c.ki_V_per_A_s * error * h, -ud, ud);
+      mode[high] = mode[low] = LegMode::kSwitched;
+      leg_voltage[high] = 0.5 * (ud + u);
+      leg_voltage[low] = 0.5 * (ud - u);
+    } else {
+      s->pi_integral_V = 0.0;
+    }
+
+    Vector x;
+    for (int attempt = 0; attempt < 8; ++attempt) {
+      Matrix a = Matrix::Zero();
+      Vector b = Vector::Zero();
+      for (int p = 0; p < 3; ++p) {
+        // winding p: (L/h + R) i_p - v_p + v_n = (L/h) i_p,old - e_p
+        a(p, 4 + p) = l_over_h + r;
+        a(p, p) = -1.0;
+        a(p, 3) = 1.0;
+        b(p) = l_over_h * i[p] - ke * omega * shape[p];
+      }
+      a(3, 4) = a(3, 5) = a(3, 6) = 1.0;  // star point: sum of winding currents is zero
+      // ... but for a 1 uS leakage to mid-bus, which fixes the potential of a motor whose
+      // terminals all float (the matrix would be singular otherwise) where a symmetric
+      // bridge leaves it, so that no diode conducts below the bus voltage.
+      a(3, 3) = 1e-6;
+      b(3) = 1e-6 * 0.5 * ud;
+      for (int p = 0; p < 3; ++p) {
+        const int row = 4 + p;
+        a(row, 7 + p) = 1.0;
+        a(row, 4 + p) = -1.0;
+      }
+      switch (cond.short_kind) {
+        case ShortKind::kPhasePhase:
+          a(4, 0) -= g_fault;
+          a(4, 1) += g_fault;
+          a(5, 1) -= g_fault;
+          a(5, 0) += g_fault;
+          break;
+        case ShortKind::kPhaseGround:
+          a(4, 0) -= g_fault;
+          break;
+        case ShortKind::kSwitch:
+          a(4, 0) -= g_fault;
+          b(4) -= g_fault * ud;
+          break;
+        case ShortKind::kNone:
+          break;
+      }
+      for (int p = 0; p < 3; ++p) {
+        const int row = 7 + p;
+        switch (mode[p]) {
+          case LegMode::kOff:
+            a(row, 7 + p) = 1.0;  // no leg current
+            break;
+          case LegMode::kSwitched:
+            a(row, p) = 1.0;
+            b(row) = leg_voltage[p];
+            break;
+          case LegMode::kDiodeHigh:
+            a(row, p) = 1.0;
+            b(row) = ud + vd;
+            break;
+          case LegMode::kDiodeLow:
+            a(row, p) = 1.0;
+            b(row) = -vd;
+            break;
+        }
+      }
+      x = a.partialPivLu().solve(b);
+      // Diodes: conduct only forward; an off leg whose terminal leaves the rails conducts.
+      bool consistent = true;
+      for (int p = 0; p < 3; ++p) {
+        const double v = x(p), g = x(7 + p);
+        LegMode next = mode[p];
+        if (mode[p] == LegMode::kOff && v > ud + vd) next = LegMode::kDiodeHigh;
+        else if (mode[p] == LegMode::kOff && v < -vd) next = LegMode::kDiodeLow;
+        else if (mode[p] == LegMode::kDiodeHigh && g > 0) next = LegMode::kOff;
+        else if (mode[p] == LegMode::kDiodeLow && g < 0) next = LegMode::kOff;
+        if (next != mode[p]) {
+          mode[p] = next;
+          consistent = false;
+        }
+      }
+      if (consistent) break;
+    }
+
+    const std::array<double, 3> i_new = {x(4), x(5), x(6)};
+    for (int p = 0; p < 3; ++p) {
+      const double g = x(7 + p);
+      torque_sum += shape[p] * i_new[p];
+      sq_sum += i_new[p] * i_new[p];
+      p_magnetic += c.inductance_H * (i_new[p] - i[p]) * i_new[p] / h;
+      switch (mode[p]) {
+        case LegMode::kSwitched:
+          p_bus += x(p) * g;
+          p_inverter += c.inverter.switch_resistance_ohm * g * g + sw_loss_per_A * std::fabs(g);
+          p_bus += c.inverter.switch_resistance_ohm * g * g + sw_loss_per_A * std::fabs(g);
+          if (std::fabs(g) > c.inverter.overcurrent_trip_A) s->tripped = true;
+          break;
+        case LegMode::kDiodeHigh:
+          p_bus += ud * g;
+          p_inverter += vd * std::fabs(g);
+          break;
+        case LegMode::kDiodeLow:
+          p_inverter += vd * std::fabs(g);
+          break;
+        case LegMode::kOff:
+          break;
+      }
+      peak = std::max(peak, std::fabs(i_new[p]));
+    }
+    switch (cond.short_kind) {
+      case ShortKind::kPhasePhase:
+        p_inverter += g_fault * (x(0) - x(1)) * (x(0) - x(1));
+        break;
+      case ShortKind::kPhaseGround:
+        p_inverter += g_fault * x(0) * x(0);
+        break;
+      case ShortKind::kSwitch:
+        p_inverter += g_fault * (ud - x(0)) * (ud - x(0));
+        p_bus += ud * g_fault * (ud - x(0));
+        break;
+      case ShortKind::kNone:
+        break;
+    }
+    i = i_new;
+  }
+  const double inv_n = 1.0 / substeps;
+  out->torque_Nm = ke * torque_sum * inv_n;
+  out->p_copper_W = r * sq_sum * inv_n;
+  out->current_sq_A2 = sq_sum * inv_n;
+  out->p_emf_W = out->torque_Nm * omega;
+  // Backward Euler: L (i' - i) i' / h is the stored-energy rate plus the method's own small
+  // dissipation; booked here so that the books close exactly.
+  out->p_magnetic_W = p_magnetic * inv_n;
+  out->p_inverter_W = p_inverter * inv_n;
+  out->p_quiescent_W = c.inverter.quiescent_power_W;
+  out->p_supply_W = p_bus * inv_n + out->p_quiescent_W;
+  out->supply_current_A = out->p_supply_W / ud;
+  out->peak_phase_current_A = peak;
+  out->phase_current_A = i;
+}
+
+}  // namespace
+
 void StepDrive(const DriveConstants& c, const HardwareCondition& cond, const DriveInputs& in,
                int substeps, DriveState* s, DriveOutputs* out) {
+  if (cond.short_kind != ShortKind::kNone) {
+    StepDriveNetwork(c, cond, in, substeps, s, out);
+    return;
+  }
   const double h = c.substep_s;
   const double ud = c.inverter.bus_voltage_V;
   const double vd = c.inverter.diode_drop_V;

@@ -287,7 +287,7 @@ ModuleParams ModuleDefaults(const std::string& type, const std::string& pointer)
     m.motor.rotor_inertia_kg_m2 = 1.5e-4;
     m.inverter.command_limit_A = 6.0;
     m.friction = {0.0025, 0.05, 0.054, 15.0};
-    m.brake.holding_torque_Nm = 1.5;
+    m.brake.holding_torque_Nm = 10.0;  // above the motor's 8.82 N m peak
     m.encoder.counts_per_rev = 5000;
     m.controller.kt_hat_Nm_per_A = 0.12;
     m.controller.b_hat = 0.0055;

@@ -58,7 +58,7 @@ struct FrictionParams {
 
 // Power-off brake on the motor shaft: engaged when unpowered.
 struct BrakeParams {
-  double holding_torque_Nm = 0.5;  // motor side (assumption: x101 = 50 N m at the link)
+  double holding_torque_Nm = 2.0;  // motor side, above the motor's 1.6 N m peak (assumption)
 };
 
 // Strain-gauge joint torque sensor on the harmonic-drive output with amplifier and ADC.

@@ -273,6 +273,7 @@ RunResult Simulate(const ArmModel& model, const RunSpec& spec, const TickObserve
   for (long k = 0;; ++k) {
     const double t = k * tc;
     // --- controller tick: sensors -> controllers -> commands, and the tick record ---
+    if (spec.hardware) spec.hardware->Apply(t, &conditions);  // a sensor fault acts from its onset tick
     for (int j = 0; j < n; ++j) {
       const JointModel& jm = model.joint(j);
       JointRuntime& r = rt[j];

@@ -16,12 +16,12 @@ class KtDegradation : public Fault {
   }
   nlohmann::json Parameters() const override { return {{"kt_factor", n_}}; }
   std::unique_ptr<EffectMeter> MakeEffectMeter(const JointModel& joint) const override {
-    // Regression of the rotor torque on the commanded current, where the command is large
-    // enough for the current loop to follow it closely.
+    // Rotor torque per ampere actually flowing: two conducting phases carry I each, so
+    // i_a^2 + i_b^2 + i_c^2 = 2 I^2 and a healthy motor gives |T| = K_T I.
     return MakeRatioMeter("torque_per_ampere_Nm_per_A", timing().onset_s, joint.params.motor.kt_Nm_per_A, 0.03,
                           [](const JointTick& j) {
-                            return RatioTerms{std::fabs(j.i_cmd_A) > 0.2, j.torque_motor_Nm * j.i_cmd_A,
-                                              j.i_cmd_A * j.i_cmd_A};
+                            return RatioTerms{j.current_sq_A2 > 0.08, std::fabs(j.torque_motor_Nm),
+                                              std::sqrt(0.5 * j.current_sq_A2)};
                           });
   }
 
