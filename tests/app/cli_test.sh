@@ -221,5 +221,19 @@ fi
   run negative_seed "$armfault" trace --duration 0.01 --seed -5 -q -o "$tmp/x.csv"
   expect_input_error "/seed: "
 
+# ------------------------------------------------------------------ faults
+run fault_bad_factor "$armfault" trace --duration 0.1 -q -o "$tmp/x.csv" --fault '{"family":"kt_degradation","joint":3,"kt_factor":1.4}'
+expect_input_error "<command line>: /faults/0/kt_factor: kt_degradation: 1.4 is outside"
+run fault_bad_joint "$armfault" trace --duration 0.1 -q -o "$tmp/x.csv" --fault '{"family":"brake_lock","joint":4,"drag_fraction":1}'
+expect_input_error "/faults/0/joint: brake_lock: joint 4 does not exist"
+run fault_bad_family "$armfault" trace --duration 0.1 -q -o "$tmp/x.csv" --fault '{"family":"gremlins","joint":3}'
+expect_input_error '/faults/0/family: unknown fault family "gremlins"'
+printf '{"duration_s": 0.1, "faults": [{"family": "torque_sensor_stuck", "joint": 3, "lead": "vcc"}]}\n' >"$tmp/fault_run.json"
+run fault_in_file "$armfault" trace "$tmp/fault_run.json" -q -o "$tmp/x.csv"
+expect_input_error "$tmp/fault_run.json: /faults/0/lead: torque_sensor_stuck: unknown lead \"vcc\""
+run fault_ok "$armfault" trace --duration 1 -o "$tmp/x.csv" --fault '{"family":"kt_degradation","joint":3,"kt_factor":0.5,"onset_s":0.2}'
+expect_status 0
+if grep -q 'torque_per_ampere_Nm_per_A: .*took effect' "$tmp/stdout"; then pass; else fail "no took-effect line: $(cat "$tmp/stdout")"; fi
+
 echo "$passed passed, $failed failed"
 [[ $failed -eq 0 ]]
