@@ -368,7 +368,7 @@ RunResult Simulate(const ArmModel& model, const RunSpec& spec, const TickObserve
     // --- physics steps until the next tick ---
     for (int s = 0; s < steps; ++s) {
       const double ts = t + s * dt;
-      if (spec.hardware) spec.hardware->Apply(ts, &conditions);
+      if (spec.hardware && s > 0) spec.hardware->Apply(ts, &conditions);  // s = 0: applied at the tick
       for (int j = 0; j < n; ++j) {
         const JointModel& jm = model.joint(j);
         JointRuntime& r = rt[j];
