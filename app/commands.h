@@ -16,6 +16,7 @@ struct TraceOptions {
   std::vector<std::string> joint_specs; // "J=<trajectory JSON>"
   std::vector<std::string> fault_specs; // fault JSON objects, added to the file's "faults"
   std::string output = "trace.csv";
+  std::string monitor_output;           // monitor verdicts and windows as JSON (optional)
   bool quiet = false;
 };
 int RunTrace(const TraceOptions& options);

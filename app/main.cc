@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
   trace_cmd->add_option("--fault", trace.fault_specs,
                         "fault JSON, e.g. '{\"family\":\"kt_degradation\",\"joint\":3,\"kt_factor\":0.6,\"onset_s\":2}'");
   trace_cmd->add_option("-o,--output", trace.output, "trace CSV path")->capture_default_str();
+  trace_cmd->add_option("--monitor-out", trace.monitor_output, "write the monitor's verdicts and windows as JSON");
   trace_cmd->add_flag("-q,--quiet", trace.quiet, "no summary");
 
   std::string run_dir = "out";

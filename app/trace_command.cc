@@ -6,6 +6,7 @@
 
 #include "app/commands.h"
 #include "core/json_input.h"
+#include "core/power_monitor.h"
 #include "core/run_config.h"
 #include "core/simulation.h"
 #include "faults/fault.h"
@@ -56,6 +57,36 @@ nlohmann::json BuildRunJson(const TraceOptions& o, InputContext* context) {
   return run;
 }
 
+void PrintMonitorSummary(const PowerEfficiencyMonitor& monitor) {
+  const MonitorOutput& out = monitor.output();
+  std::printf("monitor windows (used ones): joint, time [s], flow, eta, eta_m (expected), eta_e (expected)\n");
+  for (const EfficiencyWindow& w : out.windows) {
+    if (!w.used) continue;
+    std::printf("  %d  %6.2f-%6.2f  %-8s  eta %6.3f  eta_m %6.3f (%6.3f)  eta_e %6.3f (%6.3f)\n", w.joint, w.t_start_s,
+                w.t_end_s, w.flow.c_str(), w.eta, w.eta_m, w.eta_m_expected, w.eta_e, w.eta_e_expected);
+  }
+  for (int j = 0; j < static_cast<int>(monitor.joint_count()); ++j) {
+    const PowerEfficiencyMonitor::Estimates e = monitor.estimates(j);
+    std::printf("  joint %d estimates: kt_factor %.4f (se %.4f), resistance_factor %.3f (se %.3f), friction_factor "
+                "%.3f (se %.3f), sensor_drift %.3f N m (se %.3f), %d windows\n",
+                j + 1, e.kt_factor, e.kt_factor_se, e.resistance_factor, e.resistance_factor_se, e.friction_factor,
+                e.friction_factor_se, e.sensor_drift_Nm, e.sensor_drift_se, e.windows_in_fit);
+  }
+  for (const Verdict& v : out.verdicts) {
+    std::printf("  verdict t=%.3f s joint %d: %s%s%s%s\n", v.t_s, v.joint, HealthStateName(v.state),
+                v.family.empty() ? "" : (" " + v.family).c_str(),
+                v.magnitude_name.empty() ? "" : (" " + v.magnitude_name + "=").c_str(),
+                v.magnitude_name.empty() ? "" : FormatNumber(std::round(v.magnitude * 1e4) / 1e4).c_str());
+  }
+  const Diagnosis d = Diagnose(out);
+  if (d.detected) {
+    std::printf("monitor: ALARM at %.3f s, joint %d, %s, %s %.4g (confidence %.2f)\n", d.detection_time_s, d.joint,
+                d.family.c_str(), d.magnitude_name.c_str(), d.magnitude, d.confidence);
+  } else {
+    std::printf("monitor: no alarm\n");
+  }
+}
+
 }  // namespace
 
 int RunTrace(const TraceOptions& o) {
@@ -77,7 +108,9 @@ int RunTrace(const TraceOptions& o) {
   if (!file) throw InputError(o.output, "", "cannot open the trace file for writing");
   TraceCsvWriter writer(&file, n);
   std::vector<JointStats> stats(n);
-  const RunResult result = Simulate(model, spec, [&](const Tick& tick) {
+  const PowerMonitorModel monitor_model = MakePowerMonitorModel(run.robot, run.monitor);
+  PowerEfficiencyMonitor monitor(monitor_model);
+  const RunResult result = Simulate(model, spec, ObserveWith(&monitor, [&](const Tick& tick) {
     writer.Write(tick);
     effects.Observe(tick);
     for (int j = 0; j < n; ++j) {
@@ -90,7 +123,8 @@ int RunTrace(const TraceOptions& o) {
       s.sum_sq_cmd += jt.i_cmd_A * jt.i_cmd_A;
       ++s.count;
     }
-  });
+  }));
+  monitor.Finish(result.end_time_s);
   file.close();
   if (!file) throw InputError(o.output, "", "error while writing the trace file");
 
@@ -122,6 +156,17 @@ int RunTrace(const TraceOptions& o) {
                   e.measure.c_str(), e.healthy, e.faulty, e.took_effect ? "took effect" : ("NO EFFECT (" + e.note + ")").c_str());
     }
   }
+  if (!o.monitor_output.empty()) {
+    nlohmann::json out = {{"diagnosis", ToJson(Diagnose(monitor.output()))},
+                          {"verdicts", nlohmann::json::array()},
+                          {"windows", nlohmann::json::array()}};
+    for (const Verdict& v : monitor.output().verdicts) out["verdicts"].push_back(ToJson(v));
+    for (const EfficiencyWindow& w : monitor.output().windows) out["windows"].push_back(ToJson(w));
+    std::ofstream mf(o.monitor_output, std::ios::binary);
+    mf << out.dump(1) << "\n";
+    if (!mf) throw InputError(o.monitor_output, "", "cannot write the monitor output");
+  }
+  if (!o.quiet) PrintMonitorSummary(monitor);
   if (!result.ok) {
     std::fprintf(stderr, "armfault: run failed: %s\n", result.failure_reason.c_str());
     return 3;

@@ -120,8 +120,7 @@ void StepDriveNetwork(const DriveConstants& c, const HardwareCondition& cond, co
     }
     if (driving) {
       int high = kHigh[SectorWrapped(theta)], low = kLow[SectorWrapped(theta)];
-      if (in.current_command_A < 0) std::swap(high, low);
-      const double error = std::fabs(in.current_command_A) - i[high];
+      const double error = in.current_command_A - i[high];
       const double u = std::clamp(c.kp_V_per_A * error + s->pi_integral_V, -ud, ud);
       s->pi_integral_V = std::clamp(s->pi_integral_V + c.ki_V_per_A_s * error * h, -ud, ud);
       mode[high] = mode[low] = LegMode::kSwitched;
@@ -283,8 +282,10 @@ void StepDrive(const DriveConstants& c, const HardwareCondition& cond, const Dri
   const double sw_loss_per_A = ud * c.inverter.switching_time_s * c.inverter.pwm_frequency_Hz;
   const double omega = in.motor_speed_rad_s;
   const bool driving = in.enabled && !s->tripped;
-  const double command = driving ? in.current_command_A : 0.0;
-  const double reference = std::fabs(command);
+  // Signed current loop on the sector's fixed pair: a negative command drives a negative
+  // current through the same pair, so the PI integral (which holds the back-EMF voltage)
+  // stays continuous when the command changes sign.
+  const double reference = driving ? in.current_command_A : 0.0;
   if (!driving) s->pi_integral_V = 0.0;
 
   double torque_sum = 0, p_rail = 0, p_copper = 0, p_switch = 0, p_diode = 0;
@@ -303,7 +304,6 @@ void StepDrive(const DriveConstants& c, const HardwareCondition& cond, const Dri
       const int sector = SectorWrapped(theta);
       high = kHigh[sector];
       low = kLow[sector];
-      if (command < 0) std::swap(high, low);
       off = 3 - high - low;
       const double error = reference - i[high];
       u = std::clamp(c.kp_V_per_A * error + s->pi_integral_V, -ud, ud);

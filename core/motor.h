@@ -8,9 +8,10 @@
 //
 // Inverter: six-step commutation from the rotor angle (ideal Hall sensors); the conducting
 // pair is driven by complementary PWM (averaged: leg voltages (U_d +- u)/2), the third leg is
-// off and freewheels through its diodes until its current dies out. A PI current loop makes
-// the current into the high-side phase follow |i_cmd|; the sign of i_cmd selects the torque
-// direction (the pair is swapped).
+// off and freewheels through its diodes until its current dies out. A signed PI current loop
+// makes the current into the sector's positive-EMF phase follow i_cmd (u may be negative: a
+// negative command drives the current the other way through the same pair, so the loop's
+// integral, which carries the back-EMF voltage, is continuous through a sign change).
 //
 // Inputs per physics step: commanded current [A], enable flag, motor angle [rad] and speed
 // [rad/s] (speed held over the step), bus voltage, the hardware condition.

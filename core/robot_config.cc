@@ -241,6 +241,7 @@ RobotConfig MrrConfig1() {
   l3.joint_axis = {0, 1, 0};
   r.links = {l1, l2, l3};
   r.base_position_m = {0, 0, 0.15};
+  r.payload_kg = 2.0;  // tool at the flange: the top joint's load is mostly gravity (docs/assumptions.md)
   return r;
 }
 

@@ -43,7 +43,7 @@ struct InverterParams {
 // of the wave generator and flexspline), which the controller's friction model does not know.
 struct HarmonicDriveParams {
   double ratio = 101.0;               // thesis table 5-1
-  double mesh_loss_fraction = 0.10;   // Coulomb-like loss = fraction x |transmitted torque| (assumption)
+  double mesh_loss_fraction = 0.24;   // Coulomb-like loss = fraction x |transmitted torque| (assumption)
 };
 
 // Friction on the motor shaft, thesis eq 3-8, as a function of the link velocity q_dot

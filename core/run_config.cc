@@ -1,5 +1,7 @@
 #include "core/run_config.h"
 
+#include <filesystem>
+
 #include <cmath>
 #include <sstream>
 
@@ -41,10 +43,24 @@ std::map<int, std::shared_ptr<const Trajectory>> JointTrajectoriesFromJson(
   return out;
 }
 
+MonitorConfig MonitorConfigFromJsonOrFile(const nlohmann::json& value, const std::string& pointer,
+                                          const InputContext& context) {
+  if (value.is_string()) {
+    std::filesystem::path path = value.get<std::string>();
+    if (path.is_relative() && !context.base_dir.empty()) path = std::filesystem::path(context.base_dir) / path;
+    return MonitorConfigFromJson(ReadJsonFile(path.string()), "", path.string());
+  }
+  if (!value.is_object()) {
+    throw InputError(context.source, pointer,
+                     "expected monitor thresholds (an object) or the name of a JSON file of them, got " + Describe(value));
+  }
+  return MonitorConfigFromJson(value, pointer, context.source);
+}
+
 RunConfig RunConfigFromJson(const nlohmann::json& value, const std::string& pointer, const InputContext& context) {
   try {
     ObjectReader reader(value, pointer);
-    reader.AllowOnly({"robot", "duration_s", "seed", "joints", "faults"});
+    reader.AllowOnly({"robot", "duration_s", "seed", "joints", "faults", "monitor"});
     RunConfig run;
     if (const auto* robot = reader.Find("robot")) run.robot = RobotFromJson(*robot, reader.PointerTo("robot"));
     else run.robot = RobotPreset("mrr-config1");
@@ -66,6 +82,9 @@ RunConfig RunConfigFromJson(const nlohmann::json& value, const std::string& poin
         throw InputError("", reader.PointerTo("faults"), "expected an array of faults, got " + Describe(*faults));
       }
       run.faults_json = *faults;
+    }
+    if (const auto* monitor = reader.Find("monitor")) {
+      run.monitor = MonitorConfigFromJsonOrFile(*monitor, reader.PointerTo("monitor"), context);
     }
     reader.Finish();
     return run;

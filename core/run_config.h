@@ -11,6 +11,7 @@
 #include <memory>
 #include <string>
 
+#include "core/power_monitor.h"
 #include "core/robot_config.h"
 #include "core/simulation.h"
 #include "core/trajectory.h"
@@ -25,7 +26,13 @@ struct RunConfig {
   nlohmann::json trajectories_json = nlohmann::json::object();    // as given, for records
   // "faults": kept as given; the faults library (which core does not depend on) builds them.
   nlohmann::json faults_json = nlohmann::json::array();
+  MonitorConfig monitor;  // "monitor": thresholds, or the name of a JSON file of them
 };
+
+// A "monitor" value: an object of thresholds, or a file name (relative to the input's
+// directory) holding one. Errors name the file and pointer.
+MonitorConfig MonitorConfigFromJsonOrFile(const nlohmann::json& value, const std::string& pointer,
+                                          const InputContext& context);
 
 // Parses the "joints" object of a run or campaign trajectory and checks each trajectory
 // against the joint's range over [0, duration_s]. Throws InputError with JSON pointers.

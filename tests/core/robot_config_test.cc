@@ -57,7 +57,7 @@ TEST(RobotConfigPresets, MrrConfig1IsMrr1WithTwoMrr2) {
   EXPECT_EQ(r.links[1].joint_axis, (std::array<double, 3>{0, 1, 0}));
   EXPECT_EQ(r.links[2].joint_axis, (std::array<double, 3>{0, 1, 0}));
   EXPECT_EQ(r.physics_rate_Hz, 1000);
-  EXPECT_EQ(r.payload_kg, 0);
+  EXPECT_EQ(r.payload_kg, 2.0);  // tool at the flange
 }
 
 TEST(RobotConfigPresets, MrrConfig1CarriesTheThesisValues) {

@@ -91,7 +91,9 @@ TEST(FrictionIncreaseTest, FrictionPowerRoughlyDoublesAndSupplyEnergyRises) {
   ASSERT_TRUE(f.result.ok);
   auto friction = [](const JointTick& j) { return j.p_friction_W; };
   const double ratio = Rms(f.rec, kOnset, 10, friction) / Rms(Healthy().rec, kOnset, 10, friction);
-  EXPECT_GT(ratio, 1.7);
+  // p_friction also holds the mesh loss (a quarter of the transmitted torque), which does
+  // not double: the total rises by less than 2x.
+  EXPECT_GT(ratio, 1.5);
   EXPECT_LT(ratio, 2.1);
   EXPECT_GT(f.result.energy[kTop].supply_J, Healthy().result.energy[kTop].supply_J + 5.0);
   EXPECT_LT(TrackingRmsDeg(f.rec, kOnset, 10), 0.5);

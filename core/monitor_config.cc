@@ -1,0 +1,130 @@
+// MonitorConfig <-> JSON, driven by one table so parsing, checks and output cannot drift.
+#include <cmath>
+#include <limits>
+
+#include "core/power_monitor.h"
+
+namespace armfault {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+struct NumberField {
+  const char* key;
+  double MonitorConfig::*member;
+  double min, max;  // inclusive
+};
+struct IntField {
+  const char* key;
+  int MonitorConfig::*member;
+  int min, max;
+};
+enum class Direction { kBelow, kAbove, kMagnitude };
+struct LimitField {
+  const char* key;
+  StateLimits MonitorConfig::*member;
+  Direction direction;  // kBelow: healthy 1, falls; kAbove: healthy 1, rises; kMagnitude: |x| rises from 0
+};
+
+const std::vector<NumberField>& NumberFields() {
+  static const std::vector<NumberField> f = {
+      {"rest_velocity_rad_s", &MonitorConfig::rest_velocity_rad_s, 1e-6, 10},
+      {"min_window_s", &MonitorConfig::min_window_s, 0, 1e3},
+      {"min_window_energy_J", &MonitorConfig::min_window_energy_J, 0, 1e6},
+      {"electrical_time_constant_s", &MonitorConfig::electrical_time_constant_s, 0.01, 1e3},
+      {"min_rotor_energy_J", &MonitorConfig::min_rotor_energy_J, 0, 1e6},
+      {"min_copper_energy_J", &MonitorConfig::min_copper_energy_J, 0, 1e6},
+      {"significance", &MonitorConfig::significance, 0, 100},
+      {"debounce_s", &MonitorConfig::debounce_s, 0, 1e3},
+      {"overpower_W", &MonitorConfig::overpower_W, 0, 1e6},
+      {"overpower_time_s", &MonitorConfig::overpower_time_s, 0, 1e3},
+      {"stuck_time_s", &MonitorConfig::stuck_time_s, 0, 1e3},
+      {"stuck_torque_span_Nm", &MonitorConfig::stuck_torque_span_Nm, 0, 1e6},
+      {"rail_time_s", &MonitorConfig::rail_time_s, 0, 1e3},
+      {"blocked_current_A", &MonitorConfig::blocked_current_A, 0, 1e4},
+      {"blocked_error_rad", &MonitorConfig::blocked_error_rad, 0, 10},
+      {"blocked_time_s", &MonitorConfig::blocked_time_s, 0, 1e3},
+  };
+  return f;
+}
+const std::vector<IntField>& IntFields() {
+  static const std::vector<IntField> f = {{"mechanical_windows", &MonitorConfig::mechanical_windows, 1, 100}};
+  return f;
+}
+const std::vector<LimitField>& LimitFields() {
+  static const std::vector<LimitField> f = {
+      {"kt_factor", &MonitorConfig::kt_factor, Direction::kBelow},
+      {"friction_factor", &MonitorConfig::friction_factor, Direction::kAbove},
+      {"resistance_factor", &MonitorConfig::resistance_factor, Direction::kAbove},
+      {"sensor_drift_Nm", &MonitorConfig::sensor_drift_Nm, Direction::kMagnitude},
+  };
+  return f;
+}
+
+}  // namespace
+
+MonitorConfig MonitorConfigFromJson(const nlohmann::json& value, const std::string& pointer,
+                                    const std::string& source) {
+  MonitorConfig c;
+  try {
+    ObjectReader reader(value, pointer);
+    std::vector<std::string> keys;
+    for (const auto& f : NumberFields()) keys.push_back(f.key);
+    for (const auto& f : IntFields()) keys.push_back(f.key);
+    for (const auto& f : LimitFields()) keys.push_back(f.key);
+    reader.AllowOnly(keys);
+    for (const auto& f : NumberFields()) reader.OptionalNumber(f.key, &(c.*f.member));
+    for (const auto& f : IntFields()) reader.OptionalInt(f.key, &(c.*f.member));
+    for (const auto& f : LimitFields()) {
+      const nlohmann::json* v = reader.Find(f.key);
+      if (!v) continue;
+      ObjectReader limits(*v, reader.PointerTo(f.key));
+      limits.AllowOnly({"worn", "defective"});
+      limits.OptionalNumber("worn", &(c.*f.member).worn);
+      limits.OptionalNumber("defective", &(c.*f.member).defective);
+    }
+    reader.Finish();
+  } catch (const InputError& e) {
+    throw e.WithSource(source);
+  }
+  Validate(c, pointer, source);
+  return c;
+}
+
+void Validate(const MonitorConfig& c, const std::string& pointer, const std::string& source) {
+  try {
+    for (const auto& f : NumberFields()) RequireInRange(c.*f.member, f.min, f.max, PointerJoin(pointer, f.key));
+    for (const auto& f : IntFields()) RequireInRange(c.*f.member, f.min, f.max, PointerJoin(pointer, f.key));
+    for (const auto& f : LimitFields()) {
+      const StateLimits& l = c.*f.member;
+      const std::string p = PointerJoin(pointer, f.key);
+      switch (f.direction) {
+        case Direction::kBelow:
+          RequireInRange(l.worn, 0, 1, PointerJoin(p, "worn"));
+          RequireInRange(l.defective, 0, l.worn, PointerJoin(p, "defective"));
+          break;
+        case Direction::kAbove:
+          RequireInRange(l.worn, 1, kInf, PointerJoin(p, "worn"));
+          RequireInRange(l.defective, l.worn, kInf, PointerJoin(p, "defective"));
+          break;
+        case Direction::kMagnitude:
+          RequireInRange(l.worn, 0, kInf, PointerJoin(p, "worn"));
+          RequireInRange(l.defective, l.worn, kInf, PointerJoin(p, "defective"));
+          break;
+      }
+    }
+  } catch (const InputError& e) {
+    throw e.WithSource(source);
+  }
+}
+
+nlohmann::json MonitorConfigToJson(const MonitorConfig& c) {
+  nlohmann::json j = nlohmann::json::object();
+  for (const auto& f : NumberFields()) j[f.key] = c.*f.member;
+  for (const auto& f : IntFields()) j[f.key] = c.*f.member;
+  for (const auto& f : LimitFields()) j[f.key] = {{"worn", (c.*f.member).worn}, {"defective", (c.*f.member).defective}};
+  return j;
+}
+
+}  // namespace armfault

@@ -1,0 +1,453 @@
+#include "core/power_monitor.h"
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <limits>
+
+#include "core/friction.h"
+#include "core/torque_sensor.h"
+
+namespace armfault {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// Weak priors that keep the fits defined without excitation: each parameter is pulled to
+// its healthy value with the weight of a little evidence (units: the regressor squared).
+constexpr double kElectricalPrior_W2 = 50.0;  // per-tick fit, residuals ~ 1 W
+// Mechanical fit, in the units of its 1/sigma^2-weighted normal equations: the friction
+// factor has the weight of one window with 1 J of friction known to 1 J; the drift a
+// stronger pull to 0, so that where windows cannot tell friction from drift (all in one
+// direction) the residual is put on friction.
+constexpr double kFrictionPrior = 1.0;
+constexpr double kDriftPrior = 10.0;
+// Mechanical energy uncertainty per window: fraction of the energy moved through the mesh,
+// plus a floor (encoder quantisation, torque noise, residual inertia at the window ends).
+constexpr double kMechanicalNoiseFraction = 0.03;
+constexpr double kMechanicalNoiseFloor_J = 0.05;
+// Above this friction factor the extra drag is a dragging brake, not wear.
+constexpr double kBrakeDragFrictionFactor = 4.0;
+
+double NormalCdf(double z) { return 0.5 * std::erfc(-z / std::sqrt(2.0)); }
+
+// Solves the 2x2 system (A) x = b; returns false if singular.
+bool Solve2(double a11, double a12, double a22, double b1, double b2, double* x1, double* x2,
+            double* inv11, double* inv22) {
+  const double det = a11 * a22 - a12 * a12;
+  if (!(std::fabs(det) > 1e-300)) return false;
+  *x1 = (a22 * b1 - a12 * b2) / det;
+  *x2 = (a11 * b2 - a12 * b1) / det;
+  *inv11 = a22 / det;
+  *inv22 = a11 / det;
+  return true;
+}
+
+// One judged window as the mechanical fit uses it.
+struct MechanicalWindow {
+  double rotor_J, out_J, mesh_loss_J, friction_J, dq_rad, sigma_J;
+};
+
+// A candidate verdict before debounce.
+struct Candidate {
+  HealthState state = HealthState::kHealthy;
+  std::string family;
+  std::string magnitude_name;
+  double magnitude = 0;
+  double confidence = 0;
+  bool structural = false;  // from a tick-level detector: latched once committed
+};
+
+bool SameVerdict(const Candidate& a, const Candidate& b) { return a.state == b.state && a.family == b.family; }
+
+}  // namespace
+
+struct PowerEfficiencyMonitor::JointState {
+  // current window
+  bool in_window = false;
+  EfficiencyWindow window;
+  double window_dq = 0;
+  // electrical fit: y = n x1 + rho x2, weighted with forgetting
+  double a11 = 0, a12 = 0, a22 = 0, b1 = 0, b2 = 0, yy = 0, weight = 0;
+  double excitation_rotor_J = 0, excitation_copper_J = 0;
+  // mechanical fit
+  std::deque<MechanicalWindow> mech;
+  Estimates est;
+  int mech_flag_count = 0;  // consecutive window evaluations with a mechanical candidate
+  // tick-level detectors
+  double overpower_s = 0;
+  double flat_s = 0, flat_dq = 0, flat_cmd_min = 0, flat_cmd_max = 0;
+  double rail_s = 0;
+  double blocked_s = 0;
+  // decision
+  Candidate committed, pending;
+  double pending_since = 0;
+  bool has_pending = false;
+  double last_emit_t = -1e9;
+  double last_emit_magnitude = 0;
+};
+
+PowerEfficiencyMonitor::PowerEfficiencyMonitor(const PowerMonitorModel& model) : model_(model) {
+  for (size_t j = 0; j < model.joints.size(); ++j) joints_.push_back(std::make_unique<JointState>());
+}
+PowerEfficiencyMonitor::~PowerEfficiencyMonitor() = default;
+
+PowerEfficiencyMonitor::Estimates PowerEfficiencyMonitor::estimates(int joint) const {
+  return joints_.at(joint)->est;
+}
+
+PowerMonitorModel MakePowerMonitorModel(const RobotConfig& robot, const MonitorConfig& config) {
+  Validate(config, "", "<monitor>");
+  PowerMonitorModel m;
+  m.config = config;
+  m.control_dt_s = 1.0 / robot.modules.at(0).controller.rate_Hz;
+  std::vector<std::array<double, 3>> axes;
+  for (size_t i = 0; i < robot.modules.size(); ++i) {
+    const ModuleParams& p = robot.modules[i];
+    JointKnowledge k;
+    k.ratio = p.drive.ratio;
+    k.kt_Nm_per_A = p.motor.kt_Nm_per_A;
+    k.phase_resistance_ohm = p.motor.phase_resistance_ohm;
+    k.switch_resistance_ohm = p.inverter.switch_resistance_ohm;
+    k.switching_loss_W_per_A = p.inverter.bus_voltage_V * p.inverter.switching_time_s * p.inverter.pwm_frequency_Hz;
+    k.quiescent_W = p.inverter.quiescent_power_W;
+    k.mesh_loss_fraction = p.drive.mesh_loss_fraction;
+    k.friction = p.friction;
+    k.brake_holding_Nm = p.brake.holding_torque_Nm;
+    k.rotor_inertia_link_kg_m2 = p.motor.rotor_inertia_kg_m2 * p.drive.ratio * p.drive.ratio;
+    const std::array<double, 3> a = robot.links.at(i).joint_axis;
+    const double na = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+    for (const auto& b : axes) {
+      const double nb = std::sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
+      k.coupling.push_back((a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) / (na * nb));
+    }
+    axes.push_back(a);
+    const TorqueSensorParams& ts = p.torque_sensor;
+    k.sensor_min_Nm = TorqueFromAdcCode(ts, 0);
+    k.sensor_max_Nm = TorqueFromAdcCode(ts, static_cast<int>(std::lround(std::pow(2.0, ts.adc_bits))) - 1);
+    m.joints.push_back(k);
+  }
+  return m;
+}
+
+namespace {
+
+// Electrical losses the monitor expects at commanded current i [A]: copper (two phases
+// conduct in six-step) and the inverter (two switches, conduction and switching).
+double CopperW(const JointKnowledge& k, double i) { return 2.0 * k.phase_resistance_ohm * i * i; }
+double InverterW(const JointKnowledge& k, double i) {
+  return 2.0 * (k.switch_resistance_ohm * i * i + k.switching_loss_W_per_A * std::fabs(i));
+}
+// Modelled friction torque at the link [N m], signed with the velocity.
+double FrictionLinkNm(const JointKnowledge& k, double qd) {
+  return k.ratio * FrictionTorqueNm(k.friction, 1.0, qd);
+}
+
+void FinishWindow(EfficiencyWindow* w) {
+  w->mesh_in_J = w->rotor_J - w->friction_J;
+  w->eta = w->eta_m = w->eta_e = w->eta_expected = w->eta_m_expected = w->eta_e_expected = kNaN;
+  if (w->out_J > 0 && w->mesh_in_J > 0) {
+    w->flow = "forward";
+    w->eta_m = w->out_J / w->mesh_in_J;
+    if (w->supply_J > 0) {
+      w->eta = w->out_J / w->supply_J;
+      w->eta_e = w->rotor_J / w->supply_J;
+    }
+    // A healthy joint delivering the same output: mesh input = output + mesh loss, rotor
+    // power = that + modelled friction, supply = rotor power + electrical losses.
+    const double mesh_in_h = w->out_J + w->mesh_loss_J;
+    const double rotor_h = mesh_in_h + w->friction_J;
+    w->eta_m_expected = w->out_J / mesh_in_h;
+    w->eta_e_expected = rotor_h / (rotor_h + w->electrical_loss_J);
+    w->eta_expected = w->out_J / (rotor_h + w->electrical_loss_J);
+  } else if (w->out_J < 0 && w->mesh_in_J < 0) {
+    w->flow = "reverse";
+    w->eta_m = w->mesh_in_J / w->out_J;
+    const double mesh_in_h = w->out_J + w->mesh_loss_J;  // the load's power less the mesh loss
+    w->eta_m_expected = mesh_in_h / w->out_J;
+    const double rotor_h = mesh_in_h + w->friction_J;
+    if (w->supply_J < 0 && w->rotor_J < 0) {
+      w->eta_e = w->supply_J / w->rotor_J;
+      w->eta = w->supply_J / w->out_J;
+    }
+    if (rotor_h < 0 && rotor_h + w->electrical_loss_J < 0) {
+      w->eta_e_expected = (rotor_h + w->electrical_loss_J) / rotor_h;
+      w->eta_expected = (rotor_h + w->electrical_loss_J) / w->out_J;
+    }
+  } else {
+    w->flow = "mixed";
+  }
+}
+
+}  // namespace
+
+void PowerEfficiencyMonitor::Observe(double t_s, const std::vector<JointSignals>& signals) {
+  const MonitorConfig& c = model_.config;
+  const int n = static_cast<int>(model_.joints.size());
+  if (static_cast<int>(signals.size()) != n) return;
+  if (ticks_++ == 0) {
+    previous_ = signals;
+    t_prev_ = t_s;
+    return;
+  }
+  const double dt = t_s - t_prev_;
+  if (!(dt > 0)) return;
+  const double forget = std::exp(-dt / c.electrical_time_constant_s);
+
+  for (int j = 0; j < n; ++j) {
+    const JointKnowledge& k = model_.joints[j];
+    JointState& s = *joints_[j];
+    const JointSignals& now = signals[j];
+    const JointSignals& prev = previous_[j];
+    const double dq = now.q_meas_rad - prev.q_meas_rad;
+    const double i = prev.i_cmd_A;  // the command held over the period just ended
+    const double tau_mean = 0.5 * (now.tau_sensor_Nm + prev.tau_sensor_Nm);
+    const double rotor_torque = k.ratio * k.kt_Nm_per_A * i;  // perceived, at the link
+    const double p_supply = now.v_bus_meas_V * now.i_supply_meas_A;
+    const double p_rotor = rotor_torque * dq / dt;
+    const double p_copper = CopperW(k, i);
+    const double p_fixed = InverterW(k, i) + k.quiescent_W;
+
+    // Coupling correction (eq 4-15, 5-6): the rotor, lumped with the link, also turns with
+    // the parallel lower joints; its inertial torque from their acceleration is output too.
+    double coupling_torque = 0;
+    for (int l = 0; l < j; ++l) {
+      const double cl = k.coupling[l];
+      if (cl == 0) continue;
+      const double acc = (signals[l].qd_est_rad_s - previous_[l].qd_est_rad_s) / dt;
+      coupling_torque += cl * k.rotor_inertia_link_kg_m2 * acc;
+    }
+
+    // --- electrical fit, every tick ---
+    const double y = p_supply - p_fixed;
+    s.a11 = forget * s.a11 + p_rotor * p_rotor;
+    s.a12 = forget * s.a12 + p_rotor * p_copper;
+    s.a22 = forget * s.a22 + p_copper * p_copper;
+    s.b1 = forget * s.b1 + p_rotor * y;
+    s.b2 = forget * s.b2 + p_copper * y;
+    s.yy = forget * s.yy + y * y;
+    s.weight = forget * s.weight + 1.0;
+    s.excitation_rotor_J = forget * s.excitation_rotor_J + std::fabs(p_rotor) * dt;
+    s.excitation_copper_J = forget * s.excitation_copper_J + p_copper * dt;
+    {
+      double nn, rho, inv11, inv22;
+      if (Solve2(s.a11 + kElectricalPrior_W2, s.a12, s.a22 + kElectricalPrior_W2, s.b1 + kElectricalPrior_W2,
+                 s.b2 + kElectricalPrior_W2, &nn, &rho, &inv11, &inv22)) {
+        const double sse = std::max(0.0, s.yy - 2 * (nn * s.b1 + rho * s.b2) +
+                                             nn * nn * s.a11 + 2 * nn * rho * s.a12 + rho * rho * s.a22);
+        const double sigma2 = sse / std::max(1.0, s.weight - 2.0);
+        s.est.kt_factor = nn;
+        s.est.resistance_factor = rho;
+        s.est.kt_factor_se = std::sqrt(sigma2 * inv11);
+        s.est.resistance_factor_se = std::sqrt(sigma2 * inv22);
+      }
+    }
+
+    // --- windows bounded by zero velocity ---
+    const double v = now.qd_est_rad_s;
+    const int dir = std::fabs(v) < c.rest_velocity_rad_s ? 0 : (v > 0 ? 1 : -1);
+    bool close = false;
+    if (s.in_window || dir != 0) {
+      if (!s.in_window) {
+        s.in_window = true;
+        s.window = EfficiencyWindow();
+        s.window.joint = j + 1;
+        s.window.t_start_s = t_prev_;
+        s.window.direction = dir;
+        s.window_dq = 0;
+      }
+      EfficiencyWindow& w = s.window;
+      w.out_J += (tau_mean + coupling_torque) * dq;
+      w.rotor_J += rotor_torque * dq;
+      w.friction_J += FrictionLinkNm(k, v) * dq;
+      w.mesh_loss_J += k.mesh_loss_fraction * std::fabs(tau_mean + coupling_torque) * std::fabs(dq);
+      w.supply_J += p_supply * dt;
+      w.electrical_loss_J += (p_copper + p_fixed) * dt;
+      w.t_end_s = t_s;
+      s.window_dq += dq;
+      close = dir != w.direction;
+    }
+    if (close) {
+      s.in_window = false;
+      EfficiencyWindow& w = s.window;
+      FinishWindow(&w);
+      w.used = w.t_end_s - w.t_start_s >= c.min_window_s && std::fabs(w.out_J) >= c.min_window_energy_J &&
+               std::fabs(w.mesh_in_J) >= c.min_window_energy_J && w.flow != "mixed";
+      output_.windows.push_back(w);
+      if (w.used) {
+        MechanicalWindow m;
+        m.rotor_J = w.rotor_J;
+        m.out_J = w.out_J;
+        m.mesh_loss_J = w.mesh_loss_J;
+        m.friction_J = w.friction_J;
+        m.dq_rad = s.window_dq;
+        m.sigma_J = kMechanicalNoiseFloor_J +
+                    kMechanicalNoiseFraction * (std::fabs(w.out_J) + w.mesh_loss_J + std::fabs(w.friction_J));
+        s.mech.push_back(m);
+        while (static_cast<int>(s.mech.size()) > c.mechanical_windows) s.mech.pop_front();
+        // Mechanical fit: y = n E_rotor - E_out - mesh loss = k E_friction - d dq.
+        double a11 = kFrictionPrior, a12 = 0, a22 = kDriftPrior;
+        double b1 = kFrictionPrior, b2 = 0;
+        for (const MechanicalWindow& mw : s.mech) {
+          const double wgt = 1.0 / (mw.sigma_J * mw.sigma_J);
+          const double yw = s.est.kt_factor * mw.rotor_J - mw.out_J - mw.mesh_loss_J;
+          const double x1 = mw.friction_J, x2 = -mw.dq_rad;
+          a11 += wgt * x1 * x1;
+          a12 += wgt * x1 * x2;
+          a22 += wgt * x2 * x2;
+          b1 += wgt * x1 * yw;
+          b2 += wgt * x2 * yw;
+        }
+        double kf, d, inv11, inv22;
+        if (Solve2(a11, a12, a22, b1, b2, &kf, &d, &inv11, &inv22)) {
+          s.est.friction_factor = kf;
+          s.est.sensor_drift_Nm = d;
+          s.est.friction_factor_se = std::sqrt(inv11);
+          s.est.sensor_drift_se = std::sqrt(inv22);
+        }
+        s.est.windows_in_fit = static_cast<int>(s.mech.size());
+      }
+    }
+
+    // --- tick-level detectors ---
+    Candidate structural;
+    // Inverter short: supply power far above what the commanded current can explain.
+    const double excess = p_supply - (std::max(0.0, p_rotor) + p_copper + p_fixed);
+    s.overpower_s = excess > c.overpower_W ? s.overpower_s + dt : 0.0;
+    // Stuck torque sensor: on a rail, or unchanged while the joint moves and the commanded
+    // torque swings (a live sensor would follow it).
+    const bool on_rail = now.tau_sensor_Nm >= k.sensor_max_Nm - 1e-9 || now.tau_sensor_Nm <= k.sensor_min_Nm + 1e-9;
+    s.rail_s = on_rail ? s.rail_s + dt : 0.0;
+    if (now.tau_sensor_Nm == prev.tau_sensor_Nm) {
+      if (s.flat_s == 0) s.flat_cmd_min = s.flat_cmd_max = rotor_torque, s.flat_dq = 0;
+      s.flat_s += dt;
+      s.flat_dq += std::fabs(dq);
+      s.flat_cmd_min = std::min(s.flat_cmd_min, rotor_torque);
+      s.flat_cmd_max = std::max(s.flat_cmd_max, rotor_torque);
+    } else {
+      s.flat_s = 0;
+    }
+    const bool flat_stuck = s.flat_s >= c.stuck_time_s && s.flat_cmd_max - s.flat_cmd_min >= c.stuck_torque_span_Nm &&
+                            s.flat_dq >= 10 * c.rest_velocity_rad_s * c.stuck_time_s;
+    // Locked: at rest, far from a moving reference, with high current.
+    const bool blocked = dir == 0 && std::fabs(now.i_cmd_A) >= c.blocked_current_A &&
+                         std::fabs(now.q_ref_rad - now.q_meas_rad) >= c.blocked_error_rad;
+    s.blocked_s = blocked ? s.blocked_s + dt : 0.0;
+
+    if (s.overpower_s >= c.overpower_time_s) {
+      structural = {HealthState::kDefective, "inverter_short", "excess_power_W", excess, 1.0, true};
+    } else if (s.rail_s >= c.rail_time_s || flat_stuck) {
+      structural = {HealthState::kDefective, "torque_sensor_stuck", "stuck_reading_Nm", now.tau_sensor_Nm, 1.0, true};
+    } else if (s.blocked_s >= c.blocked_time_s) {
+      const double motor = std::fabs(k.ratio * k.kt_Nm_per_A * now.i_cmd_A);
+      if (std::fabs(now.tau_sensor_Nm) < 0.5 * motor) {
+        // The torque stays inside the module: the brake holds it. With the drive at its
+        // limit this is a lower bound of the drag.
+        const double drag = (motor - std::fabs(now.tau_sensor_Nm)) / (k.ratio * k.brake_holding_Nm);
+        structural = {HealthState::kDefective, "brake_lock", "drag_fraction", std::min(1.0, drag), 1.0, true};
+      } else {
+        structural = {HealthState::kDefective, "unknown", "", 0, 0.5, true};  // blocked outside the joint
+      }
+    }
+
+    // --- parametric candidate from the fits ---
+    Candidate parametric;
+    const Estimates& e = s.est;
+    const double z = c.significance;
+    auto confidence = [](double margin, double se) { return se > 0 ? NormalCdf(margin / se) : 1.0; };
+    const bool judge_n = s.excitation_rotor_J >= c.min_rotor_energy_J;
+    const bool judge_r = s.excitation_copper_J >= c.min_copper_energy_J;
+    if (judge_n && e.kt_factor < c.kt_factor.worn && (1 - e.kt_factor) >= z * e.kt_factor_se) {
+      parametric = {e.kt_factor < c.kt_factor.defective ? HealthState::kDefective : HealthState::kWorn,
+                    "kt_degradation", "kt_factor", e.kt_factor, confidence(c.kt_factor.worn - e.kt_factor, e.kt_factor_se),
+                    false};
+    } else if (judge_r && e.resistance_factor > c.resistance_factor.worn &&
+               (e.resistance_factor - 1) >= z * e.resistance_factor_se) {
+      parametric = {e.resistance_factor > c.resistance_factor.defective ? HealthState::kDefective : HealthState::kWorn,
+                    "winding_resistance", "resistance_factor", e.resistance_factor,
+                    confidence(e.resistance_factor - c.resistance_factor.worn, e.resistance_factor_se), false};
+    } else if (e.windows_in_fit >= 2 && e.friction_factor > c.friction_factor.worn &&
+               (e.friction_factor - 1) >= z * e.friction_factor_se) {
+      if (e.friction_factor > kBrakeDragFrictionFactor) {
+        // Far beyond wear: a brake dragging on the shaft. Its torque ~ the extra Coulomb part.
+        const double drag = (e.friction_factor - 1) * (k.friction.coulomb_Nm + k.friction.static_Nm) / k.brake_holding_Nm;
+        parametric = {HealthState::kDefective, "brake_lock", "drag_fraction", drag, 1.0, false};
+      } else {
+        parametric = {e.friction_factor > c.friction_factor.defective ? HealthState::kDefective : HealthState::kWorn,
+                      "friction_increase", "friction_factor", e.friction_factor,
+                      confidence(e.friction_factor - c.friction_factor.worn, e.friction_factor_se), false};
+      }
+    } else if (e.windows_in_fit >= 2 && std::fabs(e.sensor_drift_Nm) > c.sensor_drift_Nm.worn &&
+               std::fabs(e.sensor_drift_Nm) >= z * e.sensor_drift_se) {
+      parametric = {std::fabs(e.sensor_drift_Nm) > c.sensor_drift_Nm.defective ? HealthState::kDefective
+                                                                               : HealthState::kWorn,
+                    "torque_sensor_drift", "drift_Nm", e.sensor_drift_Nm,
+                    confidence(std::fabs(e.sensor_drift_Nm) - c.sensor_drift_Nm.worn, e.sensor_drift_se), false};
+    }
+
+    // --- decision with debounce; structural verdicts latch ---
+    if (s.committed.structural) continue;
+    const Candidate& cand = structural.structural ? structural : parametric;
+    auto emit = [&](const Candidate& v) {
+      Verdict out;
+      out.t_s = t_s;
+      out.joint = j + 1;
+      out.state = v.state;
+      out.alarm = v.state != HealthState::kHealthy;
+      out.family = v.family;
+      out.magnitude_name = v.magnitude_name;
+      out.magnitude = v.magnitude;
+      out.confidence = v.confidence;
+      output_.verdicts.push_back(out);
+      s.last_emit_t = t_s;
+      s.last_emit_magnitude = v.magnitude;
+    };
+    if (cand.structural) {  // the detector has its own debounce time
+      s.committed = cand;
+      s.has_pending = false;
+      emit(cand);
+      continue;
+    }
+    if (SameVerdict(cand, s.committed)) {
+      s.has_pending = false;
+      s.committed = cand;
+      // refine the magnitude of a standing alarm now and then
+      if (cand.state != HealthState::kHealthy && t_s - s.last_emit_t >= 0.5 &&
+          std::fabs(cand.magnitude - s.last_emit_magnitude) > 0.01 * std::max(1.0, std::fabs(s.last_emit_magnitude))) {
+        emit(cand);
+      }
+      continue;
+    }
+    if (!s.has_pending || !SameVerdict(cand, s.pending)) {
+      s.has_pending = true;
+      s.pending = cand;
+      s.pending_since = t_s;
+    } else {
+      s.pending = cand;
+    }
+    if (t_s - s.pending_since >= c.debounce_s) {
+      s.committed = s.pending;
+      s.has_pending = false;
+      emit(s.committed);
+    }
+  }
+  previous_ = signals;
+  t_prev_ = t_s;
+}
+
+void PowerEfficiencyMonitor::Finish(double t_end_s) {
+  // An open window at the end of the run ends at the run's end, not at zero velocity:
+  // its inertia term does not cancel, so it is recorded but not judged.
+  for (auto& sp : joints_) {
+    JointState& s = *sp;
+    if (!s.in_window) continue;
+    s.in_window = false;
+    s.window.t_end_s = t_end_s;
+    FinishWindow(&s.window);
+    s.window.used = false;
+    output_.windows.push_back(s.window);
+  }
+}
+
+}  // namespace armfault
