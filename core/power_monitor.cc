@@ -241,6 +241,13 @@ void PowerEfficiencyMonitor::Observe(double t_s, const std::vector<JointSignals>
         s.est.resistance_factor = rho;
         s.est.kt_factor_se = std::sqrt(sigma2 * inv11);
         s.est.resistance_factor_se = std::sqrt(sigma2 * inv22);
+        if (nn > 1.0) {
+          // K_T cannot rise: supply power above the model is an extra loss. Refit rho with
+          // n = 1 (rotor and copper power are nearly collinear in many motions).
+          const double a22p = s.a22 + kElectricalPrior_W2;
+          s.est.resistance_factor = (s.b2 + kElectricalPrior_W2 - s.a12) / a22p;
+          s.est.resistance_factor_se = std::sqrt(sigma2 / a22p);
+        }
       }
     }
 
@@ -367,6 +374,12 @@ void PowerEfficiencyMonitor::Observe(double t_s, const std::vector<JointSignals>
       parametric = {e.resistance_factor > c.resistance_factor.defective ? HealthState::kDefective : HealthState::kWorn,
                     "winding_resistance", "resistance_factor", e.resistance_factor,
                     confidence(e.resistance_factor - c.resistance_factor.worn, e.resistance_factor_se), false};
+    } else if (e.windows_in_fit >= 2 && std::fabs(e.sensor_drift_Nm) > c.sensor_drift_Nm.worn &&
+               std::fabs(e.sensor_drift_Nm) >= z * e.sensor_drift_se) {
+      parametric = {std::fabs(e.sensor_drift_Nm) > c.sensor_drift_Nm.defective ? HealthState::kDefective
+                                                                               : HealthState::kWorn,
+                    "torque_sensor_drift", "drift_Nm", e.sensor_drift_Nm,
+                    confidence(std::fabs(e.sensor_drift_Nm) - c.sensor_drift_Nm.worn, e.sensor_drift_se), false};
     } else if (e.windows_in_fit >= 2 && e.friction_factor > c.friction_factor.worn &&
                (e.friction_factor - 1) >= z * e.friction_factor_se) {
       if (e.friction_factor > kBrakeDragFrictionFactor) {
@@ -378,12 +391,6 @@ void PowerEfficiencyMonitor::Observe(double t_s, const std::vector<JointSignals>
                       "friction_increase", "friction_factor", e.friction_factor,
                       confidence(e.friction_factor - c.friction_factor.worn, e.friction_factor_se), false};
       }
-    } else if (e.windows_in_fit >= 2 && std::fabs(e.sensor_drift_Nm) > c.sensor_drift_Nm.worn &&
-               std::fabs(e.sensor_drift_Nm) >= z * e.sensor_drift_se) {
-      parametric = {std::fabs(e.sensor_drift_Nm) > c.sensor_drift_Nm.defective ? HealthState::kDefective
-                                                                               : HealthState::kWorn,
-                    "torque_sensor_drift", "drift_Nm", e.sensor_drift_Nm,
-                    confidence(std::fabs(e.sensor_drift_Nm) - c.sensor_drift_Nm.worn, e.sensor_drift_se), false};
     }
 
     // --- decision with debounce; structural verdicts latch ---

@@ -46,7 +46,7 @@ struct MonitorConfig {
   // electrical fit
   double electrical_time_constant_s = 1.5;  // forgetting of the per-tick fit
   double min_rotor_energy_J = 2.0;     // weighted sum of |P_rotor| dt needed to judge n
-  double min_copper_energy_J = 2.0;    // weighted sum of P_copper dt needed to judge rho
+  double min_copper_energy_J = 0.2;    // weighted sum of P_copper dt needed to judge rho
   // decision
   double significance = 3.0;           // (|deviation| - worn margin) / std error must exceed this
   double debounce_s = 0.3;             // a candidate verdict must hold this long to alarm
@@ -59,7 +59,7 @@ struct MonitorConfig {
   double overpower_time_s = 0.004;
   double stuck_time_s = 0.2;           // reading unchanged this long ...
   double stuck_torque_span_Nm = 3.0;   // ... while the commanded torque moved this much
-  double rail_time_s = 0.01;           // reading at an ADC rail this long
+  double rail_time_s = 0.05;           // reading at an ADC rail this long
   double blocked_current_A = 3.0;      // |i_cmd| at least this ...
   double blocked_error_rad = 0.02;     // ... tracking error at least this ...
   double blocked_time_s = 0.2;         // ... with the joint at rest, this long

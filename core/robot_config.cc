@@ -219,8 +219,9 @@ RobotConfig MrrConfig1() {
   RobotConfig r;
   r.name = "mrr-config1";
   r.modules = {ModuleDefaults("MRR1", ""), ModuleDefaults("MRR2", ""), ModuleDefaults("MRR2", "")};
-  // Base module: vertical axis; upper modules: horizontal axes, links horizontal at zero pose,
-  // so the top joint lifts its link against gravity as in the thesis experiments.
+  // Base module: vertical axis; upper modules: horizontal axes; at the zero pose link 2 stands
+  // upright and link 3 is horizontal, so the top joint lifts its link and tool against
+  // gravity as in the thesis experiments.
   LinkParams l1;
   l1.mass_kg = 2.5;   // link + MRR2 module 2 mounted on it (assumption)
   l1.length_m = 0.20;
@@ -231,7 +232,7 @@ RobotConfig MrrConfig1() {
   l2.mass_kg = 1.8;   // link + MRR2 module 3 (assumption)
   l2.length_m = 0.30;
   l2.radius_m = 0.045;
-  l2.direction = {1, 0, 0};
+  l2.direction = {0, 0, 1};  // upright: joint 2 carries the top link's moment, not its own
   l2.joint_axis = {0, 1, 0};
   LinkParams l3;
   l3.mass_kg = 1.0;   // end link with flange (assumption)
