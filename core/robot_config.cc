@@ -233,13 +233,13 @@ RobotConfig MrrConfig1() {
   l2.length_m = 0.30;
   l2.radius_m = 0.045;
   l2.direction = {0, 0, 1};  // upright: joint 2 carries the top link's moment, not its own
-  l2.joint_axis = {0, 1, 0};
+  l2.joint_axis = {0, -1, 0};  // positive angles lift the link
   LinkParams l3;
   l3.mass_kg = 1.0;   // end link with flange (assumption)
   l3.length_m = 0.25;
   l3.radius_m = 0.035;
   l3.direction = {1, 0, 0};
-  l3.joint_axis = {0, 1, 0};
+  l3.joint_axis = {0, -1, 0};
   r.links = {l1, l2, l3};
   r.base_position_m = {0, 0, 0.15};
   r.payload_kg = 2.0;  // tool at the flange: the top joint's load is mostly gravity (docs/assumptions.md)

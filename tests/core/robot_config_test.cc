@@ -54,8 +54,8 @@ TEST(RobotConfigPresets, MrrConfig1IsMrr1WithTwoMrr2) {
   ASSERT_EQ(r.links.size(), 3u);
   // Base joint vertical, the two upper joints horizontal.
   EXPECT_EQ(r.links[0].joint_axis, (std::array<double, 3>{0, 0, 1}));
-  EXPECT_EQ(r.links[1].joint_axis, (std::array<double, 3>{0, 1, 0}));
-  EXPECT_EQ(r.links[2].joint_axis, (std::array<double, 3>{0, 1, 0}));
+  EXPECT_EQ(r.links[1].joint_axis, (std::array<double, 3>{0, -1, 0}));
+  EXPECT_EQ(r.links[2].joint_axis, (std::array<double, 3>{0, -1, 0}));
   EXPECT_EQ(r.physics_rate_Hz, 1000);
   EXPECT_EQ(r.payload_kg, 2.0);  // tool at the flange
 }
