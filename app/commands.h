@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "campaigns/thesis.h"
+
 namespace armfault {
 
 struct TraceOptions {
@@ -20,5 +22,23 @@ struct TraceOptions {
   bool quiet = false;
 };
 int RunTrace(const TraceOptions& options);
+
+struct ThesisOptions {
+  std::string output_dir = "out";
+  unsigned long long seed = 1;
+};
+// Runs the thesis experiments, prints them beside the thesis figures, writes thesis.json and
+// thesis.md. Exit 0 if the trend holds (table 5-3 monotonic, ratios within 0.10 of the
+// thesis, experiments 2 and 3 drop), else 1.
+int RunThesis(const ThesisOptions& options);
+
+struct ThesisTrend {
+  static constexpr double kRatioLimit = 0.10;
+  bool monotonic = true;
+  double max_ratio_deviation = 0;
+  bool same_direction = true;
+  bool holds() const { return monotonic && max_ratio_deviation <= kRatioLimit && same_direction; }
+};
+ThesisTrend CheckThesisTrend(const ThesisResults& results);
 
 }  // namespace armfault

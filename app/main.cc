@@ -33,6 +33,12 @@ int main(int argc, char** argv) {
   CLI::App* run_cmd = app.add_subcommand("run", "the main job: thesis experiment 1 with a printed summary");
   run_cmd->add_option("-o,--output-dir", run_dir, "output directory")->capture_default_str();
 
+  armfault::ThesisOptions thesis;
+  CLI::App* thesis_cmd = app.add_subcommand(
+      "thesis", "run the thesis experiments 1-3 and compare with the published efficiencies (writes thesis.json, thesis.md)");
+  thesis_cmd->add_option("-o,--output-dir", thesis.output_dir, "output directory")->capture_default_str();
+  thesis_cmd->add_option("--seed", thesis.seed, "noise seed")->capture_default_str();
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -48,6 +54,7 @@ int main(int argc, char** argv) {
 
   try {
     if (*trace_cmd) return armfault::RunTrace(trace);
+    if (*thesis_cmd) return armfault::RunThesis(thesis);
     if (*run_cmd) {
       std::filesystem::create_directories(run_dir);
       armfault::TraceOptions exp1;
