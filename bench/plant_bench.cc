@@ -3,7 +3,9 @@
 // Goal (plant issue): a full 10 s run of mrr-config1 costs at most 1.5x the bare stepping.
 #include <benchmark/benchmark.h>
 
+#include "core/monitor.h"
 #include "core/ode_runtime.h"
+#include "core/power_monitor.h"
 #include "core/run_config.h"
 #include "core/simulation.h"
 
@@ -31,6 +33,44 @@ void BM_FullRunExperiment1_10s(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(Simulate(model, spec, nullptr).ok);
 }
 BENCHMARK(BM_FullRunExperiment1_10s)->Unit(benchmark::kMillisecond);
+
+// The same run with the power-efficiency monitor in the loop.
+void BM_FullRunWithMonitorExperiment1_10s(benchmark::State& state) {
+  const RunConfig run = ThesisExperiment1();
+  const ArmModel model(run.robot);
+  const RunSpec spec = MakeRunSpec(run);
+  const PowerMonitorModel monitor_model = MakePowerMonitorModel(run.robot, run.monitor);
+  for (auto _ : state) {
+    PowerEfficiencyMonitor monitor(monitor_model);
+    benchmark::DoNotOptimize(Simulate(model, spec, ObserveWith(&monitor)).ok);
+  }
+}
+BENCHMARK(BM_FullRunWithMonitorExperiment1_10s)->Unit(benchmark::kMillisecond);
+
+// The monitor alone, replaying the recorded signals of experiment 1 (5001 ticks x 3 joints):
+// its own cost; items are controller ticks (all joints), so 1 / items_per_second is the
+// cost per tick.
+void BM_MonitorOnlyPerTick(benchmark::State& state) {
+  const RunConfig run = ThesisExperiment1();
+  const ArmModel model(run.robot);
+  std::vector<double> times;
+  std::vector<std::vector<JointSignals>> signals;
+  Simulate(model, MakeRunSpec(run), [&](const Tick& tick) {
+    times.push_back(tick.t_s);
+    std::vector<JointSignals> s;
+    for (const JointTick& j : *tick.joints) s.push_back(SignalsOf(j));
+    signals.push_back(s);
+  });
+  const PowerMonitorModel monitor_model = MakePowerMonitorModel(run.robot, run.monitor);
+  for (auto _ : state) {
+    PowerEfficiencyMonitor monitor(monitor_model);
+    for (size_t k = 0; k < times.size(); ++k) monitor.Observe(times[k], signals[k]);
+    monitor.Finish(times.back());
+    benchmark::DoNotOptimize(monitor.output().windows.size());
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(times.size()));
+}
+BENCHMARK(BM_MonitorOnlyPerTick)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace armfault
