@@ -30,7 +30,7 @@ int main(int argc, char** argv) {
   trace_cmd->add_flag("-q,--quiet", trace.quiet, "no summary");
 
   std::string run_dir = "out";
-  CLI::App* run_cmd = app.add_subcommand("run", "the main job: thesis experiment 1 with a printed summary");
+  CLI::App* run_cmd = app.add_subcommand("run", "the main job: thesis experiment 1 with the monitor, then the thesis experiments 1-3");
   run_cmd->add_option("-o,--output-dir", run_dir, "output directory")->capture_default_str();
 
   armfault::ThesisOptions thesis;
@@ -60,7 +60,12 @@ int main(int argc, char** argv) {
       armfault::TraceOptions exp1;
       exp1.output = (std::filesystem::path(run_dir) / "exp1-trace.csv").string();
       std::printf("thesis experiment 1: top joint q = 25 (sin(8t/2pi) - 0.5 sin(16t/2pi)) deg, 10 s\n");
-      return armfault::RunTrace(exp1);
+      const int status = armfault::RunTrace(exp1);
+      if (status != 0) return status;
+      std::printf("\n");
+      armfault::ThesisOptions all;
+      all.output_dir = run_dir;
+      return armfault::RunThesis(all);
     }
   } catch (const armfault::InputError& e) {
     std::fprintf(stderr, "armfault: error: %s\n", e.what());

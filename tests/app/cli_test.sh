@@ -235,5 +235,32 @@ run fault_ok "$armfault" trace --duration 1 -o "$tmp/x.csv" --fault '{"family":"
 expect_status 0
 if grep -q 'torque_per_ampere_Nm_per_A: .*took effect' "$tmp/stdout"; then pass; else fail "no took-effect line: $(cat "$tmp/stdout")"; fi
 
+# ------------------------------------------------------------------ monitor
+run monitor_alarm "$armfault" trace -o "$tmp/x.csv" --monitor-out "$tmp/m.json" --fault '{"family":"kt_degradation","joint":3,"kt_factor":0.7,"onset_s":2}'
+expect_status 0
+expect_stdout_contains "monitor: ALARM at "
+expect_stdout_contains ", joint 3, kt_degradation, kt_factor 0.7"
+if grep -q '"isolated_family": "kt_degradation"' "$tmp/m.json" && grep -q '"windows": \[' "$tmp/m.json"; then pass; else fail "monitor JSON lacks the diagnosis or windows: $(head -c 300 "$tmp/m.json")"; fi
+run monitor_quiet_healthy "$armfault" trace -o "$tmp/x.csv"
+expect_stdout_contains "monitor: no alarm"
+printf '{"duration_s": 0.1, "monitor": {"kt_factor": {"worn": 0.9, "defectve": 0.5}}}\n' >"$tmp/monitor_key.json"
+run monitor_unknown_key "$armfault" trace "$tmp/monitor_key.json" -q -o "$tmp/x.csv"
+expect_input_error "$tmp/monitor_key.json: /monitor/kt_factor/defectve: unknown key"
+printf '{"debounce_s": -2}\n' >"$tmp/thresholds.json"
+printf '{"duration_s": 0.1, "monitor": "thresholds.json"}\n' >"$tmp/monitor_file.json"
+run monitor_file_bad_value "$armfault" trace "$tmp/monitor_file.json" -q -o "$tmp/x.csv"
+expect_input_error "$tmp/thresholds.json: /debounce_s: -2 is outside"
+
+# ------------------------------------------------------------------ thesis
+run thesis "$armfault" thesis -o "$tmp/thesis"
+expect_status 0
+expect_stdout_contains "trend: table 5-3 falls monotonically: yes"
+# thesis.json is written with 2-space indentation: one key per line.
+if grep -q '"kt_factor": 0.9,' "$tmp/thesis/thesis.json" && grep -q '"thesis_pct": 73.7,' "$tmp/thesis/thesis.json" &&
+  grep -q '"table_5_3": \[' "$tmp/thesis/thesis.json" && grep -q '"spring_load": true,' "$tmp/thesis/thesis.json" &&
+  [[ $(grep -c '"armfault_pct": [0-9]' "$tmp/thesis/thesis.json") -eq 10 ]]
+then pass; else fail "thesis.json is not as documented"; fi
+if grep -q '^| n = 0.9 | 73.70 |' "$tmp/thesis/thesis.md"; then pass; else fail "thesis.md lacks the table row"; fi
+
 echo "$passed passed, $failed failed"
 [[ $failed -eq 0 ]]
