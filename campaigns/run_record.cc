@@ -1,0 +1,100 @@
+#include "campaigns/run_record.h"
+
+#include <stdexcept>
+
+namespace armfault {
+
+namespace {
+
+nlohmann::json Opt(const std::optional<double>& x) { return x ? nlohmann::json(*x) : nlohmann::json(nullptr); }
+nlohmann::json StrOrNull(const std::string& s) { return s.empty() ? nlohmann::json(nullptr) : nlohmann::json(s); }
+
+const nlohmann::json& Get(const nlohmann::json& j, const char* key) {
+  auto it = j.find(key);
+  if (it == j.end()) throw std::runtime_error(std::string("missing key \"") + key + "\"");
+  return *it;
+}
+template <class T>
+T As(const nlohmann::json& j, const char* key) {
+  try {
+    return Get(j, key).get<T>();
+  } catch (const nlohmann::json::exception&) {
+    throw std::runtime_error(std::string("key \"") + key + "\" has the wrong type");
+  }
+}
+std::string StrOrEmpty(const nlohmann::json& j, const char* key) {
+  const nlohmann::json& v = Get(j, key);
+  return v.is_null() ? std::string() : As<std::string>(j, key);
+}
+std::optional<double> OptDouble(const nlohmann::json& j, const char* key) {
+  const nlohmann::json& v = Get(j, key);
+  if (v.is_null()) return std::nullopt;
+  return As<double>(j, key);
+}
+
+}  // namespace
+
+nlohmann::json ToJson(const RunRecord& r) {
+  nlohmann::json j;
+  j["case"] = r.case_index;
+  j["run_id"] = r.run_id;
+  j["trajectory"] = r.trajectory;
+  j["fault"] = r.fault;
+  j["family"] = StrOrNull(r.family);
+  j["joint"] = r.joint == 0 ? nlohmann::json(nullptr) : nlohmann::json(r.joint);
+  j["onset_s"] = r.family.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.onset_s);
+  j["magnitude_key"] = StrOrNull(r.magnitude_key);
+  j["magnitude"] = r.magnitude_key.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.magnitude);
+  j["group"] = r.group;
+  j["seed"] = r.seed;
+  j["repetition"] = r.repetition;
+  j["variation"] = r.variation;
+  j["status"] = r.ok ? "ok" : "failed";
+  j["reason"] = StrOrNull(r.failure_reason);
+  j["effect"] = r.effect;
+  j["detected"] = r.detected;
+  j["detection_time_s"] = Opt(r.detection_time_s);
+  j["latency_s"] = Opt(r.latency_s);
+  j["isolated_family"] = StrOrNull(r.isolated_family);
+  j["isolated_joint"] = r.isolated_joint == 0 ? nlohmann::json(nullptr) : nlohmann::json(r.isolated_joint);
+  j["magnitude_name"] = StrOrNull(r.magnitude_name);
+  j["magnitude_estimate"] = Opt(r.magnitude_estimate);
+  j["confidence"] = r.confidence;
+  j["alarm_before_onset"] = r.alarm_before_onset;
+  return j;
+}
+
+RunRecord RunRecordFromJson(const nlohmann::json& j) {
+  if (!j.is_object()) throw std::runtime_error("not a JSON object");
+  RunRecord r;
+  r.case_index = As<long>(j, "case");
+  r.run_id = As<std::string>(j, "run_id");
+  r.trajectory = As<std::string>(j, "trajectory");
+  r.fault = Get(j, "fault");
+  r.family = StrOrEmpty(j, "family");
+  r.joint = Get(j, "joint").is_null() ? 0 : As<int>(j, "joint");
+  r.onset_s = OptDouble(j, "onset_s").value_or(0.0);
+  r.magnitude_key = StrOrEmpty(j, "magnitude_key");
+  r.magnitude = OptDouble(j, "magnitude").value_or(0.0);
+  r.group = As<std::string>(j, "group");
+  r.seed = As<unsigned long long>(j, "seed");
+  r.repetition = As<int>(j, "repetition");
+  r.variation = Get(j, "variation");
+  const std::string status = As<std::string>(j, "status");
+  if (status != "ok" && status != "failed") throw std::runtime_error("key \"status\" is neither \"ok\" nor \"failed\"");
+  r.ok = status == "ok";
+  r.failure_reason = StrOrEmpty(j, "reason");
+  r.effect = Get(j, "effect");
+  r.detected = As<bool>(j, "detected");
+  r.detection_time_s = OptDouble(j, "detection_time_s");
+  r.latency_s = OptDouble(j, "latency_s");
+  r.isolated_family = StrOrEmpty(j, "isolated_family");
+  r.isolated_joint = Get(j, "isolated_joint").is_null() ? 0 : As<int>(j, "isolated_joint");
+  r.magnitude_name = StrOrEmpty(j, "magnitude_name");
+  r.magnitude_estimate = OptDouble(j, "magnitude_estimate");
+  r.confidence = As<double>(j, "confidence");
+  r.alarm_before_onset = As<bool>(j, "alarm_before_onset");
+  return r;
+}
+
+}  // namespace armfault

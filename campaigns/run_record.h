@@ -1,0 +1,47 @@
+// One line of results.jsonl: the outcome of one run of a campaign. Written by the runner,
+// read by the summary, merge and tuning. See docs/campaign-format.md, "results.jsonl".
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <optional>
+#include <string>
+
+namespace armfault {
+
+struct RunRecord {
+  long case_index = 0;        // position in the campaign's case order (0-based)
+  std::string run_id;         // stable: "<trajectory>/<fault entry>/<values>/j<joint>/r<rep>" or "<trajectory>/healthy/<k>"
+  std::string trajectory;     // the campaign trajectory's name
+  // The injected fault as the faults library reads it ({"family", "joint", parameters...,
+  // "onset_s", "profile", ...}); null for a healthy run.
+  nlohmann::json fault;
+  std::string family;         // fault family, "" for healthy
+  int joint = 0;              // faulted joint (1-based), 0 for healthy
+  double onset_s = 0;         // 0 for healthy
+  std::string magnitude_key;  // the fault's parameter that sizes it ("kt_factor"...), "" if none
+  double magnitude = 0;       // its value
+  std::string group;          // family x parameters x joint, e.g. "kt_degradation kt_factor=0.9 joint=2"
+  unsigned long long seed = 0;
+  int repetition = 0;
+  nlohmann::json variation;   // what this run drew: payload, noise, friction factors
+  bool ok = true;             // status "ok" / "failed"
+  std::string failure_reason;
+  nlohmann::json effect;      // the fault's took-effect measure (FaultEffect::ToJson), null if healthy
+  // Monitor diagnosis (alarms from the fault's onset on; for healthy runs from t = 0).
+  bool detected = false;
+  std::optional<double> detection_time_s;
+  std::optional<double> latency_s;       // detection_time_s - onset_s
+  std::string isolated_family;           // "" if not detected
+  int isolated_joint = 0;
+  std::string magnitude_name;            // the monitor's magnitude ("kt_factor"...), "" if none
+  std::optional<double> magnitude_estimate;
+  double confidence = 0;
+  bool alarm_before_onset = false;       // any alarm before the fault's onset (a false alarm)
+};
+
+nlohmann::json ToJson(const RunRecord& r);
+// Throws std::runtime_error (with the key) if a required key is missing or has the wrong type.
+RunRecord RunRecordFromJson(const nlohmann::json& j);
+
+}  // namespace armfault
