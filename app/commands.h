@@ -41,4 +41,21 @@ struct ThesisTrend {
 };
 ThesisTrend CheckThesisTrend(const ThesisResults& results);
 
+struct CampaignRunOptions {
+  std::string campaign_file;   // empty: the built-in thesis sweep
+  std::string output_dir = "out";
+  int threads = 0;             // 0: all cores
+  std::string shard;           // "K/N"; empty: SLURM_ARRAY_TASK_ID/COUNT, JOB_COMPLETION_INDEX, or all
+  int shard_count = 0;         // with JOB_COMPLETION_INDEX
+  bool resume = false;
+  bool quiet = false;
+};
+// Runs a campaign and writes DIR/{campaign.json, results.jsonl, summary.json, junit.xml}.
+// 0 all floors met, 1 a floor missed, 3 some runs failed.
+int RunCampaignCommand(const CampaignRunOptions& options);
+// Writes summary.json and junit.xml from DIR/results.jsonl; prints the floors; exit status.
+struct Campaign;
+int FinishCampaignOutputs(const std::string& dir, const Campaign& campaign, long failed_expected);
+int ValidateCommand(const std::string& campaign_file);
+
 }  // namespace armfault

@@ -29,9 +29,19 @@ int main(int argc, char** argv) {
   trace_cmd->add_option("--monitor-out", trace.monitor_output, "write the monitor's verdicts and windows as JSON");
   trace_cmd->add_flag("-q,--quiet", trace.quiet, "no summary");
 
-  std::string run_dir = "out";
-  CLI::App* run_cmd = app.add_subcommand("run", "the main job: thesis experiment 1 with the monitor, then the thesis experiments 1-3");
-  run_cmd->add_option("-o,--output-dir", run_dir, "output directory")->capture_default_str();
+  armfault::CampaignRunOptions campaign_run;
+  CLI::App* run_cmd = app.add_subcommand("run", "run a campaign (default: the built-in thesis sweep) and score the monitor");
+  run_cmd->add_option("campaign", campaign_run.campaign_file, "campaign JSON file (default: the built-in thesis sweep)");
+  run_cmd->add_option("-o,--output-dir", campaign_run.output_dir, "output directory")->capture_default_str();
+  run_cmd->add_option("-j,--jobs", campaign_run.threads, "threads (0: all cores)")->capture_default_str();
+  run_cmd->add_option("--shard", campaign_run.shard, "run shard K of N (K/N, K from 0); default from SLURM_ARRAY_TASK_ID/COUNT or JOB_COMPLETION_INDEX");
+  run_cmd->add_option("--shard-count", campaign_run.shard_count, "shard count N with JOB_COMPLETION_INDEX (Kubernetes Indexed Job)");
+  run_cmd->add_flag("--resume", campaign_run.resume, "continue an interrupted run in the same output directory");
+  run_cmd->add_flag("-q,--quiet", campaign_run.quiet, "no progress output");
+
+  std::string validate_file;
+  CLI::App* validate_cmd = app.add_subcommand("validate", "check a campaign file and print its run count");
+  validate_cmd->add_option("campaign", validate_file, "campaign JSON file")->required();
 
   armfault::ThesisOptions thesis;
   CLI::App* thesis_cmd = app.add_subcommand(
@@ -55,18 +65,8 @@ int main(int argc, char** argv) {
   try {
     if (*trace_cmd) return armfault::RunTrace(trace);
     if (*thesis_cmd) return armfault::RunThesis(thesis);
-    if (*run_cmd) {
-      std::filesystem::create_directories(run_dir);
-      armfault::TraceOptions exp1;
-      exp1.output = (std::filesystem::path(run_dir) / "exp1-trace.csv").string();
-      std::printf("thesis experiment 1: top joint q = 25 (sin(8t/2pi) - 0.5 sin(16t/2pi)) deg, 10 s\n");
-      const int status = armfault::RunTrace(exp1);
-      if (status != 0) return status;
-      std::printf("\n");
-      armfault::ThesisOptions all;
-      all.output_dir = run_dir;
-      return armfault::RunThesis(all);
-    }
+    if (*run_cmd) return armfault::RunCampaignCommand(campaign_run);
+    if (*validate_cmd) return armfault::ValidateCommand(validate_file);
   } catch (const armfault::InputError& e) {
     std::fprintf(stderr, "armfault: error: %s\n", e.what());
     return 2;

@@ -39,6 +39,8 @@ const std::vector<NumberField>& NumberFields() {
       {"debounce_s", &MonitorConfig::debounce_s, 0, 1e3},
       {"overpower_W", &MonitorConfig::overpower_W, 0, 1e6},
       {"overpower_time_s", &MonitorConfig::overpower_time_s, 0, 1e3},
+      {"dead_drive_current_A", &MonitorConfig::dead_drive_current_A, 0, 1e4},
+      {"dead_drive_time_s", &MonitorConfig::dead_drive_time_s, 0, 1e3},
       {"stuck_time_s", &MonitorConfig::stuck_time_s, 0, 1e3},
       {"stuck_torque_span_Nm", &MonitorConfig::stuck_torque_span_Nm, 0, 1e6},
       {"rail_time_s", &MonitorConfig::rail_time_s, 0, 1e3},

@@ -74,9 +74,11 @@ struct PowerEfficiencyMonitor::JointState {
   // mechanical fit
   std::deque<MechanicalWindow> mech;
   Estimates est;
-  int mech_flag_count = 0;  // consecutive window evaluations with a mechanical candidate
+  Candidate mech_candidate;   // from the latest judged window
+  bool mech_confirmed = false;  // the same candidate at the window before too
   // tick-level detectors
   double overpower_s = 0;
+  double dead_s = 0;
   double flat_s = 0, flat_dq = 0, flat_cmd_min = 0, flat_cmd_max = 0;
   double rail_s = 0;
   double blocked_s = 0;
@@ -314,6 +316,37 @@ void PowerEfficiencyMonitor::Observe(double t_s, const std::vector<JointSignals>
           s.est.sensor_drift_se = std::sqrt(inv22);
         }
         s.est.windows_in_fit = static_cast<int>(s.mech.size());
+        // Mechanical verdict candidate, re-judged at each judged window; it must come up at
+        // two evaluations in a row (a fit that straddles an onset mixes before and after).
+        Candidate mc;
+        const Estimates& e = s.est;
+        const double z = c.significance;
+        if (e.windows_in_fit >= 2 && e.friction_factor > c.friction_factor.worn &&
+            (e.friction_factor - 1) >= z * e.friction_factor_se) {
+          if (e.friction_factor > kBrakeDragFrictionFactor) {
+            // Far beyond wear: a brake dragging on the shaft. Its torque ~ the extra Coulomb part.
+            const double drag =
+                (e.friction_factor - 1) * (k.friction.coulomb_Nm + k.friction.static_Nm) / k.brake_holding_Nm;
+            mc = {HealthState::kDefective, "brake_lock", "drag_fraction", drag, 1.0, false};
+          } else {
+            mc = {e.friction_factor > c.friction_factor.defective ? HealthState::kDefective : HealthState::kWorn,
+                 "friction_increase", "friction_factor", e.friction_factor,
+                 NormalCdf((e.friction_factor - c.friction_factor.worn) / std::max(1e-12, e.friction_factor_se)), false};
+          }
+        } else if (e.windows_in_fit >= 2 && std::fabs(e.sensor_drift_Nm) > c.sensor_drift_Nm.worn &&
+                   std::fabs(e.sensor_drift_Nm) >= z * e.sensor_drift_se) {
+          mc = {std::fabs(e.sensor_drift_Nm) > c.sensor_drift_Nm.defective ? HealthState::kDefective : HealthState::kWorn,
+               "torque_sensor_drift", "drift_Nm", e.sensor_drift_Nm,
+               NormalCdf((std::fabs(e.sensor_drift_Nm) - c.sensor_drift_Nm.worn) / std::max(1e-12, e.sensor_drift_se)),
+               false};
+        }
+        // A very clear candidate (twice the significance) needs no second look.
+        const bool clear = mc.state != HealthState::kHealthy &&
+                           (mc.family == "torque_sensor_drift"
+                                ? std::fabs(e.sensor_drift_Nm) >= 2 * z * e.sensor_drift_se
+                                : e.friction_factor - 1 >= 2 * z * e.friction_factor_se);
+        s.mech_confirmed = mc.state != HealthState::kHealthy && (clear || SameVerdict(mc, s.mech_candidate));
+        s.mech_candidate = mc;
       }
     }
 
@@ -322,6 +355,10 @@ void PowerEfficiencyMonitor::Observe(double t_s, const std::vector<JointSignals>
     // Inverter short: supply power far above what the commanded current can explain.
     const double excess = p_supply - (std::max(0.0, p_rotor) + p_copper + p_fixed);
     s.overpower_s = excess > c.overpower_W ? s.overpower_s + dt : 0.0;
+    // Dead drive: a large command but no copper loss in the supply: the over-current
+    // protection has opened the bridge (a short that tripped faster than it could be seen).
+    const bool dead = std::fabs(i) >= c.dead_drive_current_A && p_supply - k.quiescent_W < 0.25 * p_copper;
+    s.dead_s = dead ? s.dead_s + dt : 0.0;
     // Stuck torque sensor: on a rail, or unchanged while the joint moves and the commanded
     // torque swings (a live sensor would follow it).
     const bool on_rail = now.tau_sensor_Nm >= k.sensor_max_Nm - 1e-9 || now.tau_sensor_Nm <= k.sensor_min_Nm + 1e-9;
@@ -344,6 +381,8 @@ void PowerEfficiencyMonitor::Observe(double t_s, const std::vector<JointSignals>
 
     if (s.overpower_s >= c.overpower_time_s) {
       structural = {HealthState::kDefective, "inverter_short", "excess_power_W", excess, 1.0, true};
+    } else if (s.dead_s >= c.dead_drive_time_s) {
+      structural = {HealthState::kDefective, "inverter_short", "", 0, 1.0, true};
     } else if (s.rail_s >= c.rail_time_s || flat_stuck) {
       structural = {HealthState::kDefective, "torque_sensor_stuck", "stuck_reading_Nm", now.tau_sensor_Nm, 1.0, true};
     } else if (s.blocked_s >= c.blocked_time_s) {
@@ -374,23 +413,8 @@ void PowerEfficiencyMonitor::Observe(double t_s, const std::vector<JointSignals>
       parametric = {e.resistance_factor > c.resistance_factor.defective ? HealthState::kDefective : HealthState::kWorn,
                     "winding_resistance", "resistance_factor", e.resistance_factor,
                     confidence(e.resistance_factor - c.resistance_factor.worn, e.resistance_factor_se), false};
-    } else if (e.windows_in_fit >= 2 && std::fabs(e.sensor_drift_Nm) > c.sensor_drift_Nm.worn &&
-               std::fabs(e.sensor_drift_Nm) >= z * e.sensor_drift_se) {
-      parametric = {std::fabs(e.sensor_drift_Nm) > c.sensor_drift_Nm.defective ? HealthState::kDefective
-                                                                               : HealthState::kWorn,
-                    "torque_sensor_drift", "drift_Nm", e.sensor_drift_Nm,
-                    confidence(std::fabs(e.sensor_drift_Nm) - c.sensor_drift_Nm.worn, e.sensor_drift_se), false};
-    } else if (e.windows_in_fit >= 2 && e.friction_factor > c.friction_factor.worn &&
-               (e.friction_factor - 1) >= z * e.friction_factor_se) {
-      if (e.friction_factor > kBrakeDragFrictionFactor) {
-        // Far beyond wear: a brake dragging on the shaft. Its torque ~ the extra Coulomb part.
-        const double drag = (e.friction_factor - 1) * (k.friction.coulomb_Nm + k.friction.static_Nm) / k.brake_holding_Nm;
-        parametric = {HealthState::kDefective, "brake_lock", "drag_fraction", drag, 1.0, false};
-      } else {
-        parametric = {e.friction_factor > c.friction_factor.defective ? HealthState::kDefective : HealthState::kWorn,
-                      "friction_increase", "friction_factor", e.friction_factor,
-                      confidence(e.friction_factor - c.friction_factor.worn, e.friction_factor_se), false};
-      }
+    } else if (s.mech_confirmed) {
+      parametric = s.mech_candidate;
     }
 
     // --- decision with debounce; structural verdicts latch ---

@@ -56,7 +56,9 @@ struct MonitorConfig {
   StateLimits sensor_drift_Nm{1.0, 3.0};      // |d| above
   // tick-level detectors
   double overpower_W = 40.0;           // supply power above the electrical model by this: short
-  double overpower_time_s = 0.004;
+  double overpower_time_s = 0.002;
+  double dead_drive_current_A = 2.0;   // |i_cmd| at least this with no copper loss drawn ...
+  double dead_drive_time_s = 0.02;     // ... this long: the bridge is open (tripped)
   double stuck_time_s = 0.2;           // reading unchanged this long ...
   double stuck_torque_span_Nm = 3.0;   // ... while the commanded torque moved this much
   double rail_time_s = 0.05;           // reading at an ADC rail this long

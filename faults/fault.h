@@ -89,6 +89,8 @@ std::unique_ptr<Fault> MakeFault(const nlohmann::json& spec, const std::string& 
 std::vector<std::unique_ptr<Fault>> MakeFaults(const nlohmann::json& specs, const std::string& pointer,
                                                const RobotConfig& robot);
 std::vector<std::string> FaultFamilyNames();
+// The parameter that sizes a fault of `family` ("kt_factor" ...), "" if none or unknown.
+std::string FaultMagnitudeKey(const std::string& family);
 
 // All faults of a run as the plant's hardware schedule.
 class FaultSchedule : public HardwareSchedule {

@@ -8,16 +8,17 @@ namespace {
 struct Family {
   const char* name;
   FaultFactory make;
+  const char* magnitude_key;  // the parameter that sizes a fault of this family
 };
 
 const Family kFamilies[] = {
-    {"kt_degradation", &MakeKtDegradation},
-    {"friction_increase", &MakeFrictionIncrease},
-    {"brake_lock", &MakeBrakeLock},
-    {"torque_sensor_stuck", &MakeTorqueSensorStuck},
-    {"inverter_short", &MakeInverterShort},
-    {"winding_resistance", &MakeWindingResistance},
-    {"torque_sensor_drift", &MakeTorqueSensorDrift},
+    {"kt_degradation", &MakeKtDegradation, "kt_factor"},
+    {"friction_increase", &MakeFrictionIncrease, "friction_factor"},
+    {"brake_lock", &MakeBrakeLock, "drag_fraction"},
+    {"torque_sensor_stuck", &MakeTorqueSensorStuck, ""},
+    {"inverter_short", &MakeInverterShort, "resistance_ohm"},
+    {"winding_resistance", &MakeWindingResistance, "resistance_factor"},
+    {"torque_sensor_drift", &MakeTorqueSensorDrift, "drift_Nm_per_s"},
 };
 
 }  // namespace
@@ -26,6 +27,13 @@ std::vector<std::string> FaultFamilyNames() {
   std::vector<std::string> names;
   for (const Family& f : kFamilies) names.push_back(f.name);
   return names;
+}
+
+std::string FaultMagnitudeKey(const std::string& family) {
+  for (const Family& f : kFamilies) {
+    if (family == f.name) return f.magnitude_key;
+  }
+  return "";
 }
 
 std::unique_ptr<Fault> MakeFault(const nlohmann::json& spec, const std::string& pointer, const RobotConfig& robot) {

@@ -1,0 +1,174 @@
+// `armfault run CAMPAIGN`, `validate`: a campaign from file to results, summary and floors.
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+#include "app/commands.h"
+#include "campaigns/campaign.h"
+#include "campaigns/runner.h"
+#include "core/json_input.h"
+#include "campaigns/campaign_summary.h"
+
+namespace armfault {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+void WriteAtomically(const fs::path& path, const std::string& text) {
+  const fs::path tmp = path.string() + ".tmp";
+  {
+    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
+    f << text;
+    f.flush();
+    if (!f) throw InputError(tmp.string(), "", "cannot write the file");
+  }
+  fs::rename(tmp, path);
+}
+
+// Progress on stderr: a bar redrawn in place on a terminal, a plain line every 10 % or 10 s
+// otherwise (CI logs).
+class Progress {
+ public:
+  explicit Progress(bool enabled) : enabled_(enabled), tty_(isatty(STDERR_FILENO) != 0) {}
+  void Update(long done, long total) {
+    if (!enabled_ || total == 0) return;
+    const auto now = std::chrono::steady_clock::now();
+    if (!started_) {
+      started_ = true;
+      start_ = last_ = now;
+      first_done_ = done;
+    }
+    const double elapsed = std::chrono::duration<double>(now - start_).count();
+    const long ran = done - first_done_;
+    const double rate = elapsed > 0 ? ran / elapsed : 0;
+    const double left = rate > 0 ? (total - done) / rate : 0;
+    if (tty_) {
+      const int width = 30, filled = static_cast<int>(width * done / total);
+      std::fprintf(stderr, "\r[%s%s] %ld/%ld runs  %.1f runs/s  %.0f s left ", std::string(filled, '#').c_str(),
+                   std::string(width - filled, '.').c_str(), done, total, rate, left);
+      if (done == total) std::fprintf(stderr, "\n");
+    } else {
+      const long step = std::max(1L, total / 10);
+      if (done == total || done / step != last_done_ / step ||
+          std::chrono::duration<double>(now - last_).count() >= 10.0) {
+        std::fprintf(stderr, "progress: %ld/%ld runs, %.1f runs/s, %.0f s left\n", done, total, rate, left);
+        last_ = now;
+      }
+    }
+    last_done_ = done;
+  }
+
+ private:
+  bool enabled_, tty_;
+  bool started_ = false;
+  std::chrono::steady_clock::time_point start_, last_;
+  long first_done_ = 0, last_done_ = 0;
+};
+
+ShardSpec ResolveShard(const CampaignRunOptions& o) {
+  ShardSpec s;
+  auto parse_int = [](const std::string& text, const std::string& what) {
+    char* end = nullptr;
+    const long v = std::strtol(text.c_str(), &end, 10);
+    if (text.empty() || *end != '\0' || v < 0 || v > 1000000) {
+      throw InputError(what, "", "expected a whole number >= 0, got \"" + text + "\"");
+    }
+    return static_cast<int>(v);
+  };
+  if (!o.shard.empty()) {
+    const auto slash = o.shard.find('/');
+    if (slash == std::string::npos) throw InputError("--shard", "", "expected K/N (K from 0 to N-1), got \"" + o.shard + "\"");
+    s.index = parse_int(o.shard.substr(0, slash), "--shard");
+    s.count = parse_int(o.shard.substr(slash + 1), "--shard");
+  } else if (const char* id = std::getenv("SLURM_ARRAY_TASK_ID")) {
+    const char* count = std::getenv("SLURM_ARRAY_TASK_COUNT");
+    if (!count) throw InputError("SLURM_ARRAY_TASK_COUNT", "", "SLURM_ARRAY_TASK_ID is set but the task count is not");
+    s.index = parse_int(id, "SLURM_ARRAY_TASK_ID");
+    s.count = parse_int(count, "SLURM_ARRAY_TASK_COUNT");
+    // Slurm arrays often start at 1 (--array=1-N): map task N to shard 0.
+    if (s.index == s.count) s.index = 0;
+  } else if (const char* index = std::getenv("JOB_COMPLETION_INDEX")) {
+    if (o.shard_count <= 0) throw InputError("--shard-count", "", "JOB_COMPLETION_INDEX is set: give the job's completions as --shard-count");
+    s.index = parse_int(index, "JOB_COMPLETION_INDEX");
+    s.count = o.shard_count;
+  }
+  if (s.count < 1 || s.index >= s.count) {
+    throw InputError("--shard", "", "shard " + std::to_string(s.index) + " of " + std::to_string(s.count) +
+                                        " does not exist (K/N needs 0 <= K < N)");
+  }
+  return s;
+}
+
+}  // namespace
+
+int FinishCampaignOutputs(const std::string& dir_name, const Campaign& campaign, long failed_expected) {
+  const fs::path dir(dir_name);
+  SummaryBuilder builder;
+  {
+    std::ifstream in(dir / "results.jsonl", std::ios::binary);
+    std::string line;
+    long n = 0;
+    while (std::getline(in, line)) {
+      ++n;
+      try {
+        builder.Add(RunRecordFromJson(nlohmann::json::parse(line)));
+      } catch (const std::exception& e) {
+        throw InputError((dir / "results.jsonl").string(), "", "line " + std::to_string(n) + ": " + e.what());
+      }
+    }
+  }
+  (void)failed_expected;
+  const std::vector<FloorVerdict> verdicts = builder.Verdicts(campaign.floors);
+  WriteAtomically(dir / "summary.json", builder.Build(campaign.floors, campaign.resolved, ARMFAULT_VERSION).dump(2) + "\n");
+  WriteAtomically(dir / "junit.xml", JUnitXml(campaign.name, verdicts));
+  bool all_met = true;
+  for (const FloorVerdict& v : verdicts) {
+    std::printf("floor %-50s %s  %s\n", v.name.c_str(), v.met ? "met   " : "MISSED", v.message.c_str());
+    all_met = all_met && v.met;
+  }
+  if (builder.failed_runs() > 0) {
+    std::fprintf(stderr, "armfault: %ld of %ld runs failed (see %s)\n", builder.failed_runs(), builder.runs(),
+                 (dir / "summary.json").string().c_str());
+    return 3;
+  }
+  return all_met ? 0 : 1;
+}
+
+int RunCampaignCommand(const CampaignRunOptions& o) {
+  const Campaign campaign = o.campaign_file.empty() ? DefaultCampaign() : ReadCampaignFile(o.campaign_file);
+  if (o.threads < 0) throw InputError("-j", "", "expected a thread count >= 1 (0: all cores), got " + std::to_string(o.threads));
+  RunnerOptions ro;
+  ro.output_dir = o.output_dir;
+  ro.threads = o.threads;
+  ro.shard = ResolveShard(o);
+  ro.resume = o.resume;
+  Progress progress(!o.quiet);
+  ro.progress = [&](long done, long total) { progress.Update(done, total); };
+  const long total = CaseCount(campaign);
+  std::printf("campaign %s: %ld runs%s -> %s\n", campaign.name.c_str(), total,
+              ro.shard.count > 1 ? (", shard " + std::to_string(ro.shard.index) + "/" + std::to_string(ro.shard.count)).c_str() : "",
+              o.output_dir.c_str());
+  const auto start = std::chrono::steady_clock::now();
+  const RunnerResult r = RunCampaign(campaign, ro);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::printf("ran %ld runs in %.1f s (%ld resumed, %ld failed)\n", r.ran, seconds, r.resumed, r.failed);
+  const int status = FinishCampaignOutputs(o.output_dir, campaign, r.failed);
+  std::printf("wrote %s/results.jsonl, summary.json, junit.xml\n", o.output_dir.c_str());
+  return status;
+}
+
+int ValidateCommand(const std::string& campaign_file) {
+  const Campaign campaign = ReadCampaignFile(campaign_file);
+  std::printf("%s: valid campaign \"%s\": %ld runs (%zu trajectories, %zu fault entries, %d healthy per trajectory, %d repetitions)\n",
+              campaign_file.c_str(), campaign.name.c_str(), CaseCount(campaign), campaign.trajectories.size(),
+              campaign.faults.size(), campaign.healthy, campaign.repetitions);
+  return 0;
+}
+
+}  // namespace armfault

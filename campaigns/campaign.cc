@@ -1,0 +1,422 @@
+#include "campaigns/campaign.h"
+
+#include <cmath>
+#include <filesystem>
+#include <set>
+
+#include "core/rng.h"
+#include "core/run_config.h"
+#include "faults/fault.h"
+
+namespace armfault {
+
+namespace {
+
+constexpr long kMaxCases = 10'000'000;
+
+// Keys that time a fault rather than size it: not part of a scoring group.
+const std::set<std::string> kTimingKeys = {"onset_s", "profile", "ramp_s", "duration_s", "period_s"};
+
+uint64_t Fnv1a(const std::string& s) {
+  uint64_t h = 0xcbf29ce484222325ULL;
+  for (unsigned char c : s) h = (h ^ c) * 0x100000001b3ULL;
+  return h;
+}
+
+std::string ValueText(const nlohmann::json& v) {
+  if (v.is_string()) return v.get<std::string>();
+  if (v.is_number()) return FormatNumber(v.get<double>());
+  return v.dump();
+}
+
+// A key's values. `swept` tells a list, grid or uniform from a single fixed value.
+struct ParsedSweep {
+  Sweep sweep;
+  bool swept = false;
+};
+
+ParsedSweep ParseSweep(const nlohmann::json& v, const std::string& pointer, bool numbers_only) {
+  ParsedSweep p;
+  p.sweep.pointer = pointer;
+  auto check_element = [&](const nlohmann::json& e, const std::string& ptr) {
+    if (e.is_number()) return;
+    if (!numbers_only && (e.is_string() || e.is_boolean())) return;
+    throw InputError("", ptr, std::string("expected ") + (numbers_only ? "a number" : "a number or a string") +
+                                  ", got " + Describe(e));
+  };
+  if (v.is_array()) {
+    if (v.empty()) throw InputError("", pointer, "empty sweep: give at least one value");
+    for (size_t i = 0; i < v.size(); ++i) {
+      check_element(v[i], PointerJoin(pointer, i));
+      p.sweep.values.push_back(v[i]);
+    }
+    p.swept = true;
+    return p;
+  }
+  if (v.is_object()) {
+    ObjectReader reader(v, pointer);
+    reader.AllowOnly({"from", "to", "steps", "uniform"});
+    if (const auto* u = reader.Find("uniform")) {
+      if (reader.Has("from") || reader.Has("to") || reader.Has("steps")) {
+        throw InputError("", pointer, "give either {\"uniform\": [a, b]} or {\"from\", \"to\", \"steps\"}, not both");
+      }
+      const std::string up = reader.PointerTo("uniform");
+      if (!u->is_array() || u->size() != 2) throw InputError("", up, "expected [low, high], got " + Describe(*u));
+      p.sweep.low = AsNumber((*u)[0], PointerJoin(up, 0));
+      p.sweep.high = AsNumber((*u)[1], PointerJoin(up, 1));
+      if (p.sweep.low > p.sweep.high) {
+        throw InputError("", PointerJoin(up, 0),
+                         "low " + FormatNumber(p.sweep.low) + " is greater than high " + FormatNumber(p.sweep.high));
+      }
+      p.sweep.uniform = true;
+      p.swept = true;
+      return p;
+    }
+    const double from = reader.RequireNumber("from");
+    const double to = reader.RequireNumber("to");
+    const int steps = reader.RequireInt("steps");
+    if (from > to) {
+      throw InputError("", reader.PointerTo("from"),
+                       FormatNumber(from) + " is greater than \"to\" (" + FormatNumber(to) + ")");
+    }
+    RequireInRange(steps, from == to ? 1 : 2, 100000, reader.PointerTo("steps"));
+    for (int i = 0; i < steps; ++i) {
+      const double x = steps == 1 ? from : (i == steps - 1 ? to : from + (to - from) * i / (steps - 1));
+      p.sweep.values.push_back(x);
+    }
+    p.swept = true;
+    return p;
+  }
+  check_element(v, pointer);
+  p.sweep.values.push_back(v);
+  return p;
+}
+
+// A value's own pointer inside a sweep: the list element, the grid end or the uniform bound.
+std::string ValuePointer(const Sweep& s, size_t index, bool swept) {
+  if (!swept) return s.pointer;
+  if (s.uniform) return PointerJoin(PointerJoin(s.pointer, "uniform"), index);
+  return PointerJoin(s.pointer, index);
+}
+
+Sweep VariationSweep(ObjectReader& reader, const char* key, double min, double max) {
+  Sweep s;
+  const auto* v = reader.Find(key);
+  if (!v) return s;
+  ParsedSweep p = ParseSweep(*v, reader.PointerTo(key), true);
+  if (!p.sweep.uniform && p.sweep.values.size() != 1) {
+    throw InputError("", reader.PointerTo(key), "expected a number or {\"uniform\": [a, b]}, got " + Describe(*v));
+  }
+  if (p.sweep.uniform) {
+    RequireInRange(p.sweep.low, min, max, PointerJoin(PointerJoin(reader.PointerTo(key), "uniform"), 0));
+    RequireInRange(p.sweep.high, min, max, PointerJoin(PointerJoin(reader.PointerTo(key), "uniform"), 1));
+  } else {
+    RequireInRange(p.sweep.values[0].get<double>(), min, max, reader.PointerTo(key));
+  }
+  return p.sweep;
+}
+
+FloorSet ParseFloorSet(const nlohmann::json& v, const std::string& pointer, bool allow_per_family) {
+  ObjectReader reader(v, pointer);
+  if (allow_per_family) reader.AllowOnly({"detection_rate", "false_alarm_rate", "isolation_accuracy", "per_family"});
+  else reader.AllowOnly({"detection_rate", "false_alarm_rate", "isolation_accuracy"});
+  FloorSet f;
+  for (auto [key, member] : {std::pair{"detection_rate", &FloorSet::detection_rate},
+                             std::pair{"false_alarm_rate", &FloorSet::false_alarm_rate},
+                             std::pair{"isolation_accuracy", &FloorSet::isolation_accuracy}}) {
+    if (const auto* x = reader.Find(key)) {
+      const double value = AsNumber(*x, reader.PointerTo(key));
+      RequireInRange(value, 0, 1, reader.PointerTo(key));
+      f.*member = value;
+    }
+  }
+  return f;
+}
+
+Floors ParseFloors(const nlohmann::json& v, const std::string& pointer) {
+  Floors floors;
+  floors.overall = ParseFloorSet(v, pointer, true);
+  if (v.contains("per_family")) {
+    const std::string pp = PointerJoin(pointer, "per_family");
+    ObjectReader per(v["per_family"], pp);
+    const std::vector<std::string> families = FaultFamilyNames();
+    for (auto it = v["per_family"].begin(); it != v["per_family"].end(); ++it) {
+      if (std::find(families.begin(), families.end(), it.key()) == families.end()) {
+        throw InputError("", PointerJoin(pp, it.key()), "unknown fault family \"" + it.key() + "\"");
+      }
+      floors.per_family[it.key()] = ParseFloorSet(it.value(), PointerJoin(pp, it.key()), false);
+    }
+  }
+  return floors;
+}
+
+FaultEntry ParseFaultEntry(const nlohmann::json& v, const std::string& pointer, const RobotConfig& robot) {
+  ObjectReader reader(v, pointer);
+  FaultEntry e;
+  e.pointer = pointer;
+  e.family = reader.RequireString("family");
+  const std::vector<std::string> families = FaultFamilyNames();
+  if (std::find(families.begin(), families.end(), e.family) == families.end()) {
+    MakeFault(v, pointer, robot);  // throws the registry's "unknown fault family" error
+  }
+  const nlohmann::json& joint = reader.Require("joint");
+  const ParsedSweep joints = ParseSweep(joint, reader.PointerTo("joint"), true);
+  if (joints.sweep.uniform || (joint.is_object())) {
+    throw InputError("", reader.PointerTo("joint"), "expected a joint number or a list of them, got " + Describe(joint));
+  }
+  for (size_t i = 0; i < joints.sweep.values.size(); ++i) {
+    e.joints.push_back(AsInt(joints.sweep.values[i], ValuePointer(joints.sweep, i, joints.swept)));
+  }
+  std::vector<bool> swept;
+  for (auto it = v.begin(); it != v.end(); ++it) {
+    if (it.key() == "family" || it.key() == "joint") continue;
+    reader.Find(it.key());
+    ParsedSweep p = ParseSweep(it.value(), reader.PointerTo(it.key()), false);
+    e.keys.emplace_back(it.key(), p.sweep);
+    swept.push_back(p.swept);
+  }
+  // Each value on its own, through the family's own checks, with the others at their first
+  // value; an error on the key is moved to the value's own pointer.
+  auto spec_with = [&](size_t key_index, const nlohmann::json& value, int joint_number) {
+    nlohmann::json spec = {{"family", e.family}, {"joint", joint_number}};
+    for (size_t k = 0; k < e.keys.size(); ++k) {
+      const Sweep& s = e.keys[k].second;
+      spec[e.keys[k].first] = k == key_index ? value : (s.uniform ? nlohmann::json(s.low) : s.values[0]);
+    }
+    return spec;
+  };
+  auto check = [&](const nlohmann::json& spec, const std::string& key_pointer, const std::string& value_pointer) {
+    try {
+      MakeFault(spec, pointer, robot);
+    } catch (const InputError& err) {
+      if (err.pointer() == key_pointer) throw InputError(err.source(), value_pointer, err.message());
+      throw;
+    }
+  };
+  for (size_t j = 0; j < e.joints.size(); ++j) {
+    check(spec_with(SIZE_MAX, nullptr, e.joints[j]), reader.PointerTo("joint"), ValuePointer(joints.sweep, j, joints.swept));
+  }
+  for (size_t k = 0; k < e.keys.size(); ++k) {
+    const Sweep& s = e.keys[k].second;
+    const std::string kp = PointerJoin(pointer, e.keys[k].first);
+    if (s.uniform) {
+      check(spec_with(k, s.low, e.joints[0]), kp, ValuePointer(s, 0, true));
+      check(spec_with(k, s.high, e.joints[0]), kp, ValuePointer(s, 1, true));
+    } else {
+      for (size_t i = 0; i < s.values.size(); ++i) check(spec_with(k, s.values[i], e.joints[0]), kp, ValuePointer(s, i, swept[k]));
+    }
+  }
+  return e;
+}
+
+}  // namespace
+
+nlohmann::json CaseSpec::VariationJson() const {
+  nlohmann::json j = nlohmann::json::object();
+  j["extra_payload_kg"] = extra_payload_kg;
+  j["torque_noise_Nm"] = torque_noise_Nm < 0 ? nlohmann::json(nullptr) : nlohmann::json(torque_noise_Nm);
+  j["friction_factors"] = friction_factors;
+  return j;
+}
+
+Campaign CampaignFromJson(const nlohmann::json& value, const std::string& source, const std::string& base_dir) {
+  Campaign c;
+  c.source = source;
+  c.base_dir = base_dir;
+  InputContext context;
+  context.source = source;
+  context.base_dir = base_dir;
+  try {
+    if (!value.is_object()) throw InputError("", "", "expected a JSON object describing a campaign, got " + Describe(value));
+    ObjectReader reader(value, "");
+    reader.AllowOnly({"name", "seed", "robot", "duration_s", "trajectories", "faults", "healthy", "repetitions",
+                      "variation", "monitor", "floors"});
+    c.name = std::filesystem::path(source).stem().string();
+    reader.OptionalString("name", &c.name);
+    if (const auto* seed = reader.Find("seed")) {
+      const double s = AsNumber(*seed, reader.PointerTo("seed"));
+      if (s < 0 || s != std::floor(s) || s > 9007199254740991.0) {
+        throw InputError("", reader.PointerTo("seed"), "expected a whole number >= 0, got " + Describe(*seed));
+      }
+      c.seed = static_cast<unsigned long long>(s);
+    }
+    if (const auto* robot = reader.Find("robot")) c.robot = RobotFromJson(*robot, reader.PointerTo("robot"));
+    else c.robot = RobotPreset("mrr-config1");
+    reader.OptionalNumber("duration_s", &c.duration_s);
+    RequireInRange(c.duration_s, 0.002, 3600, reader.PointerTo("duration_s"));
+
+    const nlohmann::json& trajectories = reader.Require("trajectories");
+    const std::string tp = reader.PointerTo("trajectories");
+    if (!trajectories.is_array() || trajectories.empty()) {
+      throw InputError("", tp, "expected a non-empty array of trajectories, got " + Describe(trajectories));
+    }
+    std::set<std::string> names;
+    for (size_t i = 0; i < trajectories.size(); ++i) {
+      const std::string p = PointerJoin(tp, i);
+      ObjectReader tr(trajectories[i], p);
+      tr.AllowOnly({"name", "joints"});
+      CampaignTrajectory t;
+      t.name = tr.RequireString("name");
+      if (t.name.empty() || t.name.find('/') != std::string::npos) {
+        throw InputError("", tr.PointerTo("name"), "a trajectory name must be non-empty and without '/', got " +
+                                                     Describe(trajectories[i]["name"]));
+      }
+      if (!names.insert(t.name).second) throw InputError("", tr.PointerTo("name"), "duplicate trajectory name \"" + t.name + "\"");
+      t.joints = tr.Require("joints");
+      t.parsed = JointTrajectoriesFromJson(t.joints, tr.PointerTo("joints"), c.robot, c.duration_s, context);
+      c.trajectories.push_back(std::move(t));
+    }
+    if (const auto* faults = reader.Find("faults")) {
+      if (!faults->is_array()) throw InputError("", reader.PointerTo("faults"), "expected an array of faults, got " + Describe(*faults));
+      for (size_t i = 0; i < faults->size(); ++i) {
+        c.faults.push_back(ParseFaultEntry((*faults)[i], PointerJoin(reader.PointerTo("faults"), i), c.robot));
+      }
+    }
+    reader.OptionalInt("healthy", &c.healthy);
+    RequireInRange(c.healthy, 0, 1000000, reader.PointerTo("healthy"));
+    reader.OptionalInt("repetitions", &c.repetitions);
+    RequireInRange(c.repetitions, 1, 1000000, reader.PointerTo("repetitions"));
+    if (const auto* v = reader.Find("variation")) {
+      ObjectReader vr(*v, reader.PointerTo("variation"));
+      vr.AllowOnly({"payload_kg", "torque_noise_Nm", "friction_spread"});
+      c.variation.payload_kg = VariationSweep(vr, "payload_kg", 0, 100);
+      c.variation.torque_noise_Nm = VariationSweep(vr, "torque_noise_Nm", 0, 100);
+      vr.OptionalNumber("friction_spread", &c.variation.friction_spread);
+      RequireInRange(c.variation.friction_spread, 0, 0.9, vr.PointerTo("friction_spread"));
+    }
+    if (const auto* m = reader.Find("monitor")) c.monitor = MonitorConfigFromJsonOrFile(*m, reader.PointerTo("monitor"), context);
+    if (const auto* f = reader.Find("floors")) c.floors = ParseFloors(*f, reader.PointerTo("floors"));
+    reader.Finish();
+
+    const long cases = CaseCount(c);
+    if (cases == 0) throw InputError("", "", "the campaign has no runs: give \"faults\" or \"healthy\" runs");
+    if (cases > kMaxCases) {
+      throw InputError("", "", "the campaign expands to " + std::to_string(cases) + " runs, more than " +
+                                   std::to_string(kMaxCases) + "; split it");
+    }
+  } catch (const InputError& e) {
+    if (e.source().empty()) throw e.WithSource(source);
+    throw;
+  }
+
+  c.resolved = value;
+  c.resolved["name"] = c.name;
+  c.resolved["seed"] = c.seed;
+  c.resolved["robot"] = RobotToJson(c.robot);
+  c.resolved["duration_s"] = c.duration_s;
+  c.resolved["healthy"] = c.healthy;
+  c.resolved["repetitions"] = c.repetitions;
+  c.resolved["monitor"] = MonitorConfigToJson(c.monitor);
+  if (!c.resolved.contains("faults")) c.resolved["faults"] = nlohmann::json::array();
+  if (!c.resolved.contains("variation")) c.resolved["variation"] = nlohmann::json::object();
+  if (!c.resolved.contains("floors")) c.resolved["floors"] = nlohmann::json::object();
+  return c;
+}
+
+Campaign ReadCampaignFile(const std::string& path) {
+  std::string base = std::filesystem::path(path).parent_path().string();
+  if (base.empty()) base = ".";
+  return CampaignFromJson(ReadJsonFile(path), path, base);
+}
+
+long CaseCount(const Campaign& c) {
+  long per_trajectory = c.healthy;
+  for (const FaultEntry& e : c.faults) {
+    long n = static_cast<long>(e.joints.size()) * c.repetitions;
+    for (const auto& [key, sweep] : e.keys) {
+      n *= static_cast<long>(sweep.count());
+      if (n > kMaxCases) return kMaxCases + 1;
+    }
+    per_trajectory += n;
+    if (per_trajectory > kMaxCases) return kMaxCases + 1;
+  }
+  const long total = per_trajectory * static_cast<long>(c.trajectories.size());
+  return total > kMaxCases ? kMaxCases + 1 : total;
+}
+
+namespace {
+
+// Draws a run's variation from its own stream, after the uniform fault values.
+void DrawVariation(const Campaign& c, Rng* rng, CaseSpec* cs) {
+  auto draw = [&](const Sweep& s, double fallback) {
+    if (s.uniform) return s.low + (s.high - s.low) * rng->Uniform();
+    if (!s.values.empty()) return s.values[0].get<double>();
+    return fallback;
+  };
+  cs->extra_payload_kg = draw(c.variation.payload_kg, 0.0);
+  cs->torque_noise_Nm = draw(c.variation.torque_noise_Nm, -1.0);
+  cs->friction_factors.clear();
+  for (size_t j = 0; j < c.robot.modules.size(); ++j) {
+    const double u = rng->Uniform();
+    cs->friction_factors.push_back(1.0 + c.variation.friction_spread * (2.0 * u - 1.0));
+  }
+}
+
+}  // namespace
+
+std::vector<CaseSpec> ExpandCases(const Campaign& c) {
+  std::vector<CaseSpec> cases;
+  cases.reserve(static_cast<size_t>(CaseCount(c)));
+  for (size_t t = 0; t < c.trajectories.size(); ++t) {
+    const std::string& tname = c.trajectories[t].name;
+    for (size_t ei = 0; ei < c.faults.size(); ++ei) {
+      const FaultEntry& e = c.faults[ei];
+      std::vector<size_t> at(e.keys.size(), 0);
+      while (true) {
+        for (int joint : e.joints) {
+          for (int rep = 0; rep < c.repetitions; ++rep) {
+            CaseSpec cs;
+            cs.index = static_cast<long>(cases.size());
+            cs.trajectory = t;
+            cs.repetition = rep;
+            std::string values, group = e.family;
+            for (size_t k = 0; k < e.keys.size(); ++k) {
+              const Sweep& s = e.keys[k].second;
+              std::string text = s.uniform ? "U[" + FormatNumber(s.low) + "," + FormatNumber(s.high) + "]"
+                                           : ValueText(s.values[at[k]]);
+              if (s.uniform || s.values.size() > 1) values += (values.empty() ? "" : ",") + e.keys[k].first + "=" + text;
+              if (!kTimingKeys.count(e.keys[k].first)) group += " " + e.keys[k].first + "=" + text;
+            }
+            group += " joint=" + std::to_string(joint);
+            cs.run_id = tname + "/" + e.family + "#" + std::to_string(ei) + "/" + (values.empty() ? "-" : values) +
+                        "/j" + std::to_string(joint) + "/r" + std::to_string(rep);
+            cs.group = group;
+            cs.seed = MixSeed(c.seed, Fnv1a(cs.run_id));
+            Rng rng(MixSeed(cs.seed, 0x7a71a710ULL));
+            nlohmann::json fault = {{"family", e.family}, {"joint", joint}};
+            for (size_t k = 0; k < e.keys.size(); ++k) {
+              const Sweep& s = e.keys[k].second;
+              fault[e.keys[k].first] = s.uniform ? nlohmann::json(s.low + (s.high - s.low) * rng.Uniform()) : s.values[at[k]];
+            }
+            cs.fault = fault;
+            DrawVariation(c, &rng, &cs);
+            cases.push_back(std::move(cs));
+          }
+        }
+        // odometer, last key fastest
+        size_t k = e.keys.size();
+        while (k > 0) {
+          --k;
+          if (++at[k] < e.keys[k].second.count()) break;
+          at[k] = 0;
+          if (k == 0) { k = SIZE_MAX; break; }
+        }
+        if (e.keys.empty() || k == SIZE_MAX) break;
+      }
+    }
+    for (int h = 0; h < c.healthy; ++h) {
+      CaseSpec cs;
+      cs.index = static_cast<long>(cases.size());
+      cs.trajectory = t;
+      cs.run_id = tname + "/healthy/" + std::to_string(h);
+      cs.seed = MixSeed(c.seed, Fnv1a(cs.run_id));
+      Rng rng(MixSeed(cs.seed, 0x7a71a710ULL));
+      cs.fault = nullptr;
+      DrawVariation(c, &rng, &cs);
+      cases.push_back(std::move(cs));
+    }
+  }
+  return cases;
+}
+
+}  // namespace armfault

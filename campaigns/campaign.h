@@ -1,0 +1,100 @@
+// A campaign file: faults swept over magnitudes, onsets, joints and trajectories, healthy
+// runs for false-alarm rates, run-to-run variation, the monitor's thresholds and the floors.
+// Every key is in docs/campaign-format.md; campaigns/campaign.schema.json is its JSON Schema.
+//
+// Cases are the product trajectory x fault entry x its swept values x joint x repetition,
+// then `healthy` fault-free runs per trajectory. Each case has a stable run_id and a seed
+// derived from the campaign seed and that run_id, so a case runs the same on any machine,
+// thread or shard.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/json_input.h"
+#include "core/power_monitor.h"
+#include "core/robot_config.h"
+#include "core/trajectory.h"
+#include "campaigns/campaign_summary.h"
+
+namespace armfault {
+
+// Values of one key: a list, an inclusive grid {"from","to","steps"}, or {"uniform":[a,b]}
+// (drawn per run from the run's seed), or one fixed value.
+struct Sweep {
+  std::vector<nlohmann::json> values;  // list or grid points (numbers or strings)
+  bool uniform = false;
+  double low = 0, high = 0;
+  std::string pointer;  // of the sweep in the file
+  size_t count() const { return uniform ? 1 : values.size(); }
+};
+
+struct FaultEntry {
+  std::string family;
+  std::string pointer;                              // "/faults/1"
+  std::vector<int> joints;                          // 1-based
+  std::vector<std::pair<std::string, Sweep>> keys;  // every other key, in document order
+};
+
+struct CampaignTrajectory {
+  std::string name;
+  nlohmann::json joints;  // as given (the run file's "joints" object)
+  std::map<int, std::shared_ptr<const Trajectory>> parsed;
+};
+
+// Variation between runs; each value is fixed or {"uniform": [a, b]}.
+struct Variation {
+  Sweep payload_kg;        // added to the robot's payload; empty: none
+  Sweep torque_noise_Nm;   // torque-sensor noise (1 sigma); empty: the robot's
+  double friction_spread = 0;  // each joint's true friction x U[1 - s, 1 + s]; the monitor keeps nominal
+};
+
+struct Campaign {
+  std::string source;  // file name, for messages
+  std::string base_dir;
+  std::string name;
+  unsigned long long seed = 1;
+  RobotConfig robot;
+  double duration_s = 10;
+  std::vector<CampaignTrajectory> trajectories;
+  std::vector<FaultEntry> faults;
+  int healthy = 0;
+  int repetitions = 1;
+  Variation variation;
+  MonitorConfig monitor;
+  Floors floors;
+  nlohmann::json resolved;  // the campaign with defaults filled in (written to campaign.json)
+};
+
+// Parses and validates a campaign; every error names the file, the JSON pointer and the value.
+Campaign CampaignFromJson(const nlohmann::json& value, const std::string& source, const std::string& base_dir);
+Campaign ReadCampaignFile(const std::string& path);
+// The built-in quick thesis sweep (`armfault run` without a file).
+Campaign DefaultCampaign();
+
+// One run of a campaign, fully determined.
+struct CaseSpec {
+  long index = 0;
+  std::string run_id;
+  size_t trajectory = 0;       // index into Campaign::trajectories
+  nlohmann::json fault;        // concrete fault JSON (uniform values drawn); null: healthy
+  std::string group;           // family x parameters x joint ("" for healthy)
+  unsigned long long seed = 0;
+  int repetition = 0;
+  // drawn variation
+  double extra_payload_kg = 0;
+  double torque_noise_Nm = -1;             // < 0: the robot's
+  std::vector<double> friction_factors;    // per joint, true friction scale
+  nlohmann::json VariationJson() const;
+};
+
+// All cases in order. Memory: one small record per case.
+std::vector<CaseSpec> ExpandCases(const Campaign& campaign);
+// The number of cases, without expanding.
+long CaseCount(const Campaign& campaign);
+
+}  // namespace armfault

@@ -1,0 +1,348 @@
+#include "campaigns/campaign_summary.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <iterator>
+#include <stdexcept>
+#include <tuple>
+
+namespace armfault {
+
+namespace {
+
+using internal::SummaryTally;
+
+constexpr double kWilsonZ = 1.959963984540054;
+constexpr size_t kMaxListedFailures = 100;
+const char* const kHealthyLabel = "healthy";
+const char* const kUnknownLabel = "unknown";
+
+nlohmann::json StrOrNull(const std::string& s) { return s.empty() ? nlohmann::json(nullptr) : nlohmann::json(s); }
+
+std::string Fixed3(double x) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.3f", x);
+  return buf;
+}
+
+void MergeInto(const SummaryTally& from, SummaryTally* into) {
+  into->faulty += from.faulty;
+  into->detected += from.detected;
+  into->isolated += from.isolated;
+  into->before_onset += from.before_onset;
+  into->healthy += from.healthy;
+  into->healthy_alarms += from.healthy_alarms;
+  into->latencies_s.insert(into->latencies_s.end(), from.latencies_s.begin(), from.latencies_s.end());
+  into->magnitude_errors.insert(into->magnitude_errors.end(), from.magnitude_errors.begin(),
+                                from.magnitude_errors.end());
+}
+
+nlohmann::json RateJson(long successes, long trials) {
+  const RateInterval w = Wilson(successes, trials);
+  return {{"rate", w.rate}, {"low", w.low}, {"high", w.high}, {"successes", successes}, {"trials", trials}};
+}
+
+// Sorted copies: the statistics must not depend on the order the records arrived in.
+nlohmann::json LatencyJson(const SummaryTally& t) {
+  std::vector<double> v = t.latencies_s;
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  nlohmann::json j = {{"count", n}, {"median_s", nullptr}, {"p95_s", nullptr}, {"misses", t.faulty - t.detected}};
+  if (n > 0) {
+    j["median_s"] = n % 2 == 1 ? v[n / 2] : (v[n / 2 - 1] + v[n / 2]) / 2;
+    // Nearest rank, ceil(0.95 n) - 1, in integers so that no rounding can shift the rank.
+    j["p95_s"] = v[(95 * n + 99) / 100 - 1];
+  }
+  return j;
+}
+
+nlohmann::json MagnitudeErrorJson(const SummaryTally& t) {
+  std::vector<double> v = t.magnitude_errors;
+  std::sort(v.begin(), v.end());
+  nlohmann::json j = {{"count", v.size()}, {"mean", nullptr}, {"max", nullptr}};
+  if (!v.empty()) {
+    double sum = 0;
+    for (double e : v) sum += e;
+    j["mean"] = sum / static_cast<double>(v.size());
+    j["max"] = v.back();
+  }
+  return j;
+}
+
+// The metrics every scope reports; the healthy part only where asked for.
+nlohmann::json MetricsJson(const SummaryTally& t, bool with_healthy) {
+  nlohmann::json j;
+  j["runs"] = t.faulty + t.healthy;
+  j["faulty_runs"] = t.faulty;
+  j["detection"] = RateJson(t.detected, t.faulty);
+  j["isolation"] = RateJson(t.isolated, t.detected);
+  j["alarm_before_onset_rate"] = RateJson(t.before_onset, t.faulty);
+  j["latency"] = LatencyJson(t);
+  j["magnitude_error"] = MagnitudeErrorJson(t);
+  if (with_healthy) {
+    j["healthy_runs"] = t.healthy;
+    j["false_alarm"] = RateJson(t.healthy_alarms, t.healthy);
+  }
+  return j;
+}
+
+// A verdict on successes / trials against a bound; `of_what` names the trials in the
+// message, `none` says why there is nothing to measure when trials == 0.
+FloorVerdict Check(const std::string& name, bool is_min, double bound, long successes, long trials,
+                   const std::string& of_what, const std::string& none) {
+  FloorVerdict v;
+  v.name = name;
+  v.kind = is_min ? "min" : "max";
+  v.bound = bound;
+  if (trials == 0) {
+    v.met = false;
+    v.message = name + ": " + none + ", nothing to measure (floor " + (is_min ? ">= " : "<= ") + Fixed3(bound) + ")";
+    return v;
+  }
+  const double measured = static_cast<double>(successes) / static_cast<double>(trials);
+  v.measured = measured;
+  v.met = is_min ? measured >= bound : measured <= bound;
+  const char* op = is_min ? (v.met ? ">=" : "<") : (v.met ? "<=" : ">");
+  v.message = name + " " + Fixed3(measured) + " " + op + " " + Fixed3(bound) + " (" + std::to_string(successes) +
+              " of " + std::to_string(trials) + " " + of_what + ")";
+  return v;
+}
+
+void CheckSet(const FloorSet& floors, const std::string& prefix, const SummaryTally& t, bool family_scope,
+              const std::string& no_runs, std::vector<FloorVerdict>* out) {
+  if (floors.detection_rate) {
+    out->push_back(Check(prefix + "detection_rate", true, *floors.detection_rate, t.detected, t.faulty, "runs",
+                         no_runs));
+  }
+  if (floors.false_alarm_rate) {
+    // A family has no healthy runs: its false alarms are the alarms before the fault's onset.
+    out->push_back(family_scope ? Check(prefix + "false_alarm_rate", false, *floors.false_alarm_rate,
+                                        t.before_onset, t.faulty, "runs alarmed before onset", no_runs)
+                                : Check(prefix + "false_alarm_rate", false, *floors.false_alarm_rate,
+                                        t.healthy_alarms, t.healthy, "healthy runs", "no healthy runs"));
+  }
+  if (floors.isolation_accuracy) {
+    out->push_back(Check(prefix + "isolation_accuracy", true, *floors.isolation_accuracy, t.isolated, t.detected,
+                         "detected runs", t.faulty == 0 ? no_runs : "no detected runs"));
+  }
+}
+
+std::string XmlEscape(const std::string& s) {
+  std::string out;
+  out.reserve(s.size());
+  for (char c : s) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      case '\'': out += "&apos;"; break;
+      default:
+        // Control characters other than tab and newlines are not allowed in XML 1.0 at all.
+        if (static_cast<unsigned char>(c) < 0x20 && c != '\t' && c != '\n' && c != '\r') {
+          out += '?';
+        } else {
+          out += c;
+        }
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+RateInterval Wilson(long successes, long trials) {
+  if (trials < 0 || successes < 0 || successes > trials) {
+    throw std::invalid_argument("Wilson: need 0 <= successes <= trials, got " + std::to_string(successes) + " of " +
+                                std::to_string(trials));
+  }
+  if (trials == 0) return RateInterval{0, 0, 1};
+  const double n = static_cast<double>(trials);
+  const double p = static_cast<double>(successes) / n;
+  const double z2 = kWilsonZ * kWilsonZ;
+  const double denom = 1 + z2 / n;
+  const double center = (p + z2 / (2 * n)) / denom;
+  const double half = kWilsonZ * std::sqrt(p * (1 - p) / n + z2 / (4 * n * n)) / denom;
+  RateInterval r;
+  r.rate = p;
+  // Exact ends at 0 and n, where rounding would otherwise leave 1e-17 outside [0, 1].
+  r.low = successes == 0 ? 0.0 : std::max(0.0, center - half);
+  r.high = successes == trials ? 1.0 : std::min(1.0, center + half);
+  return r;
+}
+
+void SummaryBuilder::Add(const RunRecord& r) {
+  if (!r.ok) {
+    ++failed_runs_;
+    // Keep the smallest ids so the listing does not depend on the order of arrival.
+    failed_listed_.emplace(r.run_id, r.failure_reason);
+    if (failed_listed_.size() > kMaxListedFailures) failed_listed_.erase(std::prev(failed_listed_.end()));
+    return;
+  }
+  ++ok_runs_;
+  SummaryTally& t = cells_[{r.group, r.family}];
+  const auto descriptor = std::tie(r.joint, r.magnitude_key, r.magnitude);
+  if (!t.has_descriptor || descriptor < std::tie(t.joint, t.magnitude_key, t.magnitude)) {
+    t.has_descriptor = true;
+    t.joint = r.joint;
+    t.magnitude_key = r.magnitude_key;
+    t.magnitude = r.magnitude;
+  }
+
+  const std::string predicted =
+      !r.detected ? kHealthyLabel : (r.isolated_family.empty() ? kUnknownLabel : r.isolated_family);
+  ++confusion_[r.family.empty() ? kHealthyLabel : r.family][predicted];
+
+  if (r.family.empty()) {
+    ++t.healthy;
+    if (r.detected) ++t.healthy_alarms;
+    return;
+  }
+  ++t.faulty;
+  if (r.alarm_before_onset) ++t.before_onset;
+  if (!r.detected) return;
+  ++t.detected;
+  if (r.latency_s && std::isfinite(*r.latency_s)) t.latencies_s.push_back(*r.latency_s);
+  const bool isolated = r.isolated_family == r.family && r.isolated_joint == r.joint;
+  if (!isolated) return;
+  ++t.isolated;
+  if (r.magnitude_estimate && !r.magnitude_key.empty() && r.magnitude_name == r.magnitude_key && r.magnitude != 0) {
+    const double error = std::abs(*r.magnitude_estimate - r.magnitude) / std::abs(r.magnitude);
+    if (std::isfinite(error)) t.magnitude_errors.push_back(error);
+  }
+}
+
+std::vector<FloorVerdict> SummaryBuilder::Verdicts(const Floors& floors) const {
+  SummaryTally overall;
+  std::map<std::string, SummaryTally> families;
+  for (const auto& [key, t] : cells_) {
+    MergeInto(t, &overall);
+    if (!key.second.empty()) MergeInto(t, &families[key.second]);
+  }
+  std::vector<FloorVerdict> out;
+  CheckSet(floors.overall, "", overall, false, "no faulty runs", &out);
+  for (const auto& [family, set] : floors.per_family) {
+    auto it = families.find(family);
+    const SummaryTally none;
+    CheckSet(set, "per_family/" + family + "/", it == families.end() ? none : it->second, true,
+             "no runs of family " + family, &out);
+  }
+  return out;
+}
+
+nlohmann::json SummaryBuilder::Build(const Floors& floors, const nlohmann::json& campaign,
+                                     const std::string& version) const {
+  nlohmann::json j;
+  j["armfault_version"] = version;
+  j["campaign"] = campaign;
+
+  SummaryTally overall;
+  std::map<std::string, SummaryTally> families;
+  nlohmann::json groups = nlohmann::json::array();
+  // cells_ is sorted by (group, family): the cells of one group are adjacent. A group
+  // normally holds one family; if it holds several, its descriptors come from the first
+  // faulty one.
+  for (auto it = cells_.begin(); it != cells_.end();) {
+    const std::string& group = it->first.first;
+    SummaryTally merged;
+    const std::pair<const std::pair<std::string, std::string>, SummaryTally>* described = nullptr;
+    for (; it != cells_.end() && it->first.first == group; ++it) {
+      MergeInto(it->second, &merged);
+      MergeInto(it->second, &overall);
+      if (!it->first.second.empty()) MergeInto(it->second, &families[it->first.second]);
+      if (described == nullptr || (described->first.second.empty() && !it->first.second.empty())) described = &*it;
+    }
+    const SummaryTally& d = described->second;
+    nlohmann::json g;
+    g["group"] = group;
+    g["family"] = StrOrNull(described->first.second);
+    g["joint"] = d.joint == 0 ? nlohmann::json(nullptr) : nlohmann::json(d.joint);
+    g["magnitude_key"] = StrOrNull(d.magnitude_key);
+    g["magnitude"] = d.magnitude_key.empty() ? nlohmann::json(nullptr) : nlohmann::json(d.magnitude);
+    g.update(MetricsJson(merged, merged.healthy > 0));
+    groups.push_back(std::move(g));
+  }
+
+  j["runs"] = {{"total", runs()},
+               {"ok", ok_runs_},
+               {"failed", failed_runs_},
+               {"faulty", overall.faulty},
+               {"healthy", overall.healthy}};
+  j["overall"] = MetricsJson(overall, true);
+  j["per_family"] = nlohmann::json::object();
+  for (const auto& [family, t] : families) j["per_family"][family] = MetricsJson(t, false);
+  j["groups"] = std::move(groups);
+
+  // Labels: every family seen as a true or a predicted class, then the two fixed classes.
+  std::set<std::string> names;
+  for (const auto& [truth, row] : confusion_) {
+    names.insert(truth);
+    for (const auto& [predicted, count] : row) names.insert(predicted);
+  }
+  names.erase(kHealthyLabel);
+  names.erase(kUnknownLabel);
+  std::vector<std::string> labels(names.begin(), names.end());
+  labels.push_back(kHealthyLabel);
+  labels.push_back(kUnknownLabel);
+  nlohmann::json counts = nlohmann::json::array();
+  for (const std::string& truth : labels) {
+    nlohmann::json row = nlohmann::json::array();
+    auto r = confusion_.find(truth);
+    for (const std::string& predicted : labels) {
+      long n = 0;
+      if (r != confusion_.end()) {
+        auto c = r->second.find(predicted);
+        if (c != r->second.end()) n = c->second;
+      }
+      row.push_back(n);
+    }
+    counts.push_back(std::move(row));
+  }
+  j["confusion"] = {{"labels", labels}, {"counts", std::move(counts)}};
+
+  nlohmann::json verdicts = nlohmann::json::array();
+  bool all_met = true;
+  for (const FloorVerdict& v : Verdicts(floors)) {
+    verdicts.push_back({{"name", v.name},
+                        {"kind", v.kind},
+                        {"bound", v.bound},
+                        {"measured", v.measured ? nlohmann::json(*v.measured) : nlohmann::json(nullptr)},
+                        {"met", v.met},
+                        {"message", v.message}});
+    all_met = all_met && v.met;
+  }
+  j["floors"] = std::move(verdicts);
+  j["floors_met"] = all_met;
+
+  nlohmann::json listed = nlohmann::json::array();
+  for (const auto& [run_id, reason] : failed_listed_) listed.push_back({{"run_id", run_id}, {"reason", reason}});
+  j["failed_runs"] = {{"count", failed_runs_},
+                      {"truncated", failed_runs_ > static_cast<long>(failed_listed_.size())},
+                      {"runs", std::move(listed)}};
+  return j;
+}
+
+std::string JUnitXml(const std::string& campaign_name, const std::vector<FloorVerdict>& verdicts) {
+  long failures = 0;
+  for (const FloorVerdict& v : verdicts) failures += v.met ? 0 : 1;
+  const std::string tests = std::to_string(verdicts.empty() ? 1 : verdicts.size());
+  const std::string counts = " tests=\"" + tests + "\" failures=\"" + std::to_string(failures) + "\"";
+  std::string xml = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
+  xml += "<testsuites" + counts + ">\n";
+  xml += "  <testsuite name=\"" + XmlEscape("armfault floors: " + campaign_name) + "\"" + counts + ">\n";
+  if (verdicts.empty()) xml += "    <testcase classname=\"floors\" name=\"no floors\"/>\n";
+  for (const FloorVerdict& v : verdicts) {
+    xml += "    <testcase classname=\"floors\" name=\"" + XmlEscape(v.name) + "\"";
+    if (v.met) {
+      xml += "/>\n";
+      continue;
+    }
+    xml += ">\n      <failure message=\"" + XmlEscape(v.message) + "\">" + XmlEscape(v.message) +
+           "</failure>\n    </testcase>\n";
+  }
+  xml += "  </testsuite>\n</testsuites>\n";
+  return xml;
+}
+
+}  // namespace armfault

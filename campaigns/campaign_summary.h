@@ -1,0 +1,139 @@
+// Scoring of a campaign from its run records (results.jsonl): summary.json, floor verdicts
+// and a JUnit report of the floors for CI.
+//
+// Definitions (all rates are fractions in [0, 1]):
+//   - A record with ok == false counts only as a failed run: it is listed in "failed_runs"
+//     and excluded from every rate, group, family and the confusion matrix.
+//   - Faulty run: ok record with a non-empty `family`. Healthy run: ok record with family "".
+//   - detection rate = detected faulty runs / faulty runs (`detected` already means "alarm at
+//     or after the onset").
+//   - false-alarm rate = healthy runs with `detected` / healthy runs.
+//   - alarm_before_onset_rate = faulty runs with `alarm_before_onset` / faulty runs (reported
+//     beside the false-alarm rate, not part of the overall floor).
+//   - isolation accuracy = detected faulty runs with isolated_family == family and
+//     isolated_joint == joint / detected faulty runs.
+//   - latency (s): over detected faulty runs that carry latency_s; median (mean of the two
+//     middle values for even n) and 95th percentile by nearest rank (sorted value at index
+//     ceil(0.95 n) - 1); "misses" = undetected faulty runs.
+//   - magnitude error: |estimate - magnitude| / |magnitude| over detected, correctly isolated
+//     faulty runs that have a magnitude_estimate, a magnitude_key, magnitude_name ==
+//     magnitude_key and magnitude != 0; count, mean and max.
+//   - confusion: rows = true class (family, or "healthy"), columns = predicted class
+//     (isolated_family if detected, "unknown" if detected without a family, else "healthy").
+//     One label list for rows and columns: every family seen as true or predicted class,
+//     sorted, then "healthy" and "unknown" (always present).
+//   Every rate is reported as {"rate", "low", "high", "successes", "trials"} with the 95 %
+//   Wilson score interval.
+//
+// summary.json:
+//   {"armfault_version", "campaign": <resolved campaign, as given>,
+//    "runs": {"total", "ok", "failed", "faulty", "healthy"},   (faulty/healthy: ok runs)
+//    "overall": {"runs", "faulty_runs", "healthy_runs", "detection", "isolation",
+//                "false_alarm", "alarm_before_onset_rate",
+//                "latency": {"count", "median_s", "p95_s", "misses"},
+//                "magnitude_error": {"count", "mean", "max"}},   (null statistics when count 0)
+//    "per_family": {"<family>": {"runs", "faulty_runs", "detection", ... as overall without
+//                                "healthy_runs" and "false_alarm"}},
+//    "groups": [{"group", "family", "joint", "magnitude_key", "magnitude", "runs",
+//                "faulty_runs", "detection", ...; "healthy_runs" and "false_alarm" only for a
+//                group holding healthy runs}],   (sorted by group; null family etc. if healthy)
+//    "confusion": {"labels": [...], "counts": [[row per true label]]},
+//    "floors": [{"name", "kind", "bound", "measured" (null if nothing to measure), "met",
+//                "message"}],
+//    "floors_met": all floors met (true if there are none),
+//    "failed_runs": {"count", "truncated", "runs": [{"run_id", "reason"}]}}
+//                   (the 100 smallest run_ids, sorted, so the list is independent of order)
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <map>
+#include <optional>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "campaigns/run_record.h"
+
+namespace armfault {
+
+// Bounds a campaign must meet; each is optional, rates in [0, 1].
+struct FloorSet {
+  std::optional<double> detection_rate;      // minimum
+  std::optional<double> false_alarm_rate;    // maximum
+  std::optional<double> isolation_accuracy;  // minimum
+};
+
+// Per-family floors are measured on that family's faulty runs; their false_alarm_rate is the
+// family's alarm_before_onset_rate (its runs have no healthy part).
+struct Floors {
+  FloorSet overall;
+  std::map<std::string, FloorSet> per_family;  // key: fault family name
+};
+
+struct FloorVerdict {
+  std::string name;  // "detection_rate", "per_family/torque_sensor_stuck/detection_rate"
+  std::string kind;  // "min" or "max"
+  double bound = 0;
+  std::optional<double> measured;  // nullopt: nothing to measure (no such runs); then not met
+  bool met = false;
+  std::string message;  // "detection_rate 0.850 < 0.900 (34 of 40 runs)"
+};
+
+namespace internal {
+
+// Counts of one scope of runs (a group/family cell, a family, the whole campaign).
+struct SummaryTally {
+  long faulty = 0, detected = 0, isolated = 0, before_onset = 0;
+  long healthy = 0, healthy_alarms = 0;
+  std::vector<double> latencies_s;       // detected faulty runs, in arrival order
+  std::vector<double> magnitude_errors;  // relative, in arrival order
+  // Descriptors of a group cell: the smallest (joint, magnitude_key, magnitude) seen, so
+  // that they do not depend on the order of the records.
+  bool has_descriptor = false;
+  int joint = 0;
+  std::string magnitude_key;
+  double magnitude = 0;
+};
+
+}  // namespace internal
+
+// Accumulates run records one by one. Memory grows with the number of (group, family) pairs
+// plus one latency and at most one magnitude error per detected run and at most 100 failed
+// run ids, not with the number of records. The result does not depend on the order of Add().
+class SummaryBuilder {
+ public:
+  void Add(const RunRecord& r);
+
+  // The summary.json content (see above). `campaign` is the resolved campaign JSON, embedded
+  // as is; `version` becomes "armfault_version".
+  nlohmann::json Build(const Floors& floors, const nlohmann::json& campaign, const std::string& version) const;
+  // One verdict per set floor: overall detection_rate, false_alarm_rate, isolation_accuracy,
+  // then each per_family entry (sorted by family) in the same metric order.
+  std::vector<FloorVerdict> Verdicts(const Floors& floors) const;
+
+  long runs() const { return ok_runs_ + failed_runs_; }  // every record added
+  long failed_runs() const { return failed_runs_; }
+
+ private:
+  std::map<std::pair<std::string, std::string>, internal::SummaryTally> cells_;  // (group, family)
+  std::map<std::string, std::map<std::string, long>> confusion_;  // true -> predicted -> count
+  std::multiset<std::pair<std::string, std::string>> failed_listed_;  // (run_id, reason)
+  long ok_runs_ = 0;
+  long failed_runs_ = 0;
+};
+
+// JUnit XML with one testcase per floor verdict (classname "floors"), a <failure> for each
+// floor not met; a single passing "no floors" testcase if there are none.
+std::string JUnitXml(const std::string& campaign_name, const std::vector<FloorVerdict>& verdicts);
+
+// 95 % Wilson score interval (z = 1.959963984540054) of successes / trials.
+struct RateInterval {
+  double rate = 0, low = 0, high = 1;
+};
+// trials == 0 gives rate 0, low 0, high 1. Throws std::invalid_argument unless
+// 0 <= successes <= trials.
+RateInterval Wilson(long successes, long trials);
+
+}  // namespace armfault
