@@ -1,0 +1,201 @@
+// Campaign files: strict parsing with pointers to the offending value, case expansion, and a
+// runner whose results do not depend on threads, shards or an interruption.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "campaigns/campaign.h"
+#include "campaigns/runner.h"
+#include "tests/core/test_support.h"
+
+namespace armfault {
+namespace {
+
+using nlohmann::json;
+using testing::HasSubstr;
+using testing_support::ErrorOf;
+using testing_support::ScratchDir;
+
+json Small() {
+  return json::parse(R"({
+    "name": "small", "seed": 3, "duration_s": 3,
+    "trajectories": [{"name": "exp1", "joints": {"3": {"type": "sine_pair", "amplitude_deg": 25, "omega_rad_s": 1.2732}}}],
+    "faults": [
+      {"family": "kt_degradation", "joint": [2, 3], "kt_factor": [0.9, 0.6], "onset_s": 1.0},
+      {"family": "friction_increase", "joint": 3, "friction_factor": {"from": 1.5, "to": 2.5, "steps": 3},
+       "onset_s": {"uniform": [0.5, 1.5]}}
+    ],
+    "healthy": 2, "repetitions": 2,
+    "variation": {"payload_kg": {"uniform": [0, 0.5]}, "friction_spread": 0.1},
+    "floors": {"detection_rate": 0.5}
+  })");
+}
+
+Campaign Parse(const json& j) { return CampaignFromJson(j, "c.json", "."); }
+
+TEST(CampaignParse, CountsCasesAsTheProductOfSweeps) {
+  const Campaign c = Parse(Small());
+  // kt: 2 values x 2 joints x 2 reps = 8; friction: 3 x 1 x 2 = 6; healthy 2.
+  EXPECT_EQ(CaseCount(c), 16);
+  const std::vector<CaseSpec> cases = ExpandCases(c);
+  ASSERT_EQ(cases.size(), 16u);
+  EXPECT_EQ(cases[0].run_id, "exp1/kt_degradation#0/kt_factor=0.9/j2/r0");
+  EXPECT_EQ(cases[1].run_id, "exp1/kt_degradation#0/kt_factor=0.9/j2/r1");
+  EXPECT_EQ(cases[2].run_id, "exp1/kt_degradation#0/kt_factor=0.9/j3/r0");
+  EXPECT_EQ(cases[8].run_id, "exp1/friction_increase#1/friction_factor=1.5,onset_s=U[0.5,1.5]/j3/r0");
+  EXPECT_EQ(cases[15].run_id, "exp1/healthy/1");
+  EXPECT_EQ(cases[10].fault["friction_factor"], 2.0);  // inclusive grid 1.5, 2, 2.5
+  EXPECT_EQ(cases[0].group, "kt_degradation kt_factor=0.9 joint=2");
+  for (const CaseSpec& cs : cases) {
+    if (cs.fault.is_null()) continue;
+    if (cs.fault["family"] == "friction_increase") {
+      const double onset = cs.fault["onset_s"].get<double>();
+      EXPECT_GE(onset, 0.5);
+      EXPECT_LE(onset, 1.5);
+    }
+    EXPECT_GE(cs.extra_payload_kg, 0.0);
+    EXPECT_LE(cs.extra_payload_kg, 0.5);
+  }
+  // Repetitions draw fresh values; the same case draws the same values every time.
+  EXPECT_NE(cases[8].fault["onset_s"], cases[9].fault["onset_s"]);
+  EXPECT_EQ(ExpandCases(c)[8].fault, cases[8].fault);
+  EXPECT_EQ(ExpandCases(c)[8].seed, cases[8].seed);
+}
+
+TEST(CampaignParse, ErrorsPointAtTheOffendingValue) {
+  struct Case {
+    std::string patch, pointer, message;
+  };
+  const std::vector<Case> cases = {
+      {R"([{"op": "replace", "path": "/faults/0/kt_factor/1", "value": 1.7}])", "/faults/0/kt_factor/1", "1.7"},
+      {R"([{"op": "add", "path": "/faults/0/kt_factr", "value": 0.5}])", "/faults/0/kt_factr", "unknown key"},
+      {R"([{"op": "replace", "path": "/faults/0/joint/0", "value": 7}])", "/faults/0/joint/0", "joint 7"},
+      {R"([{"op": "replace", "path": "/faults/0/kt_factor", "value": []}])", "/faults/0/kt_factor", "empty sweep"},
+      {R"([{"op": "replace", "path": "/faults/1/friction_factor/from", "value": 3}])", "/faults/1/friction_factor/from",
+       "greater than"},
+      {R"([{"op": "replace", "path": "/faults/0/family", "value": "gremlins"}])", "/faults/0/family", "unknown fault family"},
+      {R"([{"op": "replace", "path": "/trajectories/0/joints/3/type", "value": "spiral"}])", "/trajectories/0/joints/3/type",
+       "spiral"},
+      {R"([{"op": "add", "path": "/healthy", "value": -1}])", "/healthy", "-1"},
+      {R"([{"op": "add", "path": "/floors/detection_rate", "value": 1.5}])", "/floors/detection_rate", "1.5"},
+      {R"([{"op": "add", "path": "/floors/per_family", "value": {"gremlins": {}}}])", "/floors/per_family/gremlins",
+       "unknown fault family"},
+      {R"([{"op": "add", "path": "/variation/friction_sprd", "value": 0.1}])", "/variation/friction_sprd", "unknown key"},
+      {R"([{"op": "add", "path": "/monitor", "value": {"kt_factor": {"worn": 2}}}])", "/monitor/kt_factor/worn", "2"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.patch);
+    const json bad = Small().patch(json::parse(c.patch));
+    const InputError e = ErrorOf([&] { Parse(bad); });
+    EXPECT_EQ(e.source(), "c.json");
+    EXPECT_EQ(e.pointer(), c.pointer);
+    EXPECT_THAT(e.message(), HasSubstr(c.message));
+  }
+}
+
+TEST(CampaignParse, AHealthyOnlyCampaignIsValidAnEmptyOneIsNot) {
+  json healthy_only = Small();
+  healthy_only.erase("faults");
+  EXPECT_EQ(CaseCount(Parse(healthy_only)), 2);
+  healthy_only["healthy"] = 0;
+  EXPECT_THAT(ErrorOf([&] { Parse(healthy_only); }).message(), HasSubstr("no runs"));
+}
+
+TEST(CampaignParse, ShippedCampaignsAreValid) {
+  for (const char* name : {"thesis-sweep.json", "five-families.json", "ci.json"}) {
+    const Campaign c = ReadCampaignFile(std::string(ARMFAULT_SOURCE_DIR) + "/campaigns/files/" + name);
+    EXPECT_GT(CaseCount(c), 0) << name;
+  }
+  EXPECT_EQ(DefaultCampaign().name, "thesis-sweep");
+}
+
+std::string ReadAll(const std::filesystem::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+// A short campaign for the runner tests: 1.5 s runs.
+Campaign Quick() {
+  json j = Small();
+  j["duration_s"] = 1.5;
+  return Parse(j);
+}
+
+TEST(CampaignRunner, ResultsAreIdenticalForAnyThreadCount) {
+  ScratchDir dir("runner");
+  const Campaign c = Quick();
+  RunnerOptions one;
+  one.output_dir = (dir.path() / "j1").string();
+  one.threads = 1;
+  RunnerOptions two = one;
+  two.output_dir = (dir.path() / "j2").string();
+  two.threads = 2;
+  EXPECT_EQ(RunCampaign(c, one).ran, 16);
+  EXPECT_EQ(RunCampaign(c, two).ran, 16);
+  const std::string a = ReadAll(dir.path() / "j1" / "results.jsonl");
+  EXPECT_EQ(a, ReadAll(dir.path() / "j2" / "results.jsonl"));
+  EXPECT_EQ(std::count(a.begin(), a.end(), '\n'), 16);
+}
+
+TEST(CampaignRunner, ShardsPartitionTheCases) {
+  ScratchDir dir("shards");
+  const Campaign c = Quick();
+  long total = 0;
+  for (int k = 0; k < 3; ++k) {
+    RunnerOptions o;
+    o.output_dir = (dir.path() / std::to_string(k)).string();
+    o.shard = {k, 3};
+    total += RunCampaign(c, o).ran;
+    std::ifstream in(dir.path() / std::to_string(k) / "results.jsonl");
+    std::string line;
+    while (std::getline(in, line)) EXPECT_EQ(json::parse(line)["case"].get<long>() % 3, k);
+  }
+  EXPECT_EQ(total, 16);
+}
+
+TEST(CampaignRunner, ResumeAfterACutCompletesWithTheSameBytes) {
+  ScratchDir dir("resume");
+  const Campaign c = Quick();
+  RunnerOptions o;
+  o.output_dir = (dir.path() / "full").string();
+  RunCampaign(c, o);
+  const std::string full = ReadAll(dir.path() / "full" / "results.jsonl");
+
+  // As if killed mid-write: 5 complete lines and half of the sixth.
+  o.output_dir = (dir.path() / "cut").string();
+  RunCampaign(c, o);
+  size_t pos = 0;
+  for (int k = 0; k < 5; ++k) pos = full.find('\n', pos) + 1;
+  std::ofstream(dir.path() / "cut" / "results.jsonl", std::ios::binary | std::ios::trunc)
+      << full.substr(0, pos) << full.substr(pos, 40);
+  o.resume = true;
+  const RunnerResult r = RunCampaign(c, o);
+  EXPECT_EQ(r.resumed, 5);
+  EXPECT_EQ(r.ran, 11);
+  EXPECT_EQ(ReadAll(dir.path() / "cut" / "results.jsonl"), full);
+
+  // Resuming a directory of another campaign is refused.
+  json other = Small();
+  other["seed"] = 4;
+  other["duration_s"] = 1.5;
+  EXPECT_THAT(ErrorOf([&] { RunCampaign(Parse(other), o); }).message(), HasSubstr("another campaign"));
+}
+
+TEST(CampaignRunner, AFailingRunIsRecordedAndTheCampaignGoesOn) {
+  // A case that cannot even be set up (a fault value the family rejects) becomes a failed
+  // record with the reason, not an exception that stops the campaign.
+  const Campaign c = Quick();
+  CaseSpec bad = ExpandCases(c)[0];
+  bad.fault["kt_factor"] = -1;  // rejected when the run is set up
+  const RunRecord r = RunCase(c, bad);
+  EXPECT_FALSE(r.ok);
+  EXPECT_THAT(r.failure_reason, HasSubstr("kt_factor"));
+}
+
+}  // namespace
+}  // namespace armfault
