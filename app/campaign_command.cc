@@ -20,17 +20,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-void WriteAtomically(const fs::path& path, const std::string& text) {
-  const fs::path tmp = path.string() + ".tmp";
-  {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    f << text;
-    f.flush();
-    if (!f) throw InputError(tmp.string(), "", "cannot write the file");
-  }
-  fs::rename(tmp, path);
-}
-
 // Progress on stderr: a bar redrawn in place on a terminal, a plain line every 10 % or 10 s
 // otherwise (CI logs).
 class Progress {

@@ -30,7 +30,8 @@ RobotConfig VariedRobot(const Campaign& c, const CaseSpec& cs) {
   return r;
 }
 
-// Writes `text` to path atomically: a crash leaves the old file or the new one, never half.
+}  // namespace
+
 void WriteAtomically(const fs::path& path, const std::string& text) {
   const fs::path tmp = path.string() + ".tmp";
   {
@@ -41,8 +42,6 @@ void WriteAtomically(const fs::path& path, const std::string& text) {
   }
   fs::rename(tmp, path);
 }
-
-}  // namespace
 
 nlohmann::json CampaignFileJson(const Campaign& campaign, const ShardSpec& shard) {
   return {{"armfault_version", ARMFAULT_VERSION},

@@ -6,6 +6,7 @@
 // The summary and junit.xml are written by the caller from results.jsonl (reports/).
 #pragma once
 
+#include <filesystem>
 #include <functional>
 #include <string>
 
@@ -46,5 +47,9 @@ RunRecord RunCase(const Campaign& campaign, const CaseSpec& spec, const TickObse
 // The JSON written to campaign.json (the summary embeds `resolved` only, so shards merge to
 // the same bytes).
 nlohmann::json CampaignFileJson(const Campaign& campaign, const ShardSpec& shard);
+
+// Writes `text` to `path` through a temporary file and a rename: a crash leaves the old file
+// or the new one, never half of one. Throws InputError if it cannot write.
+void WriteAtomically(const std::filesystem::path& path, const std::string& text);
 
 }  // namespace armfault
