@@ -57,5 +57,7 @@ int RunCampaignCommand(const CampaignRunOptions& options);
 struct Campaign;
 int FinishCampaignOutputs(const std::string& dir, const Campaign& campaign, long failed_expected);
 int ValidateCommand(const std::string& campaign_file);
+// Prints the cost of a run against bare ODE ("ratio: X") and "parallel efficiency: Y".
+int BenchCommand(int repeats);
 
 }  // namespace armfault

@@ -43,6 +43,10 @@ int main(int argc, char** argv) {
   CLI::App* validate_cmd = app.add_subcommand("validate", "check a campaign file and print its run count");
   validate_cmd->add_option("campaign", validate_file, "campaign JSON file")->required();
 
+  int bench_repeats = 10;
+  CLI::App* bench_cmd = app.add_subcommand("bench", "cost of a run against bare ODE stepping, and parallel throughput");
+  bench_cmd->add_option("--repeats", bench_repeats, "timed runs per figure")->capture_default_str()->check(CLI::Range(1, 100000));
+
   armfault::ThesisOptions thesis;
   CLI::App* thesis_cmd = app.add_subcommand(
       "thesis", "run the thesis experiments 1-3 and compare with the published efficiencies (writes thesis.json, thesis.md)");
@@ -67,6 +71,7 @@ int main(int argc, char** argv) {
     if (*thesis_cmd) return armfault::RunThesis(thesis);
     if (*run_cmd) return armfault::RunCampaignCommand(campaign_run);
     if (*validate_cmd) return armfault::ValidateCommand(validate_file);
+    if (*bench_cmd) return armfault::BenchCommand(bench_repeats);
   } catch (const armfault::InputError& e) {
     std::fprintf(stderr, "armfault: error: %s\n", e.what());
     return 2;

@@ -9,6 +9,7 @@ if [[ $# -ne 1 || ! -x "$1" ]]; then
   exit 2
 fi
 armfault=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
+src=$(cd "$(dirname "$0")/../.." && pwd)  # the source tree (shipped campaigns)
 
 tmp=$(mktemp -d "${TMPDIR:-/tmp}/armfault_cli_test.XXXXXX") || exit 2
 trap 'rm -rf "$tmp"' EXIT
@@ -261,6 +262,25 @@ if grep -q '"kt_factor": 0.9,' "$tmp/thesis/thesis.json" && grep -q '"thesis_pct
   [[ $(grep -c '"armfault_pct": [0-9]' "$tmp/thesis/thesis.json") -eq 10 ]]
 then pass; else fail "thesis.json is not as documented"; fi
 if grep -q '^| n = 0.9 | 73.70 |' "$tmp/thesis/thesis.md"; then pass; else fail "thesis.md lacks the table row"; fi
+
+# ------------------------------------------------------------------ campaigns
+run validate_ci "$armfault" validate "$src/campaigns/files/ci.json"
+expect_status 0
+expect_stdout_contains "valid campaign \"ci\": 52 runs"
+printf '{"trajectories": [{"name": "a", "joints": {"3": {"type": "hold"}}}], "faults": [{"family": "kt_degradation", "joint": 3, "kt_factor": [0.9, 1.5]}]}\n' >"$tmp/bad_campaign.json"
+run campaign_bad_value "$armfault" validate "$tmp/bad_campaign.json"
+expect_input_error "$tmp/bad_campaign.json: /faults/0/kt_factor/1: kt_degradation: 1.5 is outside"
+printf '{"trajectories": [{"name": "a", "joints": {"3": {"type": "hold"}}}], "healthy": 2, "duration_s": 0.5,\n "floors": {"false_alarm_rate": 0, "detection_rate": 0.5}}\n' >"$tmp/healthy_only.json"
+run campaign_floor_missed "$armfault" run "$tmp/healthy_only.json" -o "$tmp/ho" -q
+expect_status 1
+expect_stdout_contains "MISSED  detection_rate: no faulty runs"
+if [[ -s "$tmp/ho/summary.json" && -s "$tmp/ho/junit.xml" && $(wc -l <"$tmp/ho/results.jsonl") -eq 2 ]]; then pass; else fail "campaign outputs missing"; fi
+run campaign_bad_shard "$armfault" run "$tmp/healthy_only.json" -o "$tmp/ho" -q --shard 3/3
+expect_input_error "shard 3 of 3 does not exist"
+run bench "$armfault" bench --repeats 1
+expect_status 0
+expect_stdout_contains "ratio: "
+expect_stdout_contains "parallel efficiency: "
 
 echo "$passed passed, $failed failed"
 [[ $failed -eq 0 ]]

@@ -1,0 +1,59 @@
+// `armfault bench`: the cost of a full run against bare ODE stepping of the same arm, and
+// campaign throughput with one thread and with all cores.
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <chrono>
+#include <cstdio>
+
+#include "app/commands.h"
+#include "campaigns/campaign.h"
+#include "campaigns/runner.h"
+#include "core/simulation.h"
+
+namespace armfault {
+
+namespace {
+
+template <class F>
+double SecondsPer(int repeats, F&& f) {
+  f();  // warm-up
+  const auto start = std::chrono::steady_clock::now();
+  for (int i = 0; i < repeats; ++i) f();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / repeats;
+}
+
+}  // namespace
+
+int BenchCommand(int repeats) {
+  const Campaign campaign = DefaultCampaign();
+  const std::vector<CaseSpec> cases = ExpandCases(campaign);
+  const ArmModel model(campaign.robot);
+  const double bare = SecondsPer(repeats, [&] { StepBareOde(model, campaign.duration_s, false); });
+  const double bare_rows = SecondsPer(repeats, [&] { StepBareOde(model, campaign.duration_s, true); });
+  const CaseSpec& healthy = cases.back();
+  const double full = SecondsPer(repeats, [&] { RunCase(campaign, healthy); });
+  std::printf("one %.0f-s run of %s (monitor in the loop): %.2f ms; bare ODE bodies and hinges: %.2f ms; "
+              "with the friction rows: %.2f ms\n",
+              campaign.duration_s, campaign.robot.name.c_str(), 1e3 * full, 1e3 * bare, 1e3 * bare_rows);
+  std::printf("ratio: %.2f\n", full / bare);
+  std::printf("ratio against bare ODE with the friction rows: %.2f\n", full / bare_rows);
+
+  const int cores = tbb::this_task_arena::max_concurrency();
+  const int n = static_cast<int>(std::max<size_t>(cases.size(), static_cast<size_t>(4 * cores)));
+  auto throughput = [&](int threads) {
+    tbb::task_arena arena(threads);
+    const auto start = std::chrono::steady_clock::now();
+    arena.execute([&] {
+      tbb::parallel_for(0, n, [&](int i) { RunCase(campaign, cases[static_cast<size_t>(i) % cases.size()]); });
+    });
+    return n / std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  const double one = throughput(1);
+  const double all = throughput(cores);
+  std::printf("runs per second: %.1f with 1 thread, %.1f with %d threads\n", one, all, cores);
+  std::printf("parallel efficiency: %.2f\n", all / (cores * one));
+  return 0;
+}
+
+}  // namespace armfault
