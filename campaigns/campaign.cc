@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <set>
 
 #include "core/rng.h"
@@ -84,6 +85,7 @@ ParsedSweep ParseSweep(const nlohmann::json& v, const std::string& pointer, bool
       const double x = steps == 1 ? from : (i == steps - 1 ? to : from + (to - from) * i / (steps - 1));
       p.sweep.values.push_back(x);
     }
+    p.sweep.grid = true;
     p.swept = true;
     return p;
   }
@@ -96,6 +98,11 @@ ParsedSweep ParseSweep(const nlohmann::json& v, const std::string& pointer, bool
 std::string ValuePointer(const Sweep& s, size_t index, bool swept) {
   if (!swept) return s.pointer;
   if (s.uniform) return PointerJoin(PointerJoin(s.pointer, "uniform"), index);
+  if (s.grid) {
+    if (index == 0) return PointerJoin(s.pointer, "from");
+    if (index + 1 == s.values.size()) return PointerJoin(s.pointer, "to");
+    return s.pointer;
+  }
   return PointerJoin(s.pointer, index);
 }
 
@@ -185,11 +192,19 @@ FaultEntry ParseFaultEntry(const nlohmann::json& v, const std::string& pointer, 
     }
     return spec;
   };
+  // Where an error on a key belongs when every key sits at its first value.
+  std::map<std::string, std::string> first_value_pointer = {
+      {reader.PointerTo("joint"), ValuePointer(joints.sweep, 0, joints.swept)}};
+  for (size_t k = 0; k < e.keys.size(); ++k) {
+    first_value_pointer[PointerJoin(pointer, e.keys[k].first)] = ValuePointer(e.keys[k].second, 0, swept[k]);
+  }
   auto check = [&](const nlohmann::json& spec, const std::string& key_pointer, const std::string& value_pointer) {
     try {
       MakeFault(spec, pointer, robot);
     } catch (const InputError& err) {
       if (err.pointer() == key_pointer) throw InputError(err.source(), value_pointer, err.message());
+      const auto it = first_value_pointer.find(err.pointer());
+      if (it != first_value_pointer.end()) throw InputError(err.source(), it->second, err.message());
       throw;
     }
   };

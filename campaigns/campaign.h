@@ -28,6 +28,7 @@ namespace armfault {
 struct Sweep {
   std::vector<nlohmann::json> values;  // list or grid points (numbers or strings)
   bool uniform = false;
+  bool grid = false;    // values came from {"from","to","steps"}
   double low = 0, high = 0;
   std::string pointer;  // of the sweep in the file
   size_t count() const { return uniform ? 1 : values.size(); }
@@ -37,7 +38,7 @@ struct FaultEntry {
   std::string family;
   std::string pointer;                              // "/faults/1"
   std::vector<int> joints;                          // 1-based
-  std::vector<std::pair<std::string, Sweep>> keys;  // every other key, in document order
+  std::vector<std::pair<std::string, Sweep>> keys;  // every other key, in alphabetical order
 };
 
 struct CampaignTrajectory {

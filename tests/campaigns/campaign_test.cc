@@ -71,6 +71,11 @@ TEST(CampaignParse, ErrorsPointAtTheOffendingValue) {
   };
   const std::vector<Case> cases = {
       {R"([{"op": "replace", "path": "/faults/0/kt_factor/1", "value": 1.7}])", "/faults/0/kt_factor/1", "1.7"},
+      {R"([{"op": "replace", "path": "/faults/0/kt_factor/0", "value": 1.7}])", "/faults/0/kt_factor/0", "1.7"},
+      {R"([{"op": "replace", "path": "/faults/1/friction_factor/to", "value": 0.5}])", "/faults/1/friction_factor/from",
+       "greater than"},
+      {R"([{"op": "replace", "path": "/faults/1/friction_factor/from", "value": 0.5}])", "/faults/1/friction_factor/from",
+       "0.5"},
       {R"([{"op": "add", "path": "/faults/0/kt_factr", "value": 0.5}])", "/faults/0/kt_factr", "unknown key"},
       {R"([{"op": "replace", "path": "/faults/0/joint/0", "value": 7}])", "/faults/0/joint/0", "joint 7"},
       {R"([{"op": "replace", "path": "/faults/0/kt_factor", "value": []}])", "/faults/0/kt_factor", "empty sweep"},
