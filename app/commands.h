@@ -55,7 +55,7 @@ struct CampaignRunOptions {
 int RunCampaignCommand(const CampaignRunOptions& options);
 // Writes summary.json and junit.xml from DIR/results.jsonl; prints the floors; exit status.
 struct Campaign;
-int FinishCampaignOutputs(const std::string& dir, const Campaign& campaign, long failed_expected);
+int FinishCampaignOutputs(const std::string& dir, const Campaign& campaign);
 int ValidateCommand(const std::string& campaign_file);
 // Prints the cost of a run against bare ODE ("ratio: X") and "parallel efficiency: Y".
 int BenchCommand(int repeats);

@@ -145,7 +145,7 @@ Floors ParseFloors(const nlohmann::json& v, const std::string& pointer) {
   floors.overall = ParseFloorSet(v, pointer, true);
   if (v.contains("per_family")) {
     const std::string pp = PointerJoin(pointer, "per_family");
-    ObjectReader per(v["per_family"], pp);
+    ObjectReader(v["per_family"], pp);  // must be an object
     const std::vector<std::string> families = FaultFamilyNames();
     for (auto it = v["per_family"].begin(); it != v["per_family"].end(); ++it) {
       if (std::find(families.begin(), families.end(), it.key()) == families.end()) {
@@ -314,6 +314,7 @@ Campaign CampaignFromJson(const nlohmann::json& value, const std::string& source
     throw;
   }
 
+  c.monitor_model = MakePowerMonitorModel(c.robot, c.monitor);
   c.resolved = value;
   c.resolved["name"] = c.name;
   c.resolved["seed"] = c.seed;

@@ -67,6 +67,7 @@ struct Campaign {
   int repetitions = 1;
   Variation variation;
   MonitorConfig monitor;
+  PowerMonitorModel monitor_model;  // built once: what the monitor knows (the nominal robot)
   Floors floors;
   nlohmann::json resolved;  // the campaign with defaults filled in (written to campaign.json)
 };

@@ -86,8 +86,7 @@ RunRecord RunCase(const Campaign& campaign, const CaseSpec& cs, const TickObserv
     }
     if (!faults.empty()) spec.hardware = std::make_shared<FaultSchedule>(faults);
     // The monitor knows the nominal robot (payload and friction as designed), not this run's.
-    const PowerMonitorModel monitor_model = MakePowerMonitorModel(campaign.robot, campaign.monitor);
-    PowerEfficiencyMonitor monitor(monitor_model);
+    PowerEfficiencyMonitor monitor(campaign.monitor_model);
     EffectRecorder effects(model, faults);
     const RunResult result = Simulate(model, spec, ObserveWith(&monitor, [&](const Tick& tick) {
                                         effects.Observe(tick);
