@@ -61,6 +61,7 @@ nlohmann::json ToJson(const RunRecord& r) {
   j["magnitude_estimate"] = Opt(r.magnitude_estimate);
   j["confidence"] = r.confidence;
   j["alarm_before_onset"] = r.alarm_before_onset;
+  j["decision"] = r.decision;
   return j;
 }
 
@@ -94,6 +95,7 @@ RunRecord RunRecordFromJson(const nlohmann::json& j) {
   r.magnitude_estimate = OptDouble(j, "magnitude_estimate");
   r.confidence = As<double>(j, "confidence");
   r.alarm_before_onset = As<bool>(j, "alarm_before_onset");
+  if (const auto it = j.find("decision"); it != j.end()) r.decision = *it;
   return r;
 }
 

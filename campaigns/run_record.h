@@ -38,6 +38,9 @@ struct RunRecord {
   std::optional<double> magnitude_estimate;
   double confidence = 0;
   bool alarm_before_onset = false;       // any alarm before the fault's onset (a false alarm)
+  // The monitor's decision statistics (DecisionStats JSON, core/detector_statistics.h): what
+  // `armfault tune` re-scores thresholds from. Null for a run that could not be set up.
+  nlohmann::json decision;
 };
 
 nlohmann::json ToJson(const RunRecord& r);

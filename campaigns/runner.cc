@@ -88,7 +88,11 @@ RunRecord RunCase(const Campaign& campaign, const CaseSpec& cs, const TickObserv
     // The monitor knows the nominal robot (payload and friction as designed), not this run's.
     PowerEfficiencyMonitor monitor(campaign.monitor_model);
     EffectRecorder effects(model, faults);
+    DecisionRecorder decisions(monitor.joint_count(), r.onset_s);
     const RunResult result = Simulate(model, spec, ObserveWith(&monitor, [&](const Tick& tick) {
+                                        for (int j = 0; j < monitor.joint_count(); ++j) {
+                                          decisions.Record(tick.t_s, j, monitor.readings(j), monitor.structural_family(j));
+                                        }
                                         effects.Observe(tick);
                                         if (also) also(tick);
                                       }));
@@ -96,25 +100,24 @@ RunRecord RunCase(const Campaign& campaign, const CaseSpec& cs, const TickObserv
     r.ok = result.ok;
     r.failure_reason = result.failure_reason;
     if (!faults.empty()) r.effect = effects.Results()[0].ToJson();
-    // Alarms before the onset are false alarms; detection counts from the onset on.
-    MonitorOutput after;
-    for (const Verdict& v : monitor.output().verdicts) {
-      if (v.t_s < r.onset_s) {
-        if (v.alarm) r.alarm_before_onset = true;
-      } else {
-        after.verdicts.push_back(v);
-      }
-    }
-    const Diagnosis d = Diagnose(after);
+    r.decision = ToJson(decisions.stats());
+    // The decision rule `armfault tune` re-scores: alarms before the onset are false alarms;
+    // detection is the first alarm from the onset on.
+    const DecisionOutcome d = Decide(decisions.stats(), campaign.monitor_model.thresholds);
+    r.alarm_before_onset = d.alarm_before_onset;
     r.detected = d.detected;
     if (d.detected) {
       r.detection_time_s = d.detection_time_s;
       if (!r.family.empty()) r.latency_s = d.detection_time_s - r.onset_s;
       r.isolated_family = d.family;
       r.isolated_joint = d.joint;
-      r.magnitude_name = d.magnitude_name;
-      if (!d.magnitude_name.empty()) r.magnitude_estimate = d.magnitude;
-      r.confidence = d.confidence;
+      // The size: the joint's latest verdict of that family (refined while the alarm stands).
+      for (const Verdict& v : monitor.output().verdicts) {
+        if (v.joint != d.joint || v.family != d.family || !v.alarm) continue;
+        r.magnitude_name = v.magnitude_name;
+        if (!v.magnitude_name.empty()) r.magnitude_estimate = v.magnitude;
+        r.confidence = v.confidence;
+      }
     }
   } catch (const std::exception& e) {
     r.ok = false;

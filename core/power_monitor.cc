@@ -1,6 +1,7 @@
 #include "core/power_monitor.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <deque>
 #include <limits>
@@ -59,11 +60,12 @@ struct Candidate {
   bool structural = false;  // from a tick-level detector: latched once committed
 };
 
-bool SameVerdict(const Candidate& a, const Candidate& b) { return a.state == b.state && a.family == b.family; }
-
 }  // namespace
 
 struct PowerEfficiencyMonitor::JointState {
+  explicit JointState(long hold_span) {
+    for (SlidingMin& h : held) h = SlidingMin(hold_span);
+  }
   // current window
   bool in_window = false;
   EfficiencyWindow window;
@@ -74,8 +76,11 @@ struct PowerEfficiencyMonitor::JointState {
   // mechanical fit
   std::deque<MechanicalWindow> mech;
   Estimates est;
-  Candidate mech_candidate;   // from the latest judged window
-  bool mech_confirmed = false;  // the same candidate at the window before too
+  // Mechanical statistics (friction, drift) from the latest judged window, and the raw ones
+  // of the window before: a statistic must come up at two evaluations in a row (a fit that
+  // straddles an onset mixes before and after) unless it is twice as significant.
+  std::array<double, 2> mech_statistic{kNoStatistic, kNoStatistic};
+  std::array<double, 2> mech_raw{kNoStatistic, kNoStatistic};
   // tick-level detectors
   double overpower_s = 0;
   double dead_s = 0;
@@ -83,20 +88,26 @@ struct PowerEfficiencyMonitor::JointState {
   double rail_s = 0;
   double blocked_s = 0;
   // decision
-  Candidate committed, pending;
-  double pending_since = 0;
-  bool has_pending = false;
+  std::array<SlidingMin, kDetectorCount> held;
+  DetectorReadings readings;
+  Candidate structural;  // latched once a tick-level detector fires
+  std::string shown_family = "";  // family of the last verdict emitted ("" healthy)
+  HealthState shown_state = HealthState::kHealthy;
   double last_emit_t = -1e9;
   double last_emit_magnitude = 0;
 };
 
 PowerEfficiencyMonitor::PowerEfficiencyMonitor(const PowerMonitorModel& model) : model_(model) {
-  for (size_t j = 0; j < model.joints.size(); ++j) joints_.push_back(std::make_unique<JointState>());
+  for (size_t j = 0; j < model.joints.size(); ++j) joints_.push_back(std::make_unique<JointState>(model.hold_span));
 }
 PowerEfficiencyMonitor::~PowerEfficiencyMonitor() = default;
 
 PowerEfficiencyMonitor::Estimates PowerEfficiencyMonitor::estimates(int joint) const {
   return joints_.at(joint)->est;
+}
+const DetectorReadings& PowerEfficiencyMonitor::readings(int joint) const { return joints_.at(joint)->readings; }
+const std::string& PowerEfficiencyMonitor::structural_family(int joint) const {
+  return joints_.at(joint)->structural.family;
 }
 
 PowerMonitorModel MakePowerMonitorModel(const RobotConfig& robot, const MonitorConfig& config) {
@@ -104,6 +115,8 @@ PowerMonitorModel MakePowerMonitorModel(const RobotConfig& robot, const MonitorC
   PowerMonitorModel m;
   m.config = config;
   m.control_dt_s = 1.0 / robot.modules.at(0).controller.rate_Hz;
+  m.thresholds = ThresholdsOf(config);
+  m.hold_span = std::lround(config.debounce_s / m.control_dt_s) + 1;
   std::vector<std::array<double, 3>> axes;
   for (size_t i = 0; i < robot.modules.size(); ++i) {
     const ModuleParams& p = robot.modules[i];
@@ -316,37 +329,18 @@ void PowerEfficiencyMonitor::Observe(double t_s, const std::vector<JointSignals>
           s.est.sensor_drift_se = std::sqrt(inv22);
         }
         s.est.windows_in_fit = static_cast<int>(s.mech.size());
-        // Mechanical verdict candidate, re-judged at each judged window; it must come up at
-        // two evaluations in a row (a fit that straddles an onset mixes before and after).
-        Candidate mc;
+        // Mechanical statistics, re-judged at each judged window.
         const Estimates& e = s.est;
         const double z = c.significance;
-        if (e.windows_in_fit >= 2 && e.friction_factor > c.friction_factor.worn &&
-            (e.friction_factor - 1) >= z * e.friction_factor_se) {
-          if (e.friction_factor > kBrakeDragFrictionFactor) {
-            // Far beyond wear: a brake dragging on the shaft. Its torque ~ the extra Coulomb part.
-            const double drag =
-                (e.friction_factor - 1) * (k.friction.coulomb_Nm + k.friction.static_Nm) / k.brake_holding_Nm;
-            mc = {HealthState::kDefective, "brake_lock", "drag_fraction", drag, 1.0, false};
-          } else {
-            mc = {e.friction_factor > c.friction_factor.defective ? HealthState::kDefective : HealthState::kWorn,
-                 "friction_increase", "friction_factor", e.friction_factor,
-                 NormalCdf((e.friction_factor - c.friction_factor.worn) / std::max(1e-12, e.friction_factor_se)), false};
-          }
-        } else if (e.windows_in_fit >= 2 && std::fabs(e.sensor_drift_Nm) > c.sensor_drift_Nm.worn &&
-                   std::fabs(e.sensor_drift_Nm) >= z * e.sensor_drift_se) {
-          mc = {std::fabs(e.sensor_drift_Nm) > c.sensor_drift_Nm.defective ? HealthState::kDefective : HealthState::kWorn,
-               "torque_sensor_drift", "drift_Nm", e.sensor_drift_Nm,
-               NormalCdf((std::fabs(e.sensor_drift_Nm) - c.sensor_drift_Nm.worn) / std::max(1e-12, e.sensor_drift_se)),
-               false};
-        }
-        // A very clear candidate (twice the significance) needs no second look.
-        const bool clear = mc.state != HealthState::kHealthy &&
-                           (mc.family == "torque_sensor_drift"
-                                ? std::fabs(e.sensor_drift_Nm) >= 2 * z * e.sensor_drift_se
-                                : e.friction_factor - 1 >= 2 * z * e.friction_factor_se);
-        s.mech_confirmed = mc.state != HealthState::kHealthy && (clear || SameVerdict(mc, s.mech_candidate));
-        s.mech_candidate = mc;
+        const bool fit = e.windows_in_fit >= 2;
+        const double friction_dev = e.friction_factor - 1, drift_dev = std::fabs(e.sensor_drift_Nm);
+        const std::array<double, 2> raw = {
+            fit && friction_dev >= z * e.friction_factor_se ? friction_dev : kNoStatistic,
+            fit && drift_dev >= z * e.sensor_drift_se ? drift_dev : kNoStatistic};
+        const std::array<bool, 2> clear = {fit && friction_dev >= 2 * z * e.friction_factor_se,
+                                           fit && drift_dev >= 2 * z * e.sensor_drift_se};
+        for (int m = 0; m < 2; ++m) s.mech_statistic[m] = clear[m] ? raw[m] : std::min(raw[m], s.mech_raw[m]);
+        s.mech_raw = raw;
       }
     }
 
@@ -397,70 +391,84 @@ void PowerEfficiencyMonitor::Observe(double t_s, const std::vector<JointSignals>
       }
     }
 
-    // --- parametric candidate from the fits ---
-    Candidate parametric;
+    if (!s.structural.structural && structural.structural) s.structural = structural;
+
+    // --- parametric detectors: deviation statistics, held over the debounce time ---
     const Estimates& e = s.est;
     const double z = c.significance;
-    auto confidence = [](double margin, double se) { return se > 0 ? NormalCdf(margin / se) : 1.0; };
     const bool judge_n = s.excitation_rotor_J >= c.min_rotor_energy_J;
     const bool judge_r = s.excitation_copper_J >= c.min_copper_energy_J;
-    if (judge_n && e.kt_factor < c.kt_factor.worn && (1 - e.kt_factor) >= z * e.kt_factor_se) {
-      parametric = {e.kt_factor < c.kt_factor.defective ? HealthState::kDefective : HealthState::kWorn,
-                    "kt_degradation", "kt_factor", e.kt_factor, confidence(c.kt_factor.worn - e.kt_factor, e.kt_factor_se),
-                    false};
-    } else if (judge_r && e.resistance_factor > c.resistance_factor.worn &&
-               (e.resistance_factor - 1) >= z * e.resistance_factor_se) {
-      parametric = {e.resistance_factor > c.resistance_factor.defective ? HealthState::kDefective : HealthState::kWorn,
-                    "winding_resistance", "resistance_factor", e.resistance_factor,
-                    confidence(e.resistance_factor - c.resistance_factor.worn, e.resistance_factor_se), false};
-    } else if (s.mech_confirmed) {
-      parametric = s.mech_candidate;
+    const std::array<double, kDetectorCount> statistic = {
+        judge_n && 1 - e.kt_factor >= z * e.kt_factor_se ? 1 - e.kt_factor : kNoStatistic,
+        judge_r && e.resistance_factor - 1 >= z * e.resistance_factor_se ? e.resistance_factor - 1 : kNoStatistic,
+        s.mech_statistic[0], s.mech_statistic[1]};
+    for (int d = 0; d < kDetectorCount; ++d) {
+      s.readings[d].held_quanta = s.held[d].Push(Quantize(statistic[d]));
+      s.readings[d].family = Detectors()[d].family;
     }
+    // Far beyond wear: a brake dragging on the shaft.
+    const bool drag = e.friction_factor > kBrakeDragFrictionFactor;
+    if (drag) s.readings[static_cast<int>(Detector::kFrictionFactor)].family = "brake_lock";
 
-    // --- decision with debounce; structural verdicts latch ---
-    if (s.committed.structural) continue;
-    const Candidate& cand = structural.structural ? structural : parametric;
-    auto emit = [&](const Candidate& v) {
+    // --- the joint's verdict: a latched tick-level alarm, else the first alarming detector ---
+    Candidate shown;
+    if (s.structural.structural) {
+      shown = s.structural;
+    } else {
+      auto confidence = [](double margin, double se) { return se > 0 ? NormalCdf(margin / se) : 1.0; };
+      for (int d = 0; d < kDetectorCount && shown.state == HealthState::kHealthy; ++d) {
+        if (!Alarms(s.readings[d].held_quanta, model_.thresholds[d])) continue;
+        switch (static_cast<Detector>(d)) {
+          case Detector::kKtFactor:
+            shown = {e.kt_factor < c.kt_factor.defective ? HealthState::kDefective : HealthState::kWorn, "kt_degradation",
+                     "kt_factor", e.kt_factor, confidence(c.kt_factor.worn - e.kt_factor, e.kt_factor_se), false};
+            break;
+          case Detector::kResistanceFactor:
+            shown = {e.resistance_factor > c.resistance_factor.defective ? HealthState::kDefective : HealthState::kWorn,
+                     "winding_resistance", "resistance_factor", e.resistance_factor,
+                     confidence(e.resistance_factor - c.resistance_factor.worn, e.resistance_factor_se), false};
+            break;
+          case Detector::kFrictionFactor:
+            if (drag) {
+              // Its torque ~ the extra Coulomb part.
+              shown = {HealthState::kDefective, "brake_lock", "drag_fraction",
+                       (e.friction_factor - 1) * (k.friction.coulomb_Nm + k.friction.static_Nm) / k.brake_holding_Nm, 1.0,
+                       false};
+            } else {
+              shown = {e.friction_factor > c.friction_factor.defective ? HealthState::kDefective : HealthState::kWorn,
+                       "friction_increase", "friction_factor", e.friction_factor,
+                       confidence(e.friction_factor - c.friction_factor.worn, e.friction_factor_se), false};
+            }
+            break;
+          case Detector::kSensorDrift:
+            shown = {std::fabs(e.sensor_drift_Nm) > c.sensor_drift_Nm.defective ? HealthState::kDefective : HealthState::kWorn,
+                     "torque_sensor_drift", "drift_Nm", e.sensor_drift_Nm,
+                     confidence(std::fabs(e.sensor_drift_Nm) - c.sensor_drift_Nm.worn, e.sensor_drift_se), false};
+            break;
+        }
+      }
+    }
+    // Emit on a change of family or state, and now and then to refine a standing magnitude.
+    const bool changed = shown.family != s.shown_family || shown.state != s.shown_state;
+    const bool refine = !changed && !shown.structural && shown.state != HealthState::kHealthy &&
+                        t_s - s.last_emit_t >= 0.5 &&
+                        std::fabs(shown.magnitude - s.last_emit_magnitude) >
+                            0.01 * std::max(1.0, std::fabs(s.last_emit_magnitude));
+    if (changed || refine) {
       Verdict out;
       out.t_s = t_s;
       out.joint = j + 1;
-      out.state = v.state;
-      out.alarm = v.state != HealthState::kHealthy;
-      out.family = v.family;
-      out.magnitude_name = v.magnitude_name;
-      out.magnitude = v.magnitude;
-      out.confidence = v.confidence;
+      out.state = shown.state;
+      out.alarm = shown.state != HealthState::kHealthy;
+      out.family = shown.family;
+      out.magnitude_name = shown.magnitude_name;
+      out.magnitude = shown.magnitude;
+      out.confidence = shown.confidence;
       output_.verdicts.push_back(out);
+      s.shown_family = shown.family;
+      s.shown_state = shown.state;
       s.last_emit_t = t_s;
-      s.last_emit_magnitude = v.magnitude;
-    };
-    if (cand.structural) {  // the detector has its own debounce time
-      s.committed = cand;
-      s.has_pending = false;
-      emit(cand);
-      continue;
-    }
-    if (SameVerdict(cand, s.committed)) {
-      s.has_pending = false;
-      s.committed = cand;
-      // refine the magnitude of a standing alarm now and then
-      if (cand.state != HealthState::kHealthy && t_s - s.last_emit_t >= 0.5 &&
-          std::fabs(cand.magnitude - s.last_emit_magnitude) > 0.01 * std::max(1.0, std::fabs(s.last_emit_magnitude))) {
-        emit(cand);
-      }
-      continue;
-    }
-    if (!s.has_pending || !SameVerdict(cand, s.pending)) {
-      s.has_pending = true;
-      s.pending = cand;
-      s.pending_since = t_s;
-    } else {
-      s.pending = cand;
-    }
-    if (t_s - s.pending_since >= c.debounce_s) {
-      s.committed = s.pending;
-      s.has_pending = false;
-      emit(s.committed);
+      s.last_emit_magnitude = shown.magnitude;
     }
   }
   previous_ = signals;

@@ -24,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "core/detector_statistics.h"
 #include "core/json_input.h"
 #include "core/monitor.h"
 #include "core/robot_config.h"
@@ -95,6 +96,8 @@ struct PowerMonitorModel {
   MonitorConfig config;
   std::vector<JointKnowledge> joints;
   double control_dt_s = 0;
+  DetectorThresholds thresholds{};  // from the config's worn limits
+  long hold_span = 1;               // ticks a statistic must hold: debounce_s / control_dt_s + 1
 };
 PowerMonitorModel MakePowerMonitorModel(const RobotConfig& robot, const MonitorConfig& config);
 
@@ -115,6 +118,10 @@ class PowerEfficiencyMonitor : public HealthMonitor {
     int windows_in_fit = 0;
   };
   Estimates estimates(int joint) const;
+  // The swept detectors' held statistics at the latest tick (see detector_statistics.h), and
+  // the family of a latched tick-level alarm ("" if none), of a joint (0-based).
+  const DetectorReadings& readings(int joint) const;
+  const std::string& structural_family(int joint) const;
   int joint_count() const { return static_cast<int>(joints_.size()); }
 
   struct JointState;  // per-joint run data (defined in the .cc)

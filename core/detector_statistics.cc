@@ -1,0 +1,197 @@
+#include "core/detector_statistics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <tuple>
+
+#include "core/power_monitor.h"
+
+namespace armfault {
+
+const std::array<DetectorInfo, kDetectorCount>& Detectors() {
+  static const std::array<DetectorInfo, kDetectorCount> d = {{
+      {Detector::kKtFactor, "kt_degradation", "kt_factor", 1.0},
+      {Detector::kResistanceFactor, "winding_resistance", "resistance_factor", 1.0},
+      {Detector::kFrictionFactor, "friction_increase", "friction_factor", 1.0},
+      {Detector::kSensorDrift, "torque_sensor_drift", "sensor_drift_Nm", 0.0},
+  }};
+  return d;
+}
+
+const DetectorInfo& DetectorByParameter(const std::string& parameter) {
+  std::string known;
+  for (const DetectorInfo& d : Detectors()) {
+    if (parameter == d.parameter) return d;
+    known += std::string(known.empty() ? "" : ", ") + d.parameter;
+  }
+  throw std::out_of_range("unknown detector parameter \"" + parameter + "\" (known: " + known + ")");
+}
+
+namespace {
+StateLimits MonitorConfig::*LimitsMember(Detector d) {
+  switch (d) {
+    case Detector::kKtFactor: return &MonitorConfig::kt_factor;
+    case Detector::kResistanceFactor: return &MonitorConfig::resistance_factor;
+    case Detector::kFrictionFactor: return &MonitorConfig::friction_factor;
+    case Detector::kSensorDrift: return &MonitorConfig::sensor_drift_Nm;
+  }
+  return &MonitorConfig::kt_factor;
+}
+}  // namespace
+
+double ThresholdFor(const DetectorInfo& info, double worn_limit) { return std::fabs(worn_limit - info.healthy); }
+
+double WornLimitFor(const DetectorInfo& info, const MonitorConfig&, double threshold) {
+  // K_T falls below 1; the other parameters rise above their healthy value.
+  return info.detector == Detector::kKtFactor ? info.healthy - threshold : info.healthy + threshold;
+}
+
+DetectorThresholds ThresholdsOf(const MonitorConfig& config) {
+  DetectorThresholds h{};
+  for (const DetectorInfo& d : Detectors()) {
+    h[static_cast<int>(d.detector)] = ThresholdFor(d, (config.*LimitsMember(d.detector)).worn);
+  }
+  return h;
+}
+
+double Quantize(double statistic) {
+  return std::isfinite(statistic) ? std::floor(statistic / kStatisticQuantum) : kNoStatistic;
+}
+
+double SlidingMin::Push(double value) {
+  const long k = count_++;
+  while (!q_.empty() && q_.back().second >= value) q_.pop_back();
+  q_.emplace_back(k, value);
+  while (q_.front().first <= k - span_) q_.pop_front();
+  return q_.front().second;
+}
+
+nlohmann::json ToJson(const DecisionStats& s) {
+  nlohmann::json traces = nlohmann::json::array();
+  for (const DecisionStats::Trace& t : s.traces) {
+    nlohmann::json rise = nlohmann::json::array();
+    for (const DecisionStats::Rise& r : t.rise) {
+      nlohmann::json item = {r.t_s, r.quanta};
+      if (!r.family.empty()) item.push_back(r.family);
+      rise.push_back(std::move(item));
+    }
+    traces.push_back({{"joint", t.joint},
+                      {"detector", Detectors()[static_cast<int>(t.detector)].parameter},
+                      {"pre", std::isfinite(t.pre_max_quanta) ? nlohmann::json(static_cast<long>(t.pre_max_quanta))
+                                                              : nlohmann::json(nullptr)},
+                      {"rise", std::move(rise)}});
+  }
+  nlohmann::json events = nlohmann::json::array();
+  for (const DecisionStats::Event& e : s.events) events.push_back({{"joint", e.joint}, {"family", e.family}, {"t_s", e.t_s}});
+  return {{"quantum", kStatisticQuantum},
+          {"onset_s", s.onset_s},
+          {"first_tick_s", s.first_tick_s},
+          {"traces", std::move(traces)},
+          {"events", std::move(events)}};
+}
+
+DecisionStats DecisionStatsFromJson(const nlohmann::json& j) {
+  auto need = [](const nlohmann::json& o, const char* key) -> const nlohmann::json& {
+    if (!o.is_object() || !o.contains(key)) throw std::runtime_error(std::string("decision: missing \"") + key + "\"");
+    return o.at(key);
+  };
+  try {
+    if (need(j, "quantum").get<double>() != kStatisticQuantum) {
+      throw std::runtime_error("decision: statistics quantized to " + need(j, "quantum").dump() +
+                               ", this armfault uses " + std::to_string(kStatisticQuantum));
+    }
+    DecisionStats s;
+    s.onset_s = need(j, "onset_s").get<double>();
+    s.first_tick_s = need(j, "first_tick_s").get<double>();
+    for (const nlohmann::json& t : need(j, "traces")) {
+      DecisionStats::Trace trace;
+      trace.joint = need(t, "joint").get<int>();
+      trace.detector = DetectorByParameter(need(t, "detector").get<std::string>()).detector;
+      const nlohmann::json& pre = need(t, "pre");
+      trace.pre_max_quanta = pre.is_null() ? kNoStatistic : pre.get<double>();
+      for (const nlohmann::json& r : need(t, "rise")) {
+        DecisionStats::Rise rise;
+        rise.t_s = r.at(0).get<double>();
+        rise.quanta = r.at(1).get<long>();
+        if (r.size() > 2) rise.family = r.at(2).get<std::string>();
+        trace.rise.push_back(std::move(rise));
+      }
+      s.traces.push_back(std::move(trace));
+    }
+    for (const nlohmann::json& e : need(j, "events")) {
+      s.events.push_back({need(e, "joint").get<int>(), need(e, "family").get<std::string>(), need(e, "t_s").get<double>()});
+    }
+    return s;
+  } catch (const nlohmann::json::exception& e) {
+    throw std::runtime_error(std::string("decision: ") + e.what());
+  } catch (const std::out_of_range& e) {
+    throw std::runtime_error(std::string("decision: ") + e.what());
+  }
+}
+
+DecisionRecorder::DecisionRecorder(int joints, double onset_s)
+    : trace_index_(static_cast<size_t>(joints)), latched_(static_cast<size_t>(joints), false) {
+  stats_.onset_s = onset_s;
+  for (auto& row : trace_index_) row.fill(-1);
+}
+
+void DecisionRecorder::Record(double t_s, int joint, const DetectorReadings& readings,
+                              const std::string& structural_family) {
+  const bool after = t_s >= stats_.onset_s;
+  if (after && stats_.first_tick_s < 0) stats_.first_tick_s = t_s;
+  if (!structural_family.empty() && !latched_[joint]) {
+    latched_[joint] = true;
+    stats_.events.push_back({joint + 1, structural_family, t_s});
+  }
+  for (int d = 0; d < kDetectorCount; ++d) {
+    const DetectorReading& r = readings[d];
+    if (!std::isfinite(r.held_quanta)) continue;
+    int& index = trace_index_[joint][d];
+    if (index < 0) {
+      index = static_cast<int>(stats_.traces.size());
+      DecisionStats::Trace t;
+      t.joint = joint + 1;
+      t.detector = static_cast<Detector>(d);
+      stats_.traces.push_back(std::move(t));
+    }
+    DecisionStats::Trace& t = stats_.traces[index];
+    if (!after) {
+      t.pre_max_quanta = std::max(t.pre_max_quanta, r.held_quanta);
+    } else if (t.rise.empty() || r.held_quanta > static_cast<double>(t.rise.back().quanta)) {
+      const char* own = Detectors()[d].family;
+      t.rise.push_back({t_s, static_cast<long>(r.held_quanta), std::string(r.family) == own ? "" : r.family});
+    }
+  }
+}
+
+DecisionOutcome Decide(const DecisionStats& s, const DetectorThresholds& h) {
+  DecisionOutcome out;
+  // The first alarm at or after the onset: (time, priority, joint); events come first.
+  std::tuple<double, int, int> best{0, 0, 0};
+  auto consider = [&](double t, int priority, int joint, const std::string& family) {
+    const std::tuple<double, int, int> key{t, priority, joint};
+    if (!out.detected || key < best) {
+      out.detected = true;
+      best = key;
+      out.detection_time_s = t;
+      out.joint = joint;
+      out.family = family;
+    }
+  };
+  for (const DecisionStats::Event& e : s.events) {
+    if (e.t_s < s.onset_s) out.alarm_before_onset = true;
+    if (s.first_tick_s >= 0) consider(std::max(e.t_s, s.first_tick_s), -1, e.joint, e.family);
+  }
+  for (const DecisionStats::Trace& t : s.traces) {
+    const int d = static_cast<int>(t.detector);
+    if (Alarms(t.pre_max_quanta, h[d])) out.alarm_before_onset = true;
+    // Rises are strictly increasing: the first that alarms.
+    const auto it = std::partition_point(t.rise.begin(), t.rise.end(),
+                                         [&](const DecisionStats::Rise& r) { return !Alarms(static_cast<double>(r.quanta), h[d]); });
+    if (it != t.rise.end()) consider(it->t_s, d, t.joint, it->family.empty() ? Detectors()[d].family : it->family);
+  }
+  return out;
+}
+
+}  // namespace armfault
