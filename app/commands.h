@@ -20,8 +20,14 @@ struct TraceOptions {
   std::string output = "trace.csv";
   std::string monitor_output;           // monitor verdicts and windows as JSON (optional)
   bool quiet = false;
+  // With run_id, run_file is a campaign and TraceCampaignCase re-runs that one case of it
+  // exactly as the campaign ran it (RunCase); robot, duration, seed, joints and faults stay unset.
+  std::string run_id;                   // a run_id or a case number
 };
 int RunTrace(const TraceOptions& options);
+// Writes the case's trace (and --monitor-out), prints its record; 0, 3 if the run failed,
+// 2 for an unknown run_id (the message suggests the nearest one).
+int TraceCampaignCase(const TraceOptions& options);
 
 struct ThesisOptions {
   std::string output_dir = "out";
@@ -57,7 +63,49 @@ int RunCampaignCommand(const CampaignRunOptions& options);
 struct Campaign;
 int FinishCampaignOutputs(const std::string& dir, const Campaign& campaign);
 int ValidateCommand(const std::string& campaign_file);
+
+struct MergeOptions {
+  std::vector<std::string> input_dirs;  // output directories of `armfault run --shard K/N`
+  std::string output_dir;
+};
+// Joins the shards (campaigns/merge.h) and writes summary.json and junit.xml as `run` does:
+// 0 all floors met, 1 a floor missed, 3 some runs failed, 2 bad or incomplete shards.
+int MergeCommand(const MergeOptions& options);
+
+struct TuneCommandOptions {
+  std::string dir;                  // an `armfault run` output directory
+  std::string sweep;                // "kt_factor.worn=0.85:0.99:15,..." (campaigns/tuning.h)
+  std::string rule = "max_detection";  // max_detection, youden, min_cost
+  double false_alarm_ceiling = 0.01;
+  double miss_cost = 1, false_alarm_cost = 1;
+  std::string monitor_output;       // tuned monitor JSON; default DIR/tuned-monitor.json
+  int threads = 0;
+};
+// Writes DIR/tuning.json and the tuned monitor; 0, or 2 on bad input.
+int TuneCommand(const TuneCommandOptions& options);
+
 // Prints the cost of a run against bare ODE ("ratio: X") and "parallel efficiency: Y".
 int BenchCommand(int repeats);
+
+struct DiffCommandOptions {
+  std::string dir_a, dir_b;         // baseline, candidate: armfault run output directories
+  double alpha = 0.05;              // significance level
+  double tolerance = 0;             // allowed worsening of a rate
+  double latency_tolerance_s = 0;   // allowed increase of the median latency [s]
+  std::string json_output;          // diff.json (optional)
+  std::string markdown_output;      // diff.md (optional)
+};
+// Compares two campaign results (reports/campaign_diff.h); prints the table. 0 nothing
+// significantly worse, 1 something is (each printed as "worse: ..."), 2 bad input.
+int DiffCommand(const DiffCommandOptions& options);
+
+struct ReportCommandOptions {
+  std::string dir;      // an `armfault run` output directory
+  std::string run_id;   // the run plotted over time; empty: the first missed faulty run
+  std::string output;   // the HTML file; empty: DIR/report.html (the .md goes beside it)
+};
+// Writes the campaign report (reports/campaign_report.h): report.html and report.md. 0, or 2
+// for bad input.
+int ReportCommand(const ReportCommandOptions& options);
 
 }  // namespace armfault

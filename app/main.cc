@@ -17,7 +17,7 @@ int main(int argc, char** argv) {
 
   armfault::TraceOptions trace;
   CLI::App* trace_cmd = app.add_subcommand("trace", "simulate one run and write its time series as CSV");
-  trace_cmd->add_option("run", trace.run_file, "run JSON file (default: thesis experiment 1)");
+  trace_cmd->add_option("run", trace.run_file, "run JSON file (default: thesis experiment 1), or a campaign with --run");
   trace_cmd->add_option("--robot", trace.robot, "robot preset (mrr-config1, pendulum)");
   trace_cmd->add_option("--duration", trace.duration_s, "duration [s]");
   trace_cmd->add_option("--seed", trace.seed, "noise seed");
@@ -28,6 +28,8 @@ int main(int argc, char** argv) {
   trace_cmd->add_option("-o,--output", trace.output, "trace CSV path")->capture_default_str();
   trace_cmd->add_option("--monitor-out", trace.monitor_output, "write the monitor's verdicts and windows as JSON");
   trace_cmd->add_flag("-q,--quiet", trace.quiet, "no summary");
+  // With --run the positional file is a campaign: one of its cases, re-run as the campaign ran it.
+  trace_cmd->add_option("--run", trace.run_id, "re-run this case of the campaign file (its run_id or case number)");
 
   armfault::CampaignRunOptions campaign_run;
   CLI::App* run_cmd = app.add_subcommand("run", "run a campaign (default: the built-in thesis sweep) and score the monitor");
@@ -43,6 +45,11 @@ int main(int argc, char** argv) {
   CLI::App* validate_cmd = app.add_subcommand("validate", "check a campaign file and print its run count");
   validate_cmd->add_option("campaign", validate_file, "campaign JSON file")->required();
 
+  armfault::MergeOptions merge;
+  CLI::App* merge_cmd = app.add_subcommand("merge", "join the output directories of `run --shard K/N` into one, as an unsharded run");
+  merge_cmd->add_option("dirs", merge.input_dirs, "the output directory of every shard 0..N-1")->required();
+  merge_cmd->add_option("-o,--output-dir", merge.output_dir, "output directory")->required();
+
   int bench_repeats = 10;
   CLI::App* bench_cmd = app.add_subcommand("bench", "cost of a run against bare ODE stepping, and parallel throughput");
   bench_cmd->add_option("--repeats", bench_repeats, "timed runs per figure")->capture_default_str()->check(CLI::Range(1, 100000));
@@ -52,6 +59,42 @@ int main(int argc, char** argv) {
       "thesis", "run the thesis experiments 1-3 and compare with the published efficiencies (writes thesis.json, thesis.md)");
   thesis_cmd->add_option("-o,--output-dir", thesis.output_dir, "output directory")->capture_default_str();
   thesis_cmd->add_option("--seed", thesis.seed, "noise seed")->capture_default_str();
+
+  armfault::DiffCommandOptions diff;
+  CLI::App* diff_cmd = app.add_subcommand(
+      "diff", "compare two campaign results (A = baseline, B = candidate) metric by metric, with significance tests");
+  diff_cmd->add_option("dir_a", diff.dir_a, "baseline output directory (results.jsonl)")->required();
+  diff_cmd->add_option("dir_b", diff.dir_b, "candidate output directory (results.jsonl)")->required();
+  diff_cmd->add_option("--alpha", diff.alpha, "significance level")->capture_default_str();
+  diff_cmd->add_option("--tolerance", diff.tolerance, "allowed worsening of a rate (absolute)")->capture_default_str();
+  diff_cmd->add_option("--latency-tolerance", diff.latency_tolerance_s, "allowed increase of the median latency [s]")
+      ->capture_default_str();
+  diff_cmd->add_option("-o,--output", diff.json_output, "write every comparison as JSON");
+  diff_cmd->add_option("--markdown", diff.markdown_output, "write the table as Markdown");
+
+  armfault::ReportCommandOptions report;
+  CLI::App* report_cmd = app.add_subcommand(
+      "report", "write DIR/report.html (self-contained plots: ROC, detection probability, confusion, latency, "
+                "table 5-3, one run over time) and DIR/report.md");
+  report_cmd->add_option("dir", report.dir, "output directory of `armfault run` (summary.json, results.jsonl)")
+      ->required();
+  report_cmd->add_option("--run", report.run_id, "run_id of the run to plot over time (default: the first missed faulty run)");
+  report_cmd->add_option("-o,--output", report.output, "HTML file (default: DIR/report.html; the .md goes beside it)");
+
+  armfault::TuneCommandOptions tune;
+  CLI::App* tune_cmd = app.add_subcommand(
+      "tune", "re-score monitor thresholds from a campaign's stored decision statistics (no new simulation); "
+              "writes DIR/tuning.json and a tuned monitor JSON");
+  tune_cmd->add_option("dir", tune.dir, "campaign output directory")->required();
+  tune_cmd->add_option("--sweep", tune.sweep, "worn limits to sweep, e.g. kt_factor.worn=0.85:0.99:15,friction_factor.worn=1.3");
+  tune_cmd->add_option("--rule", tune.rule, "operating point: max_detection (under --false-alarm-ceiling), youden, min_cost")
+      ->capture_default_str();
+  tune_cmd->add_option("--false-alarm-ceiling", tune.false_alarm_ceiling, "max_detection: highest false-alarm rate allowed")
+      ->capture_default_str();
+  tune_cmd->add_option("--miss-cost", tune.miss_cost, "min_cost: cost of a missed fault")->capture_default_str();
+  tune_cmd->add_option("--false-alarm-cost", tune.false_alarm_cost, "min_cost: cost of a false alarm")->capture_default_str();
+  tune_cmd->add_option("-o,--monitor-out", tune.monitor_output, "tuned monitor JSON (default DIR/tuned-monitor.json)");
+  tune_cmd->add_option("-j,--jobs", tune.threads, "threads (0: all cores)")->capture_default_str();
 
   try {
     app.parse(argc, argv);
@@ -67,11 +110,15 @@ int main(int argc, char** argv) {
   }
 
   try {
-    if (*trace_cmd) return armfault::RunTrace(trace);
+    if (*trace_cmd) return trace.run_id.empty() ? armfault::RunTrace(trace) : armfault::TraceCampaignCase(trace);
     if (*thesis_cmd) return armfault::RunThesis(thesis);
     if (*run_cmd) return armfault::RunCampaignCommand(campaign_run);
     if (*validate_cmd) return armfault::ValidateCommand(validate_file);
+    if (*merge_cmd) return armfault::MergeCommand(merge);
     if (*bench_cmd) return armfault::BenchCommand(bench_repeats);
+    if (*tune_cmd) return armfault::TuneCommand(tune);
+    if (*diff_cmd) return armfault::DiffCommand(diff);
+    if (*report_cmd) return armfault::ReportCommand(report);
   } catch (const armfault::InputError& e) {
     std::fprintf(stderr, "armfault: error: %s\n", e.what());
     return 2;

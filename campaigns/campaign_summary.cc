@@ -152,6 +152,8 @@ std::string XmlEscape(const std::string& s) {
 
 }  // namespace
 
+void internal::MergeTally(const SummaryTally& from, SummaryTally* into) { MergeInto(from, into); }
+
 RateInterval Wilson(long successes, long trials) {
   if (trials < 0 || successes < 0 || successes > trials) {
     throw std::invalid_argument("Wilson: need 0 <= successes <= trials, got " + std::to_string(successes) + " of " +

@@ -97,6 +97,9 @@ struct SummaryTally {
   double magnitude = 0;
 };
 
+// Adds `from`'s counts and values to `into` (descriptors untouched), as Build() pools cells.
+void MergeTally(const SummaryTally& from, SummaryTally* into);
+
 }  // namespace internal
 
 // Accumulates run records one by one. Memory grows with the number of (group, family) pairs
@@ -115,6 +118,9 @@ class SummaryBuilder {
 
   long runs() const { return ok_runs_ + failed_runs_; }  // every record added
   long failed_runs() const { return failed_runs_; }
+  // The tally of every (group, family) cell, sorted: for tools that compare or re-pool
+  // campaigns (armfault diff) with exactly the definitions above.
+  const std::map<std::pair<std::string, std::string>, internal::SummaryTally>& cells() const { return cells_; }
 
  private:
   std::map<std::pair<std::string, std::string>, internal::SummaryTally> cells_;  // (group, family)

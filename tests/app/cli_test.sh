@@ -282,5 +282,153 @@ expect_status 0
 expect_stdout_contains "ratio: "
 expect_stdout_contains "parallel efficiency: "
 
+# ------------------------------------------------------------------ diff (armfault diff)
+# One real run of the CI campaign is A; the B directories are edited copies of it.
+run diff_setup "$armfault" run "$src/campaigns/files/ci.json" -o "$tmp/diff_a" -q
+expect_status 0
+run diff_same "$armfault" diff "$tmp/diff_a" "$tmp/diff_a" -o "$tmp/diff.json" --markdown "$tmp/diff.md"
+expect_status 0
+expect_stdout_contains 'same campaign "ci"'
+expect_stdout_contains ' 0 worse, '
+if grep -q '"worse": false' "$tmp/diff.json" && grep -qF '| scope | metric | A | B |' "$tmp/diff.md"; then pass; else
+  fail "diff.json or diff.md not as documented"
+fi
+# B: no kt_degradation run detected any more: detection significantly worse, exit 1.
+mkdir "$tmp/diff_b" "$tmp/diff_c" "$tmp/diff_d"
+cp "$tmp/diff_a/campaign.json" "$tmp/diff_b/"
+sed '/"family":"kt_degradation"/s/"detected":true/"detected":false/' "$tmp/diff_a/results.jsonl" >"$tmp/diff_b/results.jsonl"
+run diff_worse "$armfault" diff "$tmp/diff_a" "$tmp/diff_b"
+expect_status 1
+expect_stdout_contains "worse: overall detection: "
+expect_stdout_contains "worse: family kt_degradation detection: 1.000 (8/8) -> 0.000 (0/8)"
+run diff_tolerance "$armfault" diff "$tmp/diff_a" "$tmp/diff_b" --tolerance 1
+expect_status 0
+# A summary.json that does not match results.jsonl only warns.
+cp "$tmp/diff_a/summary.json" "$tmp/diff_b/"
+run diff_stale_summary "$armfault" diff "$tmp/diff_a" "$tmp/diff_b" --tolerance 1
+expect_status 0
+expect_stderr_contains "$tmp/diff_b/summary.json does not match"
+# C: the brake_lock runs dropped and the campaign renamed: listed, warned, not an error.
+grep -v '"family":"brake_lock"' "$tmp/diff_a/results.jsonl" >"$tmp/diff_c/results.jsonl"
+sed 's/^    "name": "ci",$/    "name": "ci-copy",/' "$tmp/diff_a/campaign.json" >"$tmp/diff_c/campaign.json"
+run diff_only_in_a "$armfault" diff "$tmp/diff_a" "$tmp/diff_c"
+expect_status 0
+expect_stdout_contains "only in A: brake_lock drag_fraction=1 joint=3"
+expect_stderr_contains "armfault: warning: the campaigns differ in: name; comparisons are by group key"
+# Bad input: status 2, naming the directory, or the file and the line.
+run diff_missing_dir "$armfault" diff "$tmp/diff_a" "$tmp/no_such_dir"
+expect_input_error "$tmp/no_such_dir: (document root): no such directory"
+run diff_missing_results "$armfault" diff "$tmp/diff_a" "$tmp/diff_d"
+expect_input_error "$tmp/diff_d/results.jsonl: (document root): no such file"
+cp "$tmp/diff_a/results.jsonl" "$tmp/diff_d/results.jsonl"
+printf '{"case": 52, "run_id": \n' >>"$tmp/diff_d/results.jsonl"
+run diff_bad_line "$armfault" diff "$tmp/diff_a" "$tmp/diff_d"
+expect_input_error "$tmp/diff_d/results.jsonl: (document root): line 53: "
+run diff_bad_alpha "$armfault" diff "$tmp/diff_a" "$tmp/diff_a" --alpha 2
+expect_input_error "--alpha: (document root): 2 is outside (0, 1]"
+
+# ------------------------------------------------------------------ shards, merge, kill -9 and --resume, trace --run
+ci="$src/campaigns/files/ci.json"
+# same_outputs NAME DIR_A DIR_B: the four output files of two run directories, byte for byte.
+same_outputs() {
+  current=$1
+  local f
+  for f in campaign.json results.jsonl summary.json junit.xml; do
+    if cmp -s "$2/$f" "$3/$f"; then pass; else fail "$2/$f and $3/$f differ"; fi
+  done
+}
+run ci_uninterrupted "$armfault" run "$ci" -o "$tmp/ci_full" -q -j 1
+expect_status 0
+for k in 0 1 2; do
+  # A shard's own floors may miss (too few runs of a family), so only its runs are checked here.
+  run "ci_shard_$k" "$armfault" run "$ci" -o "$tmp/ci_s$k" -q --shard "$k/3"
+  if [[ $status -eq 0 || $status -eq 1 ]]; then pass; else fail "exit status $status; stderr: $(head -c 400 "$tmp/stderr")"; fi
+done
+run merge "$armfault" merge "$tmp/ci_s2" "$tmp/ci_s0" "$tmp/ci_s1" -o "$tmp/ci_merged"
+expect_status 0
+expect_stdout_contains "campaign ci: merged 3 shards, 52 runs -> $tmp/ci_merged"
+expect_stdout_contains "floor detection_rate"
+same_outputs merge_equals_unsharded "$tmp/ci_full" "$tmp/ci_merged"
+run merge_missing_shard "$armfault" merge "$tmp/ci_s0" "$tmp/ci_s2" -o "$tmp/ci_m1"
+expect_input_error "merge: (document root): shard 1 of 3 is missing: give the output directories of all shards 0..2"
+run merge_repeated_shard "$armfault" merge "$tmp/ci_s0" "$tmp/ci_s1" "$tmp/ci_s1/" "$tmp/ci_s2" -o "$tmp/ci_m1"
+expect_input_error "$tmp/ci_s1/campaign.json: /shard/index: shard 1/3 is given twice"
+cp -r "$tmp/ci_s1" "$tmp/ci_s1_cut"
+head -n 3 "$tmp/ci_s1/results.jsonl" >"$tmp/ci_s1_cut/results.jsonl"
+run merge_incomplete_shard "$armfault" merge "$tmp/ci_s0" "$tmp/ci_s1_cut" "$tmp/ci_s2" -o "$tmp/ci_m1"
+expect_input_error "$tmp/ci_s1_cut/results.jsonl: (document root): shard 1/3 is incomplete: 3 of its 17 runs, 14 missing;" \
+  "--shard 1/3 -o $tmp/ci_s1_cut --resume"
+run other_campaign_shard "$armfault" run "$tmp/healthy_only.json" -o "$tmp/ho_s1" -q --shard 1/3
+run merge_other_campaign "$armfault" merge "$tmp/ci_s0" "$tmp/ho_s1" "$tmp/ci_s2" -o "$tmp/ci_m1"
+expect_input_error "$tmp/ho_s1/campaign.json: /campaign/" "another campaign than in $tmp/ci_s0/campaign.json"
+if [[ ! -e "$tmp/ci_m1/results.jsonl" ]]; then pass; else fail "a refused merge left results.jsonl behind"; fi
+
+# kill -9 at three points of a run, then --resume: the same bytes as the uninterrupted run.
+for at in 3 14 27; do
+  current=kill_at_$at
+  dir="$tmp/ci_kill_$at"
+  "$armfault" run "$ci" -o "$dir" -q -j 2 >/dev/null 2>&1 &
+  pid=$!
+  for ((i = 0; i < 1000; i++)); do  # at most ~10 s
+    [[ -f "$dir/results.jsonl" && $(wc -l <"$dir/results.jsonl") -ge $at ]] && break
+    kill -0 "$pid" 2>/dev/null || break
+    sleep 0.01
+  done
+  kill -9 "$pid" 2>/dev/null
+  wait "$pid" 2>/dev/null
+  lines=$(wc -l <"$dir/results.jsonl")
+  if [[ $lines -ge $at && $lines -lt 52 ]]; then pass; else fail "killed with $lines of 52 lines written, wanted $at..51"; fi
+  run "resume_after_kill_at_$at" "$armfault" run "$ci" -o "$dir" -q -j 2 --resume
+  expect_status 0
+  expect_stdout_contains "($lines resumed, 0 failed)"
+  same_outputs "resume_after_kill_at_$at" "$tmp/ci_full" "$dir"
+done
+
+# One case of the campaign re-run alone: its record is its results.jsonl line, byte for byte.
+id='p2p/friction_increase#1/friction_factor=3,onset_s=U[1,3]/j3/r1'
+run trace_campaign_case "$armfault" trace "$ci" --run "$id" -o "$tmp/case.csv" --monitor-out "$tmp/case.json"
+expect_status 0
+expect_stdout_contains "campaign ci: run $id (case 33 of 52), seed "
+expect_stdout_contains "truth: friction_increase, joint 3, onset "
+if cmp -s <(sed -n 's/^record: //p' "$tmp/stdout") <(grep -F "\"run_id\":\"$id\"" "$tmp/ci_full/results.jsonl"); then pass; else
+  fail "the re-run's record differs from the campaign's line"
+fi
+if [[ $(wc -l <"$tmp/case.csv") -eq 4002 ]] && grep -q '"record": {' "$tmp/case.json"; then pass; else
+  fail "trace CSV or monitor JSON not as expected"
+fi
+run trace_campaign_case_number "$armfault" trace "$ci" --run 33 -q -o "$tmp/case33.csv"
+expect_status 0
+current=trace_campaign_case_number_same
+if cmp -s "$tmp/case.csv" "$tmp/case33.csv"; then pass; else fail "--run 33 and --run '$id' give different traces"; fi
+run trace_campaign_unknown_id "$armfault" trace "$ci" --run 'exp1/healty/3' -q -o "$tmp/x.csv"
+expect_input_error '--run: (document root): no run "exp1/healty/3" in this campaign; did you mean "exp1/healthy/3"?'
+run trace_campaign_bad_case "$armfault" trace "$ci" --run 52 -q -o "$tmp/x.csv"
+expect_input_error "case 52 does not exist: the campaign's cases are 0..51"
+run trace_campaign_override "$armfault" trace "$ci" --run 3 --seed 2 -q -o "$tmp/x.csv"
+expect_input_error "--seed, --joint and --fault do not apply"
+run trace_run_without_campaign "$armfault" trace --run 3 -q -o "$tmp/x.csv"
+expect_input_error "give the campaign: armfault trace CAMPAIGN.json --run RUN_ID"
+
+# A run that diverges (its explicit viscous friction, x100 by the fault, overshoots each 1 ms
+# step) is a failed record with the reason; the other runs complete; exit status 3.
+printf '%s\n' '{"name": "diverge", "seed": 5, "duration_s": 1.5,' \
+  ' "robot": {"modules": [{"friction": {"viscous_Nm_s_per_rad": 0.2}}], "links": [{}]},' \
+  ' "trajectories": [{"name": "swing", "joints": {"1": {"type": "sine_pair", "amplitude_deg": 20, "omega_rad_s": 2}}}],' \
+  ' "faults": [{"family": "friction_increase", "joint": 1, "friction_factor": [2, 100], "onset_s": 0.5}], "healthy": 2}' \
+  >"$tmp/diverge.json"
+run campaign_run_diverges "$armfault" run "$tmp/diverge.json" -o "$tmp/dv" -q
+expect_status 3
+expect_stdout_contains "ran 4 runs in "
+expect_stdout_contains " (0 resumed, 1 failed)"
+expect_stderr_contains "armfault: 1 of 4 runs failed (see $tmp/dv/summary.json)"
+if [[ $(grep -c '"status":"ok"' "$tmp/dv/results.jsonl") -eq 3 ]] &&
+  grep '"status":"failed"' "$tmp/dv/results.jsonl" | grep -q '"reason":"simulation diverged at t=0.5'; then pass; else
+  fail "results.jsonl lacks 3 ok runs and one diverged: $(cut -c 1-300 "$tmp/dv/results.jsonl")"
+fi
+if grep -q '"failed": 1,' "$tmp/dv/summary.json"; then pass; else fail "summary.json does not count the failed run"; fi
+run trace_diverged_case "$armfault" trace "$tmp/diverge.json" --run 'swing/friction_increase#0/friction_factor=100/j1/r0' -o "$tmp/x.csv"
+expect_status 3
+expect_stdout_contains "result: failed: simulation diverged at t="
+
 echo "$passed passed, $failed failed"
 [[ $failed -eq 0 ]]

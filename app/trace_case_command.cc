@@ -1,0 +1,153 @@
+// `armfault trace CAMPAIGN.json --run RUN_ID`: one case of a campaign re-run exactly as the
+// campaign ran it (the same RunCase, seed, variation and fault), with its time series written
+// as a trace CSV and its record printed, to look into one run of a campaign's results.
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <fstream>
+
+#include "app/commands.h"
+#include "campaigns/campaign.h"
+#include "campaigns/runner.h"
+#include "core/json_input.h"
+#include "core/power_monitor.h"
+#include "reports/trace_csv.h"
+
+namespace armfault {
+
+namespace {
+
+size_t EditDistance(const std::string& a, const std::string& b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diagonal = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+// The run_id nearest to `id`: among the ids sharing the longest prefix with it (a typo is
+// usually in a value or the repetition near the end), the one with the fewest edits. Bounded
+// work for campaigns of millions of runs.
+std::string Nearest(const std::vector<CaseSpec>& cases, const std::string& id) {
+  size_t best_prefix = 0;
+  std::vector<const std::string*> candidates;
+  for (const CaseSpec& c : cases) {
+    const auto end = std::mismatch(id.begin(), id.end(), c.run_id.begin(), c.run_id.end()).first;
+    const size_t prefix = static_cast<size_t>(end - id.begin());
+    if (prefix > best_prefix) {
+      best_prefix = prefix;
+      candidates.clear();
+    }
+    if (prefix == best_prefix && candidates.size() < 1000) candidates.push_back(&c.run_id);
+  }
+  const std::string* best = nullptr;
+  size_t best_distance = 0;
+  for (const std::string* c : candidates) {
+    const size_t d = EditDistance(id, *c);
+    if (!best || d < best_distance) best = c, best_distance = d;
+  }
+  return best ? *best : std::string();
+}
+
+const CaseSpec& FindCase(const std::vector<CaseSpec>& cases, const std::string& id) {
+  // A case number (results.jsonl's "case"): run_ids always hold a '/', so no clash.
+  if (std::all_of(id.begin(), id.end(), [](unsigned char ch) { return std::isdigit(ch); })) {
+    const unsigned long long k = id.size() > 18 ? ~0ULL : std::stoull(id);
+    if (k >= cases.size()) {
+      throw InputError("--run", "", "case " + id + " does not exist: the campaign's cases are 0.." +
+                                        std::to_string(cases.size() - 1));
+    }
+    return cases[k];
+  }
+  for (const CaseSpec& c : cases) {
+    if (c.run_id == id) return c;
+  }
+  std::string first;
+  for (size_t k = 0; k < cases.size() && k < 3; ++k) first += (k ? ", \"" : "\"") + cases[k].run_id + "\"";
+  throw InputError("--run", "", "no run \"" + id + "\" in this campaign; did you mean \"" + Nearest(cases, id) +
+                                    "\"? (its first runs: " + first + (cases.size() > 3 ? ", ..." : "") +
+                                    "; or give a case number 0.." + std::to_string(cases.size() - 1) + ")");
+}
+
+void PrintRecord(const RunRecord& r) {
+  if (!r.ok) {
+    std::printf("result: failed: %s\n", r.failure_reason.c_str());
+  } else if (!r.detected) {
+    std::printf("result: not detected%s\n", r.alarm_before_onset ? " (an alarm before the onset)" : "");
+  } else {
+    std::printf("result: detected at %.3f s", r.detection_time_s.value_or(0));
+    if (r.latency_s) std::printf(" (latency %.3f s)", *r.latency_s);
+    std::printf(": %s, joint %d", r.isolated_family.empty() ? "unknown family" : r.isolated_family.c_str(),
+                r.isolated_joint);
+    if (r.magnitude_estimate) std::printf(", %s %.4g", r.magnitude_name.c_str(), *r.magnitude_estimate);
+    std::printf(" (confidence %.2f)%s\n", r.confidence, r.alarm_before_onset ? ", and an alarm before the onset" : "");
+  }
+  if (!r.family.empty()) {
+    std::printf("truth: %s, joint %d, onset %.3f s", r.family.c_str(), r.joint, r.onset_s);
+    if (!r.magnitude_key.empty()) std::printf(", %s %.4g", r.magnitude_key.c_str(), r.magnitude);
+    std::printf("\n");
+  } else {
+    std::printf("truth: healthy\n");
+  }
+  // The whole record, as the campaign's results.jsonl line for this run.
+  std::printf("record: %s\n", ToJson(r).dump().c_str());
+}
+
+}  // namespace
+
+int TraceCampaignCase(const TraceOptions& o) {
+  if (o.run_file.empty()) throw InputError("--run", "", "give the campaign: armfault trace CAMPAIGN.json --run RUN_ID");
+  if (!o.robot.empty() || o.duration_s || o.seed || !o.joint_specs.empty() || !o.fault_specs.empty()) {
+    throw InputError("--run", "", "the case runs as the campaign ran it: --robot, --duration, --seed, --joint and "
+                                  "--fault do not apply");
+  }
+  const Campaign campaign = ReadCampaignFile(o.run_file);
+  const std::vector<CaseSpec> cases = ExpandCases(campaign);
+  const CaseSpec& spec = FindCase(cases, o.run_id);
+
+  std::ofstream file(o.output, std::ios::binary);
+  if (!file) throw InputError(o.output, "", "cannot open the trace file for writing");
+  TraceCsvWriter writer(&file, static_cast<int>(campaign.robot.modules.size()));
+  // A second monitor beside the one inside RunCase, for --monitor-out: it sees the same ticks.
+  PowerEfficiencyMonitor monitor(campaign.monitor_model);
+  double end_s = 0;
+  const RunRecord record = RunCase(campaign, spec, ObserveWith(&monitor, [&](const Tick& tick) {
+                                     writer.Write(tick);
+                                     end_s = tick.t_s;
+                                   }));
+  monitor.Finish(end_s);
+  file.close();
+  if (!file) throw InputError(o.output, "", "error while writing the trace file");
+
+  if (!o.monitor_output.empty()) {
+    nlohmann::json out = {{"diagnosis", ToJson(Diagnose(monitor.output()))},
+                          {"record", ToJson(record)},
+                          {"verdicts", nlohmann::json::array()},
+                          {"windows", nlohmann::json::array()}};
+    for (const Verdict& v : monitor.output().verdicts) out["verdicts"].push_back(ToJson(v));
+    for (const EfficiencyWindow& w : monitor.output().windows) out["windows"].push_back(ToJson(w));
+    std::ofstream mf(o.monitor_output, std::ios::binary);
+    mf << out.dump(1) << "\n";
+    if (!mf) throw InputError(o.monitor_output, "", "cannot write the monitor output");
+  }
+  if (!o.quiet) {
+    std::printf("campaign %s: run %s (case %ld of %zu), seed %llu -> %s\n", campaign.name.c_str(), spec.run_id.c_str(),
+                spec.index, cases.size(), spec.seed, o.output.c_str());
+    std::printf("fault: %s\n", spec.fault.is_null() ? "none" : spec.fault.dump().c_str());
+    PrintRecord(record);
+  }
+  if (!record.ok) {
+    std::fprintf(stderr, "armfault: run failed: %s\n", record.failure_reason.c_str());
+    return 3;
+  }
+  return 0;
+}
+
+}  // namespace armfault

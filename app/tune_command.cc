@@ -1,0 +1,82 @@
+// `armfault tune DIR`: re-scores threshold settings from a campaign's stored decision
+// statistics, picks an operating point and writes the tuned monitor.
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+
+#include "app/commands.h"
+#include "campaigns/runner.h"
+#include "campaigns/tuning.h"
+#include "core/json_input.h"
+
+namespace armfault {
+
+namespace {
+
+std::string RateText(const nlohmann::json& r) {
+  if (r["value"].is_null()) return "n/a";
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "%.3f [%.3f, %.3f] (%ld/%ld)", r["value"].get<double>(), r["low"].get<double>(),
+                r["high"].get<double>(), r["count"].get<long>(), r["runs"].get<long>());
+  return buf;
+}
+
+void PrintPoint(const char* title, const nlohmann::json& p) {
+  std::printf("%s: %s\n", title, p["setting"].dump().c_str());
+  std::printf("  detection %s\n  false alarms %s\n  isolation %s\n", RateText(p["detection_rate"]).c_str(),
+              RateText(p["false_alarm_rate"]).c_str(), RateText(p["isolation_accuracy"]).c_str());
+}
+
+}  // namespace
+
+int TuneCommand(const TuneCommandOptions& o) {
+  TuneOptions options;
+  options.sweep = o.sweep;
+  options.rule.kind = OperatingRuleKind(o.rule);
+  if (!(o.false_alarm_ceiling >= 0 && o.false_alarm_ceiling <= 1)) {
+    throw InputError("--false-alarm-ceiling", "", "expected a rate from 0 to 1, got " + std::to_string(o.false_alarm_ceiling));
+  }
+  if (!(o.miss_cost >= 0 && o.false_alarm_cost >= 0)) {
+    throw InputError("--miss-cost", "", "costs must be >= 0");
+  }
+  options.rule.false_alarm_ceiling = o.false_alarm_ceiling;
+  options.rule.miss_cost = o.miss_cost;
+  options.rule.false_alarm_cost = o.false_alarm_cost;
+  options.threads = o.threads;
+
+  const auto start = std::chrono::steady_clock::now();
+  const TuningResult r = TuneCampaignDir(o.dir, options);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const std::filesystem::path dir(o.dir);
+  const std::string monitor_path = o.monitor_output.empty() ? (dir / "tuned-monitor.json").string() : o.monitor_output;
+  WriteAtomically(dir / "tuning.json", r.report.dump(2) + "\n");
+  WriteAtomically(monitor_path, MonitorConfigToJson(r.tuned).dump(2) + "\n");
+
+  std::printf("scored %ld threshold settings on %ld runs in %.2f s (rule %s)\n", r.settings, r.runs, seconds,
+              r.report["rule"].dump().c_str());
+  PrintPoint("as run", r.report["default_point"]);
+  PrintPoint("operating point", r.report["operating_point"]);
+  std::printf("ROC AUC: overall %.3f", r.report["roc"]["overall"]["auc"].get<double>());
+  for (const auto& [family, roc] : r.report["roc"].items()) {
+    if (family != "overall") std::printf(", %s %.3f", family.c_str(), roc["auc"].get<double>());
+  }
+  std::printf("\n");
+  for (const auto& [family, pod] : r.report["detection_probability"].items()) {
+    const nlohmann::json& fit = pod["fit"];
+    if (fit.is_null()) continue;
+    std::string a90_95 = "not reached in the tested range";
+    if (fit.value("ok", false) && !fit["a90_95"].is_null()) {
+      char buf[64];
+      std::snprintf(buf, sizeof buf, "%s = %.3g", pod["magnitude_key"].get<std::string>().c_str(),
+                    fit["a90_95"]["magnitude"].get<double>());
+      a90_95 = buf;
+    } else if (!fit.value("ok", false)) {
+      a90_95 = "no fit (" + fit.value("reason", std::string()) + ")";
+    }
+    std::printf("90 %% detection at 95 %% confidence, %s: %s\n", family.c_str(), a90_95.c_str());
+  }
+  std::printf("wrote %s and %s\n", (dir / "tuning.json").string().c_str(), monitor_path.c_str());
+  return 0;
+}
+
+}  // namespace armfault

@@ -1,0 +1,290 @@
+#include "campaigns/merge.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+
+#include "campaigns/runner.h"
+#include "core/json_input.h"
+
+namespace armfault {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct ShardInput {
+  fs::path dir;
+  std::string campaign_path, results_path;
+  nlohmann::json file;  // campaign.json
+  int index = 0, count = 1;
+  long cases = 0;       // the whole campaign's
+  std::unique_ptr<std::ifstream> in;
+  long line = 0;        // lines read so far, for messages
+};
+
+long LongAt(const nlohmann::json& j, const std::string& pointer, const std::string& source) {
+  const nlohmann::json* v = nullptr;
+  try {
+    v = &j.at(nlohmann::json::json_pointer(pointer));
+  } catch (const nlohmann::json::exception&) {
+    throw InputError(source, pointer, "missing: is this an armfault run directory's campaign.json?");
+  }
+  if (!v->is_number_integer()) throw InputError(source, pointer, "expected a whole number, got " + Describe(*v));
+  return v->get<long>();
+}
+
+// Reads DIR/campaign.json and checks the keys merge relies on.
+ShardInput ReadShard(const std::string& dir) {
+  ShardInput s;
+  s.dir = dir;
+  s.campaign_path = (s.dir / "campaign.json").string();
+  s.results_path = (s.dir / "results.jsonl").string();
+  s.file = ReadJsonFile(s.campaign_path);
+  if (!s.file.is_object()) throw InputError(s.campaign_path, "", "expected the JSON object `armfault run` writes");
+  if (!s.file.contains("armfault_version") || !s.file["armfault_version"].is_string()) {
+    throw InputError(s.campaign_path, "/armfault_version", "missing or not a string");
+  }
+  if (!s.file.contains("campaign") || !s.file["campaign"].is_object()) {
+    throw InputError(s.campaign_path, "/campaign", "missing or not an object");
+  }
+  s.index = static_cast<int>(LongAt(s.file, "/shard/index", s.campaign_path));
+  s.count = static_cast<int>(LongAt(s.file, "/shard/count", s.campaign_path));
+  s.cases = LongAt(s.file, "/cases", s.campaign_path);
+  if (s.count < 1 || s.index < 0 || s.index >= s.count) {
+    throw InputError(s.campaign_path, "/shard", "shard " + std::to_string(s.index) + " of " + std::to_string(s.count) +
+                                                     " does not exist");
+  }
+  return s;
+}
+
+// Where `b`'s campaign first differs from `a`'s, for the message: "/campaign/seed: 4 here, 3 in ...".
+void RequireSameCampaign(const ShardInput& a, const ShardInput& b) {
+  const nlohmann::json& ca = a.file["campaign"];
+  const nlohmann::json& cb = b.file["campaign"];
+  if (ca == cb) return;
+  const nlohmann::json patch = nlohmann::json::diff(ca, cb);
+  const std::string path = patch.empty() ? "" : patch[0].value("path", "");
+  const nlohmann::json::json_pointer ptr(path);
+  auto describe = [&](const nlohmann::json& c) { return c.contains(ptr) ? Describe(c.at(ptr)) : std::string("absent"); };
+  throw InputError(b.campaign_path, "/campaign" + path,
+                   "another campaign than in " + a.campaign_path + " (" + describe(cb) + " here, " + describe(ca) +
+                       " there): merge only the shards of one campaign");
+}
+
+long ShardCases(long cases, int index, int count) { return cases / count + (index < cases % count ? 1 : 0); }
+
+// Complete lines (ending in '\n') and whether a cut line follows them.
+std::pair<long, bool> CountLines(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, "", "cannot open the file for reading: has this shard run?");
+  long lines = 0;
+  char last = '\n';
+  char buffer[1 << 16];
+  while (in.read(buffer, sizeof buffer) || in.gcount() > 0) {
+    const std::streamsize n = in.gcount();
+    for (std::streamsize k = 0; k < n; ++k) lines += buffer[k] == '\n';
+    last = buffer[n - 1];
+  }
+  return {lines, last != '\n'};
+}
+
+std::string ResumeHint(const ShardInput& s) {
+  return "finish it with `armfault run <campaign file> --shard " + std::to_string(s.index) + "/" +
+         std::to_string(s.count) + " -o " + s.dir.string() + " --resume`";
+}
+
+// The parsed campaign for scoring (name, floors). Trajectory CSV files are not read again: a
+// merge runs where the shard directories are, not necessarily beside the campaign file, and
+// the trajectories play no part in scoring. The written JSON stays the resolved one.
+Campaign CampaignForScoring(const ShardInput& first) {
+  const nlohmann::json& resolved = first.file["campaign"];
+  nlohmann::json copy = resolved;
+  if (copy.contains("trajectories") && copy["trajectories"].is_array()) {
+    for (nlohmann::json& t : copy["trajectories"]) {
+      if (!t.is_object() || !t.contains("joints") || !t["joints"].is_object()) continue;
+      for (auto& [joint, spec] : t["joints"].items()) {
+        if (spec.is_object() && spec.value("type", "") == "csv") spec = {{"type", "hold"}};
+      }
+    }
+  }
+  Campaign c;
+  try {
+    c = CampaignFromJson(copy, first.campaign_path, first.dir.string());
+  } catch (const InputError& e) {
+    throw InputError(first.campaign_path, "/campaign" + e.pointer(), e.message());
+  }
+  c.resolved = resolved;
+  if (CaseCount(c) != first.cases) {
+    throw InputError(first.campaign_path, "/cases",
+                     std::to_string(first.cases) + " cases, but the campaign has " + std::to_string(CaseCount(c)));
+  }
+  return c;
+}
+
+std::string List(const std::vector<int>& xs) {
+  std::string out;
+  for (size_t k = 0; k < xs.size() && k < 10; ++k) out += (k ? ", " : "") + std::to_string(xs[k]);
+  if (xs.size() > 10) out += ", ... (" + std::to_string(xs.size()) + " in all)";
+  return out;
+}
+
+}  // namespace
+
+MergeResult MergeShards(const std::vector<std::string>& input_dirs, const std::string& output_dir) {
+  if (input_dirs.empty()) throw InputError("merge", "", "no shard directories given");
+  std::vector<ShardInput> shards;
+  shards.reserve(input_dirs.size());
+  for (const std::string& dir : input_dirs) shards.push_back(ReadShard(dir));
+
+  // One campaign, one version, one shard count.
+  const ShardInput& first = shards[0];
+  const std::string version = first.file["armfault_version"];
+  if (version != ARMFAULT_VERSION) {
+    throw InputError(first.campaign_path, "/armfault_version",
+                     "the shards ran with armfault " + version + ", this is armfault " ARMFAULT_VERSION +
+                         ": merge with the version that ran them");
+  }
+  for (const ShardInput& s : shards) {
+    if (s.file["armfault_version"] != first.file["armfault_version"]) {
+      throw InputError(s.campaign_path, "/armfault_version",
+                       "armfault " + s.file["armfault_version"].get<std::string>() + " ran this shard, armfault " +
+                           version + " ran " + first.dir.string());
+    }
+    RequireSameCampaign(first, s);
+    if (s.cases != first.cases) {
+      throw InputError(s.campaign_path, "/cases", std::to_string(s.cases) + " here, " + std::to_string(first.cases) +
+                                                      " in " + first.campaign_path);
+    }
+    if (s.count != first.count) {
+      throw InputError(s.campaign_path, "/shard/count",
+                       "this is shard " + std::to_string(s.index) + "/" + std::to_string(s.count) + ", but " +
+                           first.dir.string() + " is shard " + std::to_string(first.index) + "/" +
+                           std::to_string(first.count) + ": merge shards of one split only");
+    }
+  }
+
+  // Exactly the shards 0 .. N-1, each once.
+  const int n = first.count;
+  std::vector<int> owner(static_cast<size_t>(n), -1);
+  for (size_t k = 0; k < shards.size(); ++k) {
+    const ShardInput& s = shards[k];
+    int& o = owner[static_cast<size_t>(s.index)];
+    if (o >= 0) {
+      throw InputError(s.campaign_path, "/shard/index",
+                       "shard " + std::to_string(s.index) + "/" + std::to_string(n) + " is given twice (also " +
+                           shards[static_cast<size_t>(o)].dir.string() + "): give each shard once");
+    }
+    o = static_cast<int>(k);
+  }
+  std::vector<int> missing;
+  for (int k = 0; k < n; ++k) {
+    if (owner[static_cast<size_t>(k)] < 0) missing.push_back(k);
+  }
+  if (!missing.empty()) {
+    throw InputError("merge", "",
+                     std::string(missing.size() == 1 ? "shard " : "shards ") + List(missing) + " of " +
+                         std::to_string(n) + (missing.size() == 1 ? " is" : " are") +
+                         " missing: give the output directories of all shards 0.." + std::to_string(n - 1));
+  }
+
+  // Every shard complete before anything is written.
+  std::vector<std::string> incomplete;
+  std::string first_problem;
+  for (int k = 0; k < n; ++k) {
+    const ShardInput& s = shards[static_cast<size_t>(owner[static_cast<size_t>(k)])];
+    const long expected = ShardCases(s.cases, s.index, s.count);
+    const auto [lines, cut] = CountLines(s.results_path);
+    std::string problem;
+    if (lines < expected) {
+      problem = "shard " + std::to_string(k) + "/" + std::to_string(n) + " is incomplete: " + std::to_string(lines) +
+                " of its " + std::to_string(expected) + " runs, " + std::to_string(expected - lines) + " missing" +
+                (cut ? " (the last line is cut)" : "") + "; " + ResumeHint(s);
+    } else if (lines > expected || cut) {
+      problem = "shard " + std::to_string(k) + "/" + std::to_string(n) + " has " + std::to_string(expected) +
+                " runs, but the file holds " + std::to_string(lines) + " lines" + (cut ? " and a cut one" : "") +
+                ": it was not written by this shard's run";
+    }
+    if (!problem.empty()) {
+      if (first_problem.empty()) first_problem = problem;
+      incomplete.push_back(s.results_path);
+    }
+  }
+  if (!incomplete.empty()) {
+    throw InputError(incomplete[0], "",
+                     first_problem + (incomplete.size() > 1 ? " (and " + std::to_string(incomplete.size() - 1) +
+                                                                  " more shards with the same problem)"
+                                                            : ""));
+  }
+
+  MergeResult result;
+  result.campaign = CampaignForScoring(first);
+  result.shards = n;
+
+  const fs::path out(output_dir);
+  fs::create_directories(out);
+  for (const ShardInput& s : shards) {
+    if (fs::equivalent(out, s.dir)) {
+      throw InputError(output_dir, "", "the output directory is one of the shards: choose another one");
+    }
+  }
+
+  for (ShardInput& s : shards) {
+    s.in = std::make_unique<std::ifstream>(s.results_path, std::ios::binary);
+    if (!*s.in) {
+      throw InputError(s.results_path, "",
+                       "cannot open the file for reading (" + std::to_string(n) +
+                           " shards are open at once: raise the open-file limit, ulimit -n)");
+    }
+  }
+
+  // k-way merge by case: case c is in shard c % N, and each shard's lines ascend, so the next
+  // line of shard c % N must be case c. Lines are copied as read.
+  const fs::path results_path = out / "results.jsonl";
+  const fs::path tmp_path = out / "results.jsonl.tmp";
+  std::FILE* merged = std::fopen(tmp_path.string().c_str(), "wb");
+  if (!merged) throw InputError(tmp_path.string(), "", "cannot open the file for writing");
+  try {
+    std::string line;
+    for (long c = 0; c < first.cases; ++c) {
+      ShardInput& s = shards[static_cast<size_t>(owner[static_cast<size_t>(c % n)])];
+      std::getline(*s.in, line);
+      ++s.line;
+      const std::string where = "line " + std::to_string(s.line) + ": ";
+      long found = -1;
+      try {
+        const nlohmann::json j = nlohmann::json::parse(line);
+        found = j.at("case").get<long>();
+      } catch (const nlohmann::json::exception& e) {
+        throw InputError(s.results_path, "", where + "not a results line (" + e.what() + ")");
+      }
+      if (found != c) {
+        throw InputError(s.results_path, "", where + "case " + std::to_string(found) + ", expected case " +
+                                                 std::to_string(c) + " (shard " + std::to_string(s.index) + "/" +
+                                                 std::to_string(n) + " in case order)");
+      }
+      line += '\n';
+      if (std::fwrite(line.data(), 1, line.size(), merged) != line.size()) {
+        throw InputError(tmp_path.string(), "", "error while writing");
+      }
+      ++result.runs;
+    }
+    if (std::fclose(merged) != 0) {
+      merged = nullptr;
+      throw InputError(tmp_path.string(), "", "error while writing");
+    }
+    merged = nullptr;
+  } catch (...) {
+    if (merged) std::fclose(merged);
+    std::error_code ec;
+    fs::remove(tmp_path, ec);
+    throw;
+  }
+  // As an unsharded run writes it (the same function, shard 0/1).
+  WriteAtomically(out / "campaign.json", CampaignFileJson(result.campaign, ShardSpec{}).dump(2) + "\n");
+  fs::rename(tmp_path, results_path);
+  return result;
+}
+
+}  // namespace armfault

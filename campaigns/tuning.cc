@@ -1,0 +1,748 @@
+#include "campaigns/tuning.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <tuple>
+
+#include "campaigns/campaign.h"
+#include "campaigns/campaign_summary.h"
+#include "campaigns/run_record.h"
+#include "core/json_input.h"
+
+namespace armfault {
+
+namespace {
+
+namespace fs = std::filesystem;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kZ95Two = 1.959963984540054;
+constexpr double kZ95One = 1.6448536269514722;
+
+StateLimits MonitorConfig::*Limits(Detector d) {
+  switch (d) {
+    case Detector::kKtFactor: return &MonitorConfig::kt_factor;
+    case Detector::kResistanceFactor: return &MonitorConfig::resistance_factor;
+    case Detector::kFrictionFactor: return &MonitorConfig::friction_factor;
+    case Detector::kSensorDrift: return &MonitorConfig::sensor_drift_Nm;
+  }
+  return &MonitorConfig::kt_factor;
+}
+
+// Default axes: worn limits from near the healthy value out to clearly worn.
+struct DefaultAxis {
+  double from, to;
+  int steps;
+};
+DefaultAxis DefaultAxisOf(Detector d) {
+  switch (d) {
+    case Detector::kKtFactor: return {0.85, 0.99, 15};
+    case Detector::kResistanceFactor: return {1.2, 3.0, 7};
+    case Detector::kFrictionFactor: return {1.05, 1.95, 10};
+    case Detector::kSensorDrift: return {0.5, 3.0, 6};
+  }
+  return {0, 0, 1};
+}
+
+std::vector<double> Grid(double from, double to, int steps) {
+  std::vector<double> v;
+  for (int i = 0; i < steps; ++i) {
+    // Rounded to 1e-9 so that 0.85 + 3 x 0.01 prints as 0.88.
+    const double x = steps == 1 ? from : from + (to - from) * i / (steps - 1);
+    v.push_back(std::round(x * 1e9) / 1e9);
+  }
+  return v;
+}
+
+double ParseNumber(const std::string& text, const std::string& what) {
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || !std::isfinite(v)) {
+    throw InputError("--sweep", "", what + ": expected a number, got \"" + text + "\"");
+  }
+  return v;
+}
+
+// Outcome of one detector (over all joints) or of the tick-level events, for one threshold.
+struct Hit {
+  double t = kInf;
+  int joint = 0;
+  int family = -1;  // index into the family table
+  bool pre = false;  // alarm before the onset
+};
+
+struct FamilyTable {
+  std::vector<std::string> names;
+  int Id(const std::string& name) {
+    for (size_t i = 0; i < names.size(); ++i) {
+      if (names[i] == name) return static_cast<int>(i);
+    }
+    names.push_back(name);
+    return static_cast<int>(names.size()) - 1;
+  }
+};
+
+struct RunTable {
+  int family = -1;  // true family id, -1 healthy
+  int joint = 0;
+  std::string magnitude_key;
+  double magnitude = 0;
+  std::string category;  // magnitude of a family without a numeric one (the stuck lead...)
+  double onset_s = 0;
+  Hit event;
+  std::array<std::vector<Hit>, kDetectorCount> detector;  // per axis value
+};
+
+// The first alarm of a run under the axis indices k: the same order as Decide().
+Hit Combine(const RunTable& r, const std::array<int, kDetectorCount>& k) {
+  Hit best = r.event;
+  int best_priority = -1;
+  bool pre = r.event.pre;
+  for (int d = 0; d < kDetectorCount; ++d) {
+    const Hit& h = r.detector[d][k[d]];
+    pre = pre || h.pre;
+    if (h.t == kInf) continue;
+    if (best.t == kInf || std::tie(h.t, d, h.joint) < std::tie(best.t, best_priority, best.joint)) {
+      best = h;
+      best_priority = d;
+    }
+  }
+  best.pre = pre;
+  return best;
+}
+
+Hit DetectorHit(const DecisionStats& s, Detector d, double threshold, FamilyTable* families) {
+  Hit out;
+  for (const DecisionStats::Trace& t : s.traces) {
+    if (t.detector != d) continue;
+    if (Alarms(t.pre_max_quanta, threshold)) out.pre = true;
+    const auto it = std::partition_point(t.rise.begin(), t.rise.end(), [&](const DecisionStats::Rise& r) {
+      return !Alarms(static_cast<double>(r.quanta), threshold);
+    });
+    if (it == t.rise.end()) continue;
+    if (out.t == kInf || std::tie(it->t_s, t.joint) < std::tie(out.t, out.joint)) {
+      out.t = it->t_s;
+      out.joint = t.joint;
+      out.family = families->Id(it->family.empty() ? Detectors()[static_cast<int>(d)].family : it->family);
+    }
+  }
+  return out;
+}
+
+Hit EventHit(const DecisionStats& s, FamilyTable* families) {
+  Hit out;
+  for (const DecisionStats::Event& e : s.events) {
+    if (e.t_s < s.onset_s) out.pre = true;
+    if (s.first_tick_s < 0) continue;
+    const double t = std::max(e.t_s, s.first_tick_s);
+    if (out.t == kInf || std::tie(t, e.joint) < std::tie(out.t, out.joint)) {
+      out.t = t;
+      out.joint = e.joint;
+      out.family = families->Id(e.family);
+    }
+  }
+  return out;
+}
+
+// Counts of one setting.
+struct Score {
+  long detected = 0, isolated = 0, false_alarms = 0, before_onset = 0;
+  std::vector<long> family_detected, family_isolated;
+};
+
+struct Scorer {
+  const std::vector<RunTable>& runs;
+  long faulty = 0, healthy = 0;
+  std::vector<long> family_runs;
+
+  Score Evaluate(const std::array<int, kDetectorCount>& k, std::vector<double>* latencies = nullptr,
+                 int latency_family = -2) const {
+    Score s;
+    s.family_detected.assign(family_runs.size(), 0);
+    s.family_isolated.assign(family_runs.size(), 0);
+    for (const RunTable& r : runs) {
+      const Hit h = Combine(r, k);
+      const bool detected = h.t != kInf;
+      if (r.family < 0) {
+        if (detected) ++s.false_alarms;
+        continue;
+      }
+      if (h.pre) ++s.before_onset;
+      if (!detected) continue;
+      ++s.detected;
+      ++s.family_detected[r.family];
+      if (h.family == r.family && h.joint == r.joint) {
+        ++s.isolated;
+        ++s.family_isolated[r.family];
+      }
+      if (latencies && (latency_family == -1 || latency_family == r.family)) latencies->push_back(h.t - r.onset_s);
+    }
+    return s;
+  }
+};
+
+nlohmann::json Rate(long k, long n) {
+  if (n == 0) return {{"value", nullptr}, {"low", nullptr}, {"high", nullptr}, {"count", 0}, {"runs", 0}};
+  const RateInterval w = Wilson(k, n);
+  return {{"value", w.rate}, {"low", w.low}, {"high", w.high}, {"count", k}, {"runs", n}};
+}
+double Ratio(long k, long n) { return n > 0 ? static_cast<double>(k) / n : 0.0; }
+
+// Median and nearest-rank 95th percentile, as summary.json computes them.
+std::pair<nlohmann::json, nlohmann::json> MedianP95(std::vector<double> v) {
+  if (v.empty()) return {nullptr, nullptr};
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return {n % 2 == 1 ? v[n / 2] : (v[n / 2 - 1] + v[n / 2]) / 2, v[(95 * n + 99) / 100 - 1]};
+}
+
+// Severity: the distance from healthy, > 0, in which detection should rise.
+double Severity(const std::string& key, double m) {
+  if (key == "kt_factor") return 1 - m;
+  if (key == "friction_factor" || key == "resistance_factor") return m - 1;
+  if (key == "resistance_ohm") return 1 / m;  // a short's conductance
+  return m;                                   // drag_fraction, drift_Nm_per_s
+}
+double MagnitudeOf(const std::string& key, double s) {
+  if (key == "kt_factor") return 1 - s;
+  if (key == "friction_factor" || key == "resistance_factor") return 1 + s;
+  if (key == "resistance_ohm") return 1 / s;
+  return s;
+}
+
+std::string CategoryOf(const nlohmann::json& fault) {
+  for (const char* key : {"lead", "kind"}) {
+    if (fault.is_object() && fault.contains(key) && fault[key].is_string()) return fault[key].get<std::string>();
+  }
+  return "";
+}
+
+}  // namespace
+
+double PodFit::Probability(double severity) const {
+  return 1 / (1 + std::exp(-(intercept + slope * std::log(severity))));
+}
+
+double PodFit::Bound(double severity, double z) const {
+  const double x = std::log(severity);
+  const double eta = intercept + slope * x;
+  const double var = cov[0][0] + 2 * x * cov[0][1] + x * x * cov[1][1];
+  return 1 / (1 + std::exp(-(eta + z * std::sqrt(std::max(0.0, var)))));
+}
+
+PodFit FitPod(const std::vector<double>& severity, const std::vector<bool>& detected) {
+  PodFit f;
+  std::vector<double> x;
+  for (double s : severity) x.push_back(std::log(s));
+  const size_t n = x.size();
+  if (n < 4 || *std::min_element(x.begin(), x.end()) == *std::max_element(x.begin(), x.end())) {
+    f.reason = "needs at least 4 runs at 2 or more magnitudes";
+    return f;
+  }
+  // Firth-penalised Newton iterations: score U_j = sum (y - p + h (1/2 - p)) x_j.
+  double a = 0, b = 0;
+  double inv[2][2] = {{0, 0}, {0, 0}};
+  for (int iter = 0; iter < 200; ++iter) {
+    double i00 = 0, i01 = 0, i11 = 0;
+    std::vector<double> p(n), w(n);
+    for (size_t i = 0; i < n; ++i) {
+      p[i] = 1 / (1 + std::exp(-(a + b * x[i])));
+      w[i] = std::max(1e-12, p[i] * (1 - p[i]));
+      i00 += w[i];
+      i01 += w[i] * x[i];
+      i11 += w[i] * x[i] * x[i];
+    }
+    const double det = i00 * i11 - i01 * i01;
+    if (!(det > 1e-300)) {
+      f.reason = "singular information matrix";
+      return f;
+    }
+    inv[0][0] = i11 / det, inv[0][1] = inv[1][0] = -i01 / det, inv[1][1] = i00 / det;
+    double u0 = 0, u1 = 0;
+    for (size_t i = 0; i < n; ++i) {
+      const double h = w[i] * (inv[0][0] + 2 * x[i] * inv[0][1] + x[i] * x[i] * inv[1][1]);
+      const double r = (detected[i] ? 1.0 : 0.0) - p[i] + h * (0.5 - p[i]);
+      u0 += r;
+      u1 += r * x[i];
+    }
+    double da = inv[0][0] * u0 + inv[0][1] * u1, db = inv[1][0] * u0 + inv[1][1] * u1;
+    const double step = std::max(std::fabs(da), std::fabs(db));
+    if (step > 5) da *= 5 / step, db *= 5 / step;  // damped: separation pushes far
+    a += da;
+    b += db;
+    if (step < 1e-9) {
+      f.ok = true;
+      break;
+    }
+  }
+  if (!f.ok) {
+    f.reason = "did not converge";
+    return f;
+  }
+  f.intercept = a;
+  f.slope = b;
+  for (int i = 0; i < 2; ++i) {
+    for (int j = 0; j < 2; ++j) f.cov[i][j] = inv[i][j];
+  }
+  return f;
+}
+
+OperatingRule::Kind OperatingRuleKind(const std::string& name) {
+  if (name == "max_detection") return OperatingRule::Kind::kMaxDetection;
+  if (name == "youden") return OperatingRule::Kind::kYouden;
+  if (name == "min_cost") return OperatingRule::Kind::kMinCost;
+  throw InputError("--rule", "", "unknown rule \"" + name + "\" (max_detection, youden, min_cost)");
+}
+
+SweepGrid MakeSweepGrid(const MonitorConfig& base, const std::string& spec) {
+  SweepGrid grid;
+  for (const DetectorInfo& info : Detectors()) {
+    const DefaultAxis a = DefaultAxisOf(info.detector);
+    grid.push_back({info.detector, Grid(a.from, a.to, a.steps)});
+  }
+  size_t start = 0;
+  while (start < spec.size()) {
+    size_t comma = spec.find(',', start);
+    if (comma == std::string::npos) comma = spec.size();
+    const std::string item = spec.substr(start, comma - start);
+    start = comma + 1;
+    const size_t eq = item.find('=');
+    const std::string name = item.substr(0, eq);
+    const std::string suffix = ".worn";
+    if (eq == std::string::npos || name.size() <= suffix.size() ||
+        name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0) {
+      throw InputError("--sweep", "", "expected NAME.worn=FROM:TO:STEPS or NAME.worn=VALUE, got \"" + item + "\"");
+    }
+    const DetectorInfo* info = nullptr;
+    try {
+      info = &DetectorByParameter(name.substr(0, name.size() - suffix.size()));
+    } catch (const std::out_of_range& e) {
+      throw InputError("--sweep", "", e.what());
+    }
+    const std::string range = item.substr(eq + 1);
+    std::vector<double> values;
+    const size_t c1 = range.find(':');
+    if (c1 == std::string::npos) {
+      values = {ParseNumber(range, name)};
+    } else {
+      const size_t c2 = range.find(':', c1 + 1);
+      if (c2 == std::string::npos) throw InputError("--sweep", "", name + ": expected FROM:TO:STEPS, got \"" + range + "\"");
+      const double from = ParseNumber(range.substr(0, c1), name), to = ParseNumber(range.substr(c1 + 1, c2 - c1 - 1), name);
+      const double steps = ParseNumber(range.substr(c2 + 1), name);
+      if (!(steps >= 1 && steps <= 10000 && steps == std::floor(steps))) {
+        throw InputError("--sweep", "", name + ": STEPS must be a whole number from 1 to 10000, got " + range.substr(c2 + 1));
+      }
+      values = Grid(from, to, static_cast<int>(steps));
+    }
+    for (double v : values) {
+      // The same bounds the monitor config enforces.
+      const bool below = info->detector == Detector::kKtFactor;
+      if (below ? !(v > 0 && v <= 1) : !(v >= info->healthy)) {
+        throw InputError("--sweep", "", name + ": " + std::to_string(v) + " is not a worn limit (" +
+                                            (below ? "0 < value <= 1" : "value >= " + std::to_string(info->healthy)) + ")");
+      }
+    }
+    grid[static_cast<int>(info->detector)].worn_values = values;
+  }
+  // The monitor's own limits are always a setting, so the default point is scored the same way.
+  for (SweepAxis& axis : grid) {
+    axis.worn_values.push_back((base.*Limits(axis.detector)).worn);
+    std::sort(axis.worn_values.begin(), axis.worn_values.end());
+    axis.worn_values.erase(std::unique(axis.worn_values.begin(), axis.worn_values.end()), axis.worn_values.end());
+  }
+  return grid;
+}
+
+long SettingCount(const SweepGrid& grid) {
+  long n = 1;
+  for (const SweepAxis& a : grid) n *= static_cast<long>(a.worn_values.size());
+  return n;
+}
+
+TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& options) {
+  const fs::path dir(dir_name);
+  const fs::path campaign_path = dir / "campaign.json", results_path = dir / "results.jsonl";
+  const nlohmann::json campaign_file = ReadJsonFile(campaign_path.string());
+  if (!campaign_file.is_object() || !campaign_file.contains("campaign")) {
+    throw InputError(campaign_path.string(), "/campaign", "missing: not a campaign output directory");
+  }
+  const Campaign campaign = CampaignFromJson(campaign_file["campaign"], campaign_path.string(), dir.string());
+  const MonitorConfig& base = campaign.monitor_model.config;
+  const SweepGrid grid = MakeSweepGrid(base, options.sweep);
+  const DetectorThresholds as_run = campaign.monitor_model.thresholds;
+
+  // Load the runs: per run, the first alarm of each detector at each axis value.
+  FamilyTable families;
+  for (const DetectorInfo& d : Detectors()) families.Id(d.family);
+  std::vector<RunTable> runs;
+  long failed = 0;
+  {
+    std::ifstream in(results_path, std::ios::binary);
+    if (!in) throw InputError(results_path.string(), "", "cannot read (run the campaign first)");
+    std::string line;
+    long n = 0;
+    while (std::getline(in, line)) {
+      ++n;
+      auto where = [&] { return "line " + std::to_string(n) + ": "; };
+      RunRecord rec;
+      DecisionStats stats;
+      try {
+        rec = RunRecordFromJson(nlohmann::json::parse(line));
+        if (!rec.ok) {
+          ++failed;
+          continue;
+        }
+        if (rec.decision.is_null()) throw std::runtime_error("no \"decision\" statistics (made by an older armfault?)");
+        stats = DecisionStatsFromJson(rec.decision);
+      } catch (const std::exception& e) {
+        throw InputError(results_path.string(), "", where() + e.what());
+      }
+      // The stored statistics must give the recorded outcome under the thresholds the run used.
+      const DecisionOutcome check = Decide(stats, as_run);
+      if (check.detected != rec.detected || check.alarm_before_onset != rec.alarm_before_onset ||
+          (check.detected && (check.detection_time_s != *rec.detection_time_s || check.family != rec.isolated_family ||
+                              check.joint != rec.isolated_joint))) {
+        throw InputError(results_path.string(), "",
+                         where() + "run " + rec.run_id + ": its decision statistics do not reproduce its result");
+      }
+      RunTable r;
+      r.family = rec.family.empty() ? -1 : families.Id(rec.family);
+      r.joint = rec.joint;
+      r.magnitude_key = rec.magnitude_key;
+      r.magnitude = rec.magnitude;
+      r.category = CategoryOf(rec.fault);
+      r.onset_s = rec.onset_s;
+      r.event = EventHit(stats, &families);
+      for (const SweepAxis& axis : grid) {
+        const DetectorInfo& info = Detectors()[static_cast<int>(axis.detector)];
+        auto& hits = r.detector[static_cast<int>(axis.detector)];
+        for (double worn : axis.worn_values) hits.push_back(DetectorHit(stats, axis.detector, ThresholdFor(info, worn), &families));
+      }
+      runs.push_back(std::move(r));
+    }
+  }
+  if (runs.empty()) throw InputError(results_path.string(), "", "no completed runs to tune on");
+
+  Scorer scorer{runs, 0, 0, {}};
+  scorer.family_runs.assign(families.names.size(), 0);
+  for (const RunTable& r : runs) {
+    if (r.family < 0) {
+      ++scorer.healthy;
+    } else {
+      ++scorer.faulty;
+      ++scorer.family_runs[r.family];
+    }
+  }
+
+  // Score every setting (mixed radix over the axes), in parallel: each setting is independent.
+  const long settings = SettingCount(grid);
+  auto indices = [&](long s) {
+    std::array<int, kDetectorCount> k{};
+    for (int d = kDetectorCount - 1; d >= 0; --d) {
+      const long size = static_cast<long>(grid[d].worn_values.size());
+      k[d] = static_cast<int>(s % size);
+      s /= size;
+    }
+    return k;
+  };
+  std::vector<Score> scores(static_cast<size_t>(settings));
+  const int threads = options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency();
+  tbb::task_arena arena(threads);
+  arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<long>(0, settings), [&](const tbb::blocked_range<long>& range) {
+      for (long s = range.begin(); s != range.end(); ++s) scores[s] = scorer.Evaluate(indices(s));
+    });
+  });
+
+  auto dr = [&](const Score& s) { return Ratio(s.detected, scorer.faulty); };
+  auto fa = [&](const Score& s) { return Ratio(s.false_alarms, scorer.healthy); };
+  // Ties: fewer false alarms, better isolation, then the larger thresholds (more margin on
+  // healthy joints the campaign did not cover), each normalised by its axis.
+  auto margin = [&](long s) {
+    const auto k = indices(s);
+    double sum = 0;
+    for (int d = 0; d < kDetectorCount; ++d) {
+      const double h = ThresholdFor(Detectors()[d], grid[d].worn_values[k[d]]);
+      sum += h / std::max(1e-12, ThresholdFor(Detectors()[d], grid[d].worn_values.back()) +
+                                     ThresholdFor(Detectors()[d], grid[d].worn_values.front()));
+    }
+    return sum;
+  };
+  auto prefer = [&](long a, long b) {  // true if a is the better tie
+    const Score &x = scores[a], &y = scores[b];
+    if (x.false_alarms != y.false_alarms) return x.false_alarms < y.false_alarms;
+    if (x.isolated != y.isolated) return x.isolated > y.isolated;
+    const double ma = margin(a), mb = margin(b);
+    if (ma != mb) return ma > mb;
+    return a < b;
+  };
+  const OperatingRule& rule = options.rule;
+  long best = -1;
+  double best_value = 0;
+  for (long s = 0; s < settings; ++s) {
+    double value = 0;
+    switch (rule.kind) {
+      case OperatingRule::Kind::kMaxDetection:
+        if (fa(scores[s]) > rule.false_alarm_ceiling) continue;
+        value = dr(scores[s]);
+        break;
+      case OperatingRule::Kind::kYouden: value = dr(scores[s]) - fa(scores[s]); break;
+      case OperatingRule::Kind::kMinCost:
+        value = -(rule.miss_cost * (1 - dr(scores[s])) + rule.false_alarm_cost * fa(scores[s]));
+        break;
+    }
+    if (best < 0 || value > best_value || (value == best_value && prefer(s, best))) {
+      best = s;
+      best_value = value;
+    }
+  }
+  if (best < 0) {
+    throw InputError("--false-alarm-ceiling", "",
+                     "no setting keeps the false-alarm rate at or below " + std::to_string(rule.false_alarm_ceiling) +
+                         "; raise the ceiling or widen the sweep");
+  }
+  const std::array<int, kDetectorCount> op = indices(best);
+  std::array<int, kDetectorCount> as_run_k{};
+  for (int d = 0; d < kDetectorCount; ++d) {
+    const auto& v = grid[d].worn_values;
+    as_run_k[d] = static_cast<int>(std::find(v.begin(), v.end(), (base.*Limits(grid[d].detector)).worn) - v.begin());
+  }
+
+  auto setting_json = [&](const std::array<int, kDetectorCount>& k) {
+    nlohmann::json j = nlohmann::json::object();
+    for (int d = 0; d < kDetectorCount; ++d) j[std::string(Detectors()[d].parameter) + ".worn"] = grid[d].worn_values[k[d]];
+    return j;
+  };
+  auto point_json = [&](const std::array<int, kDetectorCount>& k) {
+    std::vector<double> all;
+    const Score s = scorer.Evaluate(k, &all, -1);
+    nlohmann::json j;
+    j["setting"] = setting_json(k);
+    j["detection_rate"] = Rate(s.detected, scorer.faulty);
+    j["false_alarm_rate"] = Rate(s.false_alarms, scorer.healthy);
+    j["alarm_before_onset_rate"] = Rate(s.before_onset, scorer.faulty);
+    j["isolation_accuracy"] = Rate(s.isolated, s.detected);
+    const auto [median, p95] = MedianP95(all);
+    j["latency_median_s"] = median;
+    j["latency_p95_s"] = p95;
+    nlohmann::json per = nlohmann::json::object();
+    for (size_t f = 0; f < families.names.size(); ++f) {
+      if (scorer.family_runs[f] == 0) continue;
+      std::vector<double> lat;
+      scorer.Evaluate(k, &lat, static_cast<int>(f));
+      const auto [fm, fp] = MedianP95(lat);
+      per[families.names[f]] = {{"detection_rate", Rate(s.family_detected[f], scorer.family_runs[f])},
+                                {"isolation_accuracy", Rate(s.family_isolated[f], s.family_detected[f])},
+                                {"latency_median_s", fm},
+                                {"latency_p95_s", fp}};
+    }
+    j["per_family"] = per;
+    return j;
+  };
+
+  nlohmann::json report;
+  report["armfault_version"] = ARMFAULT_VERSION;
+  report["campaign"] = campaign.name;
+  report["runs"] = {{"faulty", scorer.faulty}, {"healthy", scorer.healthy}, {"failed", failed}};
+  nlohmann::json parameters = nlohmann::json::array();
+  for (const SweepAxis& a : grid) {
+    const DetectorInfo& info = Detectors()[static_cast<int>(a.detector)];
+    parameters.push_back({{"name", std::string(info.parameter) + ".worn"},
+                          {"default", (base.*Limits(a.detector)).worn},
+                          {"values", a.worn_values}});
+  }
+  report["parameters"] = parameters;
+  report["settings"] = settings;
+  switch (rule.kind) {
+    case OperatingRule::Kind::kMaxDetection:
+      report["rule"] = {{"name", "max_detection"}, {"false_alarm_ceiling", rule.false_alarm_ceiling}};
+      break;
+    case OperatingRule::Kind::kYouden: report["rule"] = {{"name", "youden"}}; break;
+    case OperatingRule::Kind::kMinCost:
+      report["rule"] = {{"name", "min_cost"}, {"miss_cost", rule.miss_cost}, {"false_alarm_cost", rule.false_alarm_cost}};
+      break;
+  }
+  report["operating_point"] = point_json(op);
+  report["default_point"] = point_json(as_run_k);
+
+  // ROC frontier: per false-alarm count, the best setting; kept where detection rises.
+  std::map<long, long> by_fa;
+  for (long s = 0; s < settings; ++s) {
+    auto it = by_fa.find(scores[s].false_alarms);
+    if (it == by_fa.end() || scores[s].detected > scores[it->second].detected ||
+        (scores[s].detected == scores[it->second].detected && prefer(s, it->second))) {
+      by_fa[scores[s].false_alarms] = s;
+    }
+  }
+  std::vector<long> frontier;
+  for (const auto& [count, s] : by_fa) {
+    if (frontier.empty() || scores[s].detected > scores[frontier.back()].detected) frontier.push_back(s);
+  }
+  // AUC by trapezoids from (0, 0) through the frontier to (1, 1): never alarming and always
+  // alarming are the curve's ends.
+  auto auc = [](std::vector<std::pair<double, double>> pts) {
+    pts.insert(pts.begin(), {0.0, 0.0});
+    pts.emplace_back(1.0, 1.0);
+    double area = 0;
+    for (size_t i = 1; i < pts.size(); ++i) {
+      area += (pts[i].first - pts[i - 1].first) * (pts[i].second + pts[i - 1].second) / 2;
+    }
+    return area;
+  };
+  nlohmann::json roc;
+  {
+    nlohmann::json points = nlohmann::json::array();
+    std::vector<std::pair<double, double>> pts;
+    for (long s : frontier) {
+      pts.emplace_back(fa(scores[s]), dr(scores[s]));
+      points.push_back({{"false_alarm_rate", fa(scores[s])}, {"detection_rate", dr(scores[s])}, {"setting", setting_json(indices(s))}});
+    }
+    roc["overall"] = {{"auc", auc(pts)}, {"points", points}};
+  }
+  // Per family: its own detector's limit swept with the others at the operating point;
+  // families without a swept detector: their rates along the overall frontier.
+  nlohmann::json latency = nlohmann::json::object();
+  for (size_t f = 0; f < families.names.size(); ++f) {
+    if (scorer.family_runs[f] == 0) continue;
+    const std::string& name = families.names[f];
+    int own = -1;
+    for (int d = 0; d < kDetectorCount; ++d) {
+      if (name == Detectors()[d].family) own = d;
+    }
+    nlohmann::json points = nlohmann::json::array(), lat_points = nlohmann::json::array();
+    std::vector<std::pair<double, double>> pts;
+    if (own >= 0) {
+      std::array<int, kDetectorCount> k = op;
+      std::vector<std::pair<double, nlohmann::json>> ordered;
+      for (size_t i = 0; i < grid[own].worn_values.size(); ++i) {
+        k[own] = static_cast<int>(i);
+        std::vector<double> lat;
+        const Score s = scorer.Evaluate(k, &lat, static_cast<int>(f));
+        const double worn = grid[own].worn_values[i];
+        const double x = fa(s), y = Ratio(s.family_detected[f], scorer.family_runs[f]);
+        points.push_back({{"threshold", worn}, {"false_alarm_rate", x}, {"detection_rate", y}});
+        pts.emplace_back(x, y);
+        const auto [m, p] = MedianP95(lat);
+        lat_points.push_back({{"threshold", worn}, {"median_s", m}, {"p95_s", p}, {"detected", s.family_detected[f]},
+                              {"detection_rate", y}});
+      }
+      std::sort(pts.begin(), pts.end());
+      latency[name] = {{"parameter", std::string(Detectors()[own].parameter) + ".worn"}, {"points", lat_points}};
+    } else {
+      for (long s : frontier) {
+        const double x = fa(scores[s]), y = Ratio(scores[s].family_detected[f], scorer.family_runs[f]);
+        points.push_back({{"false_alarm_rate", x}, {"detection_rate", y}});
+        pts.emplace_back(x, y);
+      }
+    }
+    roc[name] = {{"parameter", own >= 0 ? nlohmann::json(std::string(Detectors()[own].parameter) + ".worn") : nlohmann::json(nullptr)},
+                 {"auc", auc(pts)},
+                 {"points", points}};
+  }
+  report["roc"] = roc;
+
+  // Detection probability against magnitude at the operating point.
+  nlohmann::json pod = nlohmann::json::object();
+  for (size_t f = 0; f < families.names.size(); ++f) {
+    if (scorer.family_runs[f] == 0) continue;
+    std::map<std::string, std::pair<long, long>> by_category;
+    std::map<double, std::pair<long, long>> by_magnitude;
+    std::vector<double> severities;
+    std::vector<bool> hits;
+    std::string key;
+    for (const RunTable& r : runs) {
+      if (r.family != static_cast<int>(f)) continue;
+      const bool hit = Combine(r, op).t != kInf;
+      if (!r.magnitude_key.empty()) {
+        key = r.magnitude_key;
+        auto& c = by_magnitude[r.magnitude];
+        ++c.first;
+        c.second += hit;
+        const double s = Severity(r.magnitude_key, r.magnitude);
+        if (s > 0) {
+          severities.push_back(s);
+          hits.push_back(hit);
+        }
+      } else {
+        auto& c = by_category[r.category];
+        ++c.first;
+        c.second += hit;
+      }
+    }
+    nlohmann::json points = nlohmann::json::array();
+    auto point = [](const nlohmann::json& magnitude, long runs, long detected) {
+      const RateInterval w = Wilson(detected, runs);
+      return nlohmann::json{{"magnitude", magnitude}, {"runs", runs}, {"detected", detected},
+                            {"rate", w.rate}, {"low", w.low}, {"high", w.high}};
+    };
+    nlohmann::json fit = nullptr;
+    if (!key.empty()) {
+      for (const auto& [m, c] : by_magnitude) {
+        nlohmann::json p = point(m, c.first, c.second);
+        p["severity"] = Severity(key, m);
+        points.push_back(p);
+      }
+      std::sort(points.begin(), points.end(),
+                [](const nlohmann::json& a, const nlohmann::json& b) { return a["severity"].get<double>() < b["severity"].get<double>(); });
+      const PodFit pf = FitPod(severities, hits);
+      fit = {{"model", "logistic in log(severity), Firth"}, {"ok", pf.ok}};
+      if (!pf.ok) {
+        fit["reason"] = pf.reason;
+      } else {
+        const double lo = *std::min_element(severities.begin(), severities.end());
+        const double hi = *std::max_element(severities.begin(), severities.end());
+        nlohmann::json curve = nlohmann::json::array();
+        const int n = 60;
+        for (int i = 0; i <= n; ++i) {
+          const double s = std::exp(std::log(lo) + (std::log(hi) - std::log(lo)) * i / n);
+          curve.push_back({{"severity", s}, {"magnitude", MagnitudeOf(key, s)}, {"pod", pf.Probability(s)},
+                           {"low", pf.Bound(s, -kZ95Two)}, {"high", pf.Bound(s, kZ95Two)}});
+        }
+        fit["intercept"] = pf.intercept;
+        fit["slope_per_log_severity"] = pf.slope;
+        fit["curve"] = curve;
+        // a90: where the fit reaches 0.9; a90/95: where its one-sided 95 % lower bound does.
+        // Only within the tested severities: no extrapolation.
+        auto first_at = [&](auto&& value) -> nlohmann::json {
+          const int m = 2000;
+          for (int i = 0; i <= m; ++i) {
+            const double s = std::exp(std::log(lo) + (std::log(hi) - std::log(lo)) * i / m);
+            if (value(s) >= 0.9) return {{"severity", s}, {"magnitude", MagnitudeOf(key, s)}};
+          }
+          return nullptr;
+        };
+        fit["a90"] = pf.slope > 0 ? first_at([&](double s) { return pf.Probability(s); }) : nlohmann::json(nullptr);
+        fit["a90_95"] = pf.slope > 0 ? first_at([&](double s) { return pf.Bound(s, -kZ95One); }) : nlohmann::json(nullptr);
+      }
+    } else {
+      for (const auto& [category, c] : by_category) points.push_back(point(category, c.first, c.second));
+      key = runs.empty() ? "" : "category";
+    }
+    pod[families.names[f]] = {{"magnitude_key", key}, {"points", points}, {"fit", fit}};
+  }
+  report["detection_probability"] = pod;
+  report["latency"] = latency;
+
+  TuningResult result;
+  result.tuned = base;
+  for (int d = 0; d < kDetectorCount; ++d) {
+    StateLimits& l = result.tuned.*Limits(grid[d].detector);
+    l.worn = grid[d].worn_values[op[d]];
+    // Keep the defective limit beyond the worn one.
+    l.defective = grid[d].detector == Detector::kKtFactor ? std::min(l.defective, l.worn) : std::max(l.defective, l.worn);
+  }
+  Validate(result.tuned, "", "<tuned monitor>");
+  result.report = std::move(report);
+  result.settings = settings;
+  result.runs = static_cast<long>(runs.size());
+  return result;
+}
+
+}  // namespace armfault

@@ -1,0 +1,78 @@
+// Threshold tuning from a campaign's stored decision statistics, without simulating again
+// (`armfault tune DIR`). Every run of results.jsonl carries the held statistics of the power
+// monitor's swept detectors (core/detector_statistics.h); re-scoring a threshold setting is
+// exact: the same decision rule the monitor ran, on the same numbers.
+//
+// Outputs (docs/tuning.md): the rates of every setting of a grid of worn limits, the ROC
+// frontier with its AUC overall and per family, detection probability against magnitude
+// at the chosen operating point (a logistic hit/miss fit in log severity with a 95 % band,
+// a90 and a90/95 as in MIL-HDBK-1823A), latency against each detector's threshold, and a
+// tuned monitor JSON.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+#include <vector>
+
+#include "core/detector_statistics.h"
+#include "core/power_monitor.h"
+
+namespace armfault {
+
+// One swept worn limit, "kt_factor.worn" etc., and its values.
+struct SweepAxis {
+  Detector detector = Detector::kKtFactor;
+  std::vector<double> worn_values;
+};
+// The grid of settings: one axis per detector, in Detector order.
+using SweepGrid = std::vector<SweepAxis>;
+
+// The default grid around a monitor's limits, or one edited by a spec:
+// "kt_factor.worn=0.85:0.99:15,friction_factor.worn=1.3" (FROM:TO:STEPS, inclusive; or one
+// value). Throws InputError (source "--sweep") on a bad spec.
+SweepGrid MakeSweepGrid(const MonitorConfig& base, const std::string& spec);
+long SettingCount(const SweepGrid& grid);
+
+struct OperatingRule {
+  enum class Kind { kMaxDetection, kYouden, kMinCost };
+  Kind kind = Kind::kMaxDetection;
+  double false_alarm_ceiling = 0.01;  // kMaxDetection: highest detection with FA <= this
+  double miss_cost = 1.0;             // kMinCost: cost of a missed fault ...
+  double false_alarm_cost = 1.0;      // ... and of a false alarm; minimises miss_cost (1 - DR) + false_alarm_cost FA
+};
+// "max_detection", "youden", "min_cost"; throws InputError.
+OperatingRule::Kind OperatingRuleKind(const std::string& name);
+
+struct TuneOptions {
+  std::string sweep;
+  OperatingRule rule;
+  int threads = 0;  // 0: all cores
+};
+
+struct TuningResult {
+  nlohmann::json report;       // DIR/tuning.json
+  MonitorConfig tuned;         // the campaign's monitor with the operating point's limits
+  long settings = 0;
+  long runs = 0;
+};
+
+// Reads DIR/campaign.json and DIR/results.jsonl. Throws InputError naming the file and line
+// on missing or malformed input, or when a run's stored decision does not reproduce its
+// recorded outcome (results of another monitor version).
+TuningResult TuneCampaignDir(const std::string& dir, const TuneOptions& options);
+
+// A hit/miss fit of detection probability against severity (> 0): logistic in log severity,
+// maximum likelihood with Firth's bias reduction (defined under complete separation).
+struct PodFit {
+  bool ok = false;
+  std::string reason;  // why not, when !ok
+  double intercept = 0, slope = 0;
+  double cov[2][2] = {{0, 0}, {0, 0}};
+  double Probability(double severity) const;
+  // The one-sided 95 % (z = 1.645) or two-sided band (z = 1.96) at a severity.
+  double Bound(double severity, double z) const;
+};
+PodFit FitPod(const std::vector<double>& severity, const std::vector<bool>& detected);
+
+}  // namespace armfault

@@ -1,0 +1,93 @@
+// The campaign report (`armfault report DIR`): DIR/report.html, a self-contained page (inline
+// SVG plots drawn by reports/svg_plot, inline CSS, no script, nothing fetched) and
+// DIR/report.md, a short Markdown summary. Inputs, all in DIR:
+//   summary.json   rates with Wilson intervals, per-family rates, confusion matrix, floors
+//   results.jsonl  latency distributions per family; which run to re-simulate
+//   campaign.json  the campaign, to re-simulate one run with RunCase
+//   tuning.json    ROC, detection probability against magnitude, latency against threshold,
+//                  operating point (`armfault tune DIR`; optional: without it those sections
+//                  say "run `armfault tune DIR` first"; format: docs/tuning.md)
+//   thesis.json    table 5-3 (`armfault thesis -o DIR`; optional: else the thesis experiments
+//                  are run with seed ReportOptions::thesis_seed)
+// Units in the page: rates as fractions or %, times in s, currents in A, torques in N m.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <functional>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "campaigns/campaign.h"
+#include "campaigns/run_record.h"
+#include "campaigns/thesis.h"
+#include "core/monitor.h"
+
+namespace armfault {
+
+// DIR/tuning.json, or nullopt when there is none. Throws InputError if it is not JSON. The
+// report's only source of tuning results, so that it can be swapped for a call into the tuner.
+std::optional<nlohmann::json> ReadTuning(const std::string& dir);
+// DIR/tuning.json, else the tuner's result with its defaults (TuneCampaignDir, not written
+// to DIR): what `armfault report` shows.
+std::optional<nlohmann::json> TuningOrDefault(const std::string& dir);
+
+struct ReportOptions {
+  std::string dir = "out";
+  // The run whose time series is plotted (a run_id); empty: the first faulty run that was
+  // missed, else the first detected faulty run, else the first run (case order).
+  std::string run_id;
+  // The HTML file; empty: DIR/report.html. The Markdown goes beside it with the extension .md.
+  std::string output;
+  std::function<std::optional<nlohmann::json>(const std::string& dir)> tuning = TuningOrDefault;
+  unsigned long long thesis_seed = 1;  // when DIR/thesis.json is missing
+};
+
+// One run re-simulated with RunCase and a second power-efficiency monitor on the same signals
+// (the run is deterministic, so that monitor's output is the run's own).
+struct RunSeries {
+  std::string run_id;
+  std::string why;                  // how the run was chosen, for the page
+  RunRecord record;                 // as re-simulated
+  std::optional<RunRecord> stored;  // its line in results.jsonl, to show they agree
+  std::vector<int> joints;          // plotted joints (1-based): the faulted one, else the moving ones
+  std::vector<double> t_s;          // controller ticks
+  // Per plotted joint (same order as `joints`), per tick.
+  std::vector<std::vector<double>> i_cmd_A, i_supply_A, tau_sensor_Nm;
+  MonitorOutput monitor;
+  std::optional<double> first_alarm_s;  // the monitor's first alarm (before the onset too)
+  std::string first_alarm_family;
+  std::string error;                // set when the run could not be re-simulated
+};
+
+// Re-simulates one case; `joints` empty: the faulted joint, else every joint with a trajectory.
+RunSeries SimulateRunSeries(const Campaign& campaign, const CaseSpec& spec);
+
+struct ReportData {
+  std::string dir;
+  nlohmann::json summary;               // summary.json
+  std::optional<nlohmann::json> tuning; // tuning.json
+  // From results.jsonl: latencies of detected faulty runs and the misses, per family.
+  std::map<std::string, std::vector<double>> latencies_s;
+  std::map<std::string, long> misses;
+  long records = 0;
+  std::vector<ThesisRow> table_5_3;     // K_T factor 1 ... 0.5
+  std::string thesis_source;            // "DIR/thesis.json" or "simulated, seed 1"
+  RunSeries run;
+};
+
+// Reads everything the report shows and re-simulates the chosen run. Throws InputError for a
+// missing or invalid summary.json, campaign.json or results.jsonl, or an unknown run_id.
+ReportData GatherReportData(const ReportOptions& options);
+std::string RenderReportHtml(const ReportData& data);
+std::string RenderReportMarkdown(const ReportData& data);
+
+struct ReportPaths {
+  std::string html, markdown;
+};
+// Gathers, renders and writes both files.
+ReportPaths WriteCampaignReport(const ReportOptions& options);
+
+}  // namespace armfault

@@ -1,0 +1,281 @@
+// Campaign results beyond one uninterrupted process: shards merged into the bytes of an
+// unsharded run (and refused when they do not make one campaign), one case re-run alone with
+// the same record, and a diverging run recorded as failed while the others complete.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "campaigns/campaign.h"
+#include "campaigns/merge.h"
+#include "campaigns/runner.h"
+#include "tests/core/test_support.h"
+
+namespace armfault {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using testing::HasSubstr;
+using testing_support::ErrorOf;
+using testing_support::ScratchDir;
+
+// 16 runs of 1.5 s: two fault entries (one with a uniform onset), healthy runs, variation.
+json Small() {
+  return json::parse(R"({
+    "name": "small", "seed": 3, "duration_s": 1.5,
+    "trajectories": [{"name": "exp1", "joints": {"3": {"type": "sine_pair", "amplitude_deg": 25, "omega_rad_s": 1.2732}}}],
+    "faults": [
+      {"family": "kt_degradation", "joint": [2, 3], "kt_factor": [0.9, 0.6], "onset_s": 1.0},
+      {"family": "friction_increase", "joint": 3, "friction_factor": {"from": 1.5, "to": 2.5, "steps": 3},
+       "onset_s": {"uniform": [0.5, 1.5]}}
+    ],
+    "healthy": 2, "repetitions": 2,
+    "variation": {"payload_kg": {"uniform": [0, 0.5]}, "friction_spread": 0.1},
+    "floors": {"detection_rate": 0.5}
+  })");
+}
+
+Campaign Parse(const json& j) { return CampaignFromJson(j, "c.json", "."); }
+
+std::string ReadAll(const fs::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+std::vector<std::string> Lines(const std::string& text) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line)) out.push_back(line);
+  return out;
+}
+
+// Runs `c` unsharded into DIR/full and as shards 0/3, 1/3, 2/3 into DIR/s0 ... DIR/s2.
+class CampaignMerge : public testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new fs::path(fs::temp_directory_path() / ("merge_" + std::to_string(getpid())));
+    fs::create_directories(*dir_);
+    const Campaign c = Parse(Small());
+    RunnerOptions o;
+    o.output_dir = Dir("full");
+    o.threads = 1;
+    RunCampaign(c, o);
+    for (int k = 0; k < 3; ++k) {
+      o.output_dir = Dir("s" + std::to_string(k));
+      o.threads = 2;
+      o.shard = {k, 3};
+      RunCampaign(c, o);
+    }
+  }
+  static void TearDownTestSuite() {
+    std::error_code ec;
+    fs::remove_all(*dir_, ec);
+    delete dir_;
+    dir_ = nullptr;
+  }
+  static std::string Dir(const std::string& name) { return (*dir_ / name).string(); }
+  // A copy of shard k to edit.
+  static std::string CopyShard(int k, const std::string& name) {
+    fs::copy(Dir("s" + std::to_string(k)), Dir(name), fs::copy_options::recursive | fs::copy_options::overwrite_existing);
+    return Dir(name);
+  }
+
+  static fs::path* dir_;  // shared by the tests: the runs are made once
+};
+fs::path* CampaignMerge::dir_ = nullptr;
+
+TEST_F(CampaignMerge, ShardsMergeToTheBytesOfAnUnshardedRun) {
+  // Any order of the inputs.
+  const MergeResult r = MergeShards({Dir("s2"), Dir("s0"), Dir("s1")}, Dir("merged"));
+  EXPECT_EQ(r.shards, 3);
+  EXPECT_EQ(r.runs, 16);
+  EXPECT_EQ(r.campaign.name, "small");
+  ASSERT_TRUE(r.campaign.floors.overall.detection_rate.has_value());
+  const std::string full = ReadAll(fs::path(Dir("full")) / "results.jsonl");
+  EXPECT_EQ(std::count(full.begin(), full.end(), '\n'), 16);
+  EXPECT_EQ(ReadAll(fs::path(Dir("merged")) / "results.jsonl"), full);
+  EXPECT_EQ(ReadAll(fs::path(Dir("merged")) / "campaign.json"), ReadAll(fs::path(Dir("full")) / "campaign.json"));
+  EXPECT_FALSE(fs::exists(fs::path(Dir("merged")) / "results.jsonl.tmp"));
+}
+
+TEST_F(CampaignMerge, LinesAreCopiedVerbatimWithKeysMergeDoesNotKnow) {
+  // Every line gains a key (as a newer runner might write); merge copies it through.
+  std::vector<std::string> dirs;
+  for (int k = 0; k < 3; ++k) {
+    dirs.push_back(CopyShard(k, "extra" + std::to_string(k)));
+    std::string edited;
+    for (const std::string& line : Lines(ReadAll(fs::path(dirs.back()) / "results.jsonl"))) {
+      edited += line.substr(0, line.size() - 1) + ",\"zz_new\":{\"x\":[1,2.50]}}\n";
+    }
+    std::ofstream(fs::path(dirs.back()) / "results.jsonl", std::ios::binary | std::ios::trunc) << edited;
+  }
+  MergeShards(dirs, Dir("merged_extra"));
+  std::string expected;
+  for (const std::string& line : Lines(ReadAll(fs::path(Dir("full")) / "results.jsonl"))) {
+    expected += line.substr(0, line.size() - 1) + ",\"zz_new\":{\"x\":[1,2.50]}}\n";
+  }
+  EXPECT_EQ(ReadAll(fs::path(Dir("merged_extra")) / "results.jsonl"), expected);
+}
+
+TEST_F(CampaignMerge, AMissingOrRepeatedShardIsRefused) {
+  const InputError missing = ErrorOf([&] { MergeShards({Dir("s0"), Dir("s2")}, Dir("m_missing")); });
+  EXPECT_EQ(missing.message(),
+            "shard 1 of 3 is missing: give the output directories of all shards 0..2");
+  EXPECT_FALSE(fs::exists(fs::path(Dir("m_missing")) / "results.jsonl"));
+
+  const InputError twice = ErrorOf([&] { MergeShards({Dir("s0"), Dir("s1"), CopyShard(1, "s1_copy"), Dir("s2")}, Dir("m_twice")); });
+  EXPECT_EQ(twice.source(), (fs::path(Dir("s1_copy")) / "campaign.json").string());
+  EXPECT_EQ(twice.pointer(), "/shard/index");
+  EXPECT_THAT(twice.message(), HasSubstr("shard 1/3 is given twice (also " + Dir("s1") + ")"));
+
+  // A shard of another split (0 of 2 in a 3-way merge).
+  const std::string other = CopyShard(0, "split2");
+  json file = json::parse(ReadAll(fs::path(other) / "campaign.json"));
+  file["shard"]["count"] = 2;
+  std::ofstream(fs::path(other) / "campaign.json", std::ios::trunc) << file.dump(2) << "\n";
+  const InputError split = ErrorOf([&] { MergeShards({Dir("s0"), Dir("s1"), other}, Dir("m_split")); });
+  EXPECT_EQ(split.pointer(), "/shard/count");
+  EXPECT_THAT(split.message(), HasSubstr("this is shard 0/2, but " + Dir("s0") + " is shard 0/3"));
+}
+
+TEST_F(CampaignMerge, ShardsOfDifferentCampaignsAreRefused) {
+  const std::string other = CopyShard(1, "other_seed");
+  json file = json::parse(ReadAll(fs::path(other) / "campaign.json"));
+  file["campaign"]["seed"] = 4;
+  std::ofstream(fs::path(other) / "campaign.json", std::ios::trunc) << file.dump(2) << "\n";
+  const InputError e = ErrorOf([&] { MergeShards({Dir("s0"), other, Dir("s2")}, Dir("m_other")); });
+  EXPECT_EQ(e.source(), (fs::path(other) / "campaign.json").string());
+  EXPECT_EQ(e.pointer(), "/campaign/seed");
+  EXPECT_THAT(e.message(), HasSubstr("another campaign than in " + (fs::path(Dir("s0")) / "campaign.json").string() +
+                                     " (4 here, 3 there)"));
+  EXPECT_FALSE(fs::exists(fs::path(Dir("m_other")) / "results.jsonl"));
+}
+
+TEST_F(CampaignMerge, AnIncompleteShardIsRefusedWithTheResumeCommand) {
+  // Shard 1 holds cases 1, 4, 7, 10, 13: keep 3 lines and half of the fourth (killed).
+  const std::string cut = CopyShard(1, "cut");
+  const std::string text = ReadAll(fs::path(cut) / "results.jsonl");
+  size_t pos = 0;
+  for (int k = 0; k < 3; ++k) pos = text.find('\n', pos) + 1;
+  std::ofstream(fs::path(cut) / "results.jsonl", std::ios::binary | std::ios::trunc) << text.substr(0, pos + 30);
+  const InputError e = ErrorOf([&] { MergeShards({Dir("s0"), cut, Dir("s2")}, Dir("m_cut")); });
+  EXPECT_EQ(e.source(), (fs::path(cut) / "results.jsonl").string());
+  EXPECT_EQ(e.message(), "shard 1/3 is incomplete: 3 of its 5 runs, 2 missing (the last line is cut); finish it with "
+                         "`armfault run <campaign file> --shard 1/3 -o " + cut + " --resume`");
+  EXPECT_FALSE(fs::exists(fs::path(Dir("m_cut")) / "results.jsonl"));
+
+  // A shard that never wrote results.
+  const std::string none = CopyShard(2, "none");
+  fs::remove(fs::path(none) / "results.jsonl");
+  const InputError e2 = ErrorOf([&] { MergeShards({Dir("s0"), Dir("s1"), none}, Dir("m_none")); });
+  EXPECT_EQ(e2.source(), (fs::path(none) / "results.jsonl").string());
+  EXPECT_THAT(e2.message(), HasSubstr("cannot open"));
+}
+
+TEST_F(CampaignMerge, LinesOutOfCaseOrderAreRefusedAndNothingIsLeftBehind) {
+  const std::string swapped = CopyShard(0, "swapped");
+  std::vector<std::string> lines = Lines(ReadAll(fs::path(swapped) / "results.jsonl"));
+  std::swap(lines[1], lines[2]);
+  std::ofstream out(fs::path(swapped) / "results.jsonl", std::ios::binary | std::ios::trunc);
+  for (const std::string& l : lines) out << l << "\n";
+  out.close();
+  const InputError e = ErrorOf([&] { MergeShards({swapped, Dir("s1"), Dir("s2")}, Dir("m_swapped")); });
+  EXPECT_EQ(e.message(), "line 2: case 6, expected case 3 (shard 0/3 in case order)");
+  EXPECT_FALSE(fs::exists(fs::path(Dir("m_swapped")) / "results.jsonl"));
+  EXPECT_FALSE(fs::exists(fs::path(Dir("m_swapped")) / "results.jsonl.tmp"));
+
+  // The output directory may not be a shard's own.
+  const InputError into = ErrorOf([&] { MergeShards({Dir("s0"), Dir("s1"), Dir("s2")}, Dir("s1")); });
+  EXPECT_THAT(into.message(), HasSubstr("the output directory is one of the shards"));
+}
+
+TEST_F(CampaignMerge, ACaseRunAloneGivesItsResultsLine) {
+  // What `armfault trace CAMPAIGN --run ID` relies on: RunCase with an observer attached is the
+  // campaign's run, to the byte of its results.jsonl line.
+  const Campaign c = Parse(Small());
+  const std::vector<std::string> lines = Lines(ReadAll(fs::path(Dir("full")) / "results.jsonl"));
+  const std::vector<CaseSpec> cases = ExpandCases(c);
+  ASSERT_EQ(lines.size(), cases.size());
+  for (const size_t k : {size_t{0}, size_t{9}, cases.size() - 1}) {  // kt, friction (uniform onset), healthy
+    long ticks = 0;
+    const RunRecord r = RunCase(c, cases[k], [&](const Tick&) { ++ticks; });
+    EXPECT_EQ(ToJson(r).dump(), lines[k]) << cases[k].run_id;
+    EXPECT_EQ(ticks, 751);  // 500 Hz over 1.5 s, both ends
+  }
+}
+
+TEST(CampaignMergeFiles, TrajectoryFilesAreNotNeededToMerge) {
+  // A csv trajectory is read relative to the campaign file; merge runs elsewhere, after the
+  // shards, and must not need it.
+  ScratchDir dir("merge_csv");
+  fs::create_directories(dir.path() / "campaign");
+  dir.Write("campaign/ramp.csv", "time_s,angle_deg\n0,0\n0.2,5\n0.4,0\n");
+  const Campaign c = CampaignFromJson(json::parse(R"({
+    "name": "csv", "duration_s": 0.4, "healthy": 3,
+    "trajectories": [{"name": "ramp", "joints": {"3": {"type": "csv", "path": "ramp.csv"}}}]
+  })"), "csv.json", (dir.path() / "campaign").string());
+  RunnerOptions o;
+  o.output_dir = (dir.path() / "full").string();
+  RunCampaign(c, o);
+  std::vector<std::string> shards;
+  for (int k = 0; k < 2; ++k) {
+    o.output_dir = (dir.path() / ("s" + std::to_string(k))).string();
+    o.shard = {k, 2};
+    RunCampaign(c, o);
+    shards.push_back(o.output_dir);
+  }
+  fs::remove(dir.path() / "campaign" / "ramp.csv");
+  MergeShards(shards, (dir.path() / "merged").string());
+  for (const char* f : {"campaign.json", "results.jsonl"}) {
+    EXPECT_EQ(ReadAll(dir.path() / "merged" / f), ReadAll(dir.path() / "full" / f)) << f;
+  }
+}
+
+// A robot whose joint-1 viscous friction is applied explicitly at 1 kHz: stable as built,
+// numerically unstable (the friction torque overshoots every step) once a fault multiplies
+// it by 100, so that run diverges from its own input, without any hook in the code.
+json Diverging() {
+  return json::parse(R"({
+    "name": "diverge", "seed": 5, "duration_s": 1.5,
+    "robot": {"modules": [{"friction": {"viscous_Nm_s_per_rad": 0.2}}], "links": [{}]},
+    "trajectories": [{"name": "swing", "joints": {"1": {"type": "sine_pair", "amplitude_deg": 20, "omega_rad_s": 2}}}],
+    "faults": [{"family": "friction_increase", "joint": 1, "friction_factor": [2, 100], "onset_s": 0.5}],
+    "healthy": 2
+  })");
+}
+
+TEST(CampaignDivergence, ADivergingRunIsAFailedRecordAndTheOthersComplete) {
+  ScratchDir dir("diverge");
+  const Campaign c = Parse(Diverging());
+  RunnerOptions o;
+  o.output_dir = dir.path().string();
+  o.threads = 2;
+  const RunnerResult result = RunCampaign(c, o);
+  EXPECT_EQ(result.ran, 4);
+  EXPECT_EQ(result.failed, 1);
+  const std::vector<std::string> lines = Lines(ReadAll(dir.path() / "results.jsonl"));
+  ASSERT_EQ(lines.size(), 4u);
+  for (size_t k = 0; k < lines.size(); ++k) {
+    const RunRecord r = RunRecordFromJson(json::parse(lines[k]));
+    EXPECT_EQ(r.case_index, static_cast<long>(k));
+    if (r.run_id == "swing/friction_increase#0/friction_factor=100/j1/r0") {
+      EXPECT_FALSE(r.ok);
+      EXPECT_THAT(r.failure_reason, HasSubstr("simulation diverged at t="));
+      EXPECT_THAT(r.failure_reason, HasSubstr("joint 1 velocity"));
+      EXPECT_EQ(json::parse(lines[k])["status"], "failed");
+    } else {
+      EXPECT_TRUE(r.ok) << r.run_id << ": " << r.failure_reason;
+      EXPECT_EQ(json::parse(lines[k])["reason"], nullptr);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace armfault

@@ -1,0 +1,266 @@
+// Threshold tuning: the decision rule on stored statistics, the hit/miss fit, the sweep
+// spec, and the end-to-end promise: a campaign re-run with the tuned monitor gives the rates
+// the tuner predicted.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+#include "campaigns/campaign.h"
+#include "campaigns/run_record.h"
+#include "campaigns/runner.h"
+#include "campaigns/tuning.h"
+#include "core/detector_statistics.h"
+#include "tests/core/test_support.h"
+
+namespace armfault {
+namespace {
+
+using nlohmann::json;
+using testing::HasSubstr;
+using testing_support::ScratchDir;
+
+TEST(SlidingMin, IsTheMinimumOfTheLastSpanValues) {
+  SlidingMin m(3);
+  const std::vector<double> in = {5, 3, 4, 6, 7, 1, 2, 2, 9};
+  for (size_t i = 0; i < in.size(); ++i) {
+    const size_t lo = i >= 2 ? i - 2 : 0;
+    const double expected = *std::min_element(in.begin() + lo, in.begin() + i + 1);
+    EXPECT_EQ(m.Push(in[i]), expected) << i;
+  }
+}
+
+TEST(SlidingMin, NoStatisticHoldsTheMinimumDown) {
+  SlidingMin m(2);
+  EXPECT_EQ(m.Push(kNoStatistic), kNoStatistic);
+  EXPECT_EQ(m.Push(10), kNoStatistic);
+  EXPECT_EQ(m.Push(12), 10);
+}
+
+DecisionStats Stats() {
+  DecisionStats s;
+  s.onset_s = 2.0;
+  s.first_tick_s = 2.0;
+  DecisionStats::Trace kt;
+  kt.joint = 3;
+  kt.detector = Detector::kKtFactor;
+  kt.pre_max_quanta = 20;  // 0.020 before the onset
+  kt.rise = {{2.0, 10, ""}, {2.5, 50, ""}, {3.0, 200, ""}};
+  DecisionStats::Trace friction;
+  friction.joint = 2;
+  friction.detector = Detector::kFrictionFactor;
+  friction.rise = {{2.5, 400, ""}, {4.0, 3500, "brake_lock"}};
+  s.traces = {kt, friction};
+  return s;
+}
+
+DetectorThresholds Thresholds(double kt, double friction) { return {kt, 10.0, friction, 10.0}; }
+
+TEST(Decide, TheFirstRiseAboveTheThresholdAlarms) {
+  const DecisionOutcome d = Decide(Stats(), Thresholds(0.07, 10.0));
+  EXPECT_TRUE(d.detected);
+  EXPECT_DOUBLE_EQ(d.detection_time_s, 3.0);  // 0.200 > 0.07; 0.050 is not
+  EXPECT_EQ(d.family, "kt_degradation");
+  EXPECT_EQ(d.joint, 3);
+  EXPECT_FALSE(d.alarm_before_onset);
+}
+
+TEST(Decide, PreOnsetMaximumIsAFalseAlarm) {
+  EXPECT_TRUE(Decide(Stats(), Thresholds(0.019, 10.0)).alarm_before_onset);
+  EXPECT_FALSE(Decide(Stats(), Thresholds(0.020, 10.0)).alarm_before_onset);  // strictly above
+}
+
+TEST(Decide, TiesGoToTheEarlierDetectorAndLabelsComeFromTheRise) {
+  // Both detectors pass at 2.5 s: K_T comes first in the detector order.
+  DecisionOutcome d = Decide(Stats(), Thresholds(0.04, 0.3));
+  EXPECT_DOUBLE_EQ(d.detection_time_s, 2.5);
+  EXPECT_EQ(d.family, "kt_degradation");
+  d = Decide(Stats(), Thresholds(1.0, 3.0));
+  EXPECT_DOUBLE_EQ(d.detection_time_s, 4.0);
+  EXPECT_EQ(d.family, "brake_lock");
+  EXPECT_EQ(d.joint, 2);
+  EXPECT_FALSE(Decide(Stats(), Thresholds(1.0, 3.5)).detected);
+}
+
+TEST(Decide, ALatchedEventBeforeTheOnsetAlarmsAtTheFirstTickAfterIt) {
+  DecisionStats s = Stats();
+  s.first_tick_s = 2.001;
+  s.events = {{1, "inverter_short", 1.0}};
+  const DecisionOutcome d = Decide(s, Thresholds(1.0, 10.0));
+  EXPECT_TRUE(d.alarm_before_onset);
+  EXPECT_DOUBLE_EQ(d.detection_time_s, 2.001);
+  EXPECT_EQ(d.family, "inverter_short");
+}
+
+TEST(DecisionStats, JsonRoundTripIsExact) {
+  const DecisionStats s = Stats();
+  const DecisionStats back = DecisionStatsFromJson(json::parse(ToJson(s).dump()));
+  EXPECT_EQ(ToJson(back), ToJson(s));
+  json bad = ToJson(s);
+  bad["traces"][0]["detector"] = "kt_factr";
+  try {
+    DecisionStatsFromJson(bad);
+    FAIL();
+  } catch (const std::runtime_error& e) {
+    EXPECT_THAT(e.what(), HasSubstr("kt_factr"));
+  }
+}
+
+TEST(FitPod, RecoversAKnownLogisticCurve) {
+  // True POD: logit p = 4 + 2 log(s).
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<double> s;
+  std::vector<bool> hit;
+  for (double sev : {0.02, 0.05, 0.1, 0.2, 0.4}) {
+    for (int i = 0; i < 400; ++i) {
+      s.push_back(sev);
+      hit.push_back(u(rng) < 1 / (1 + std::exp(-(4 + 2 * std::log(sev)))));
+    }
+  }
+  const PodFit f = FitPod(s, hit);
+  ASSERT_TRUE(f.ok) << f.reason;
+  EXPECT_NEAR(f.intercept, 4, 0.4);
+  EXPECT_NEAR(f.slope, 2, 0.2);
+  EXPECT_LT(f.Bound(0.1, -1.96), f.Probability(0.1));
+  EXPECT_GT(f.Bound(0.1, 1.96), f.Probability(0.1));
+}
+
+TEST(FitPod, CompleteSeparationStillGivesAFiniteCurve) {
+  // All small faults missed, all large caught: plain maximum likelihood diverges.
+  const PodFit f = FitPod({0.1, 0.1, 0.1, 0.2, 0.2, 0.2, 0.4, 0.4}, {false, false, false, true, true, true, true, true});
+  ASSERT_TRUE(f.ok) << f.reason;
+  EXPECT_GT(f.slope, 0);
+  EXPECT_LT(f.Probability(0.1), 0.5);
+  EXPECT_GT(f.Probability(0.4), 0.5);
+  EXPECT_FALSE(FitPod({0.1, 0.1, 0.1, 0.1}, {true, true, false, true}).ok);  // one magnitude
+}
+
+TEST(SweepGrid, SpecsEditAxesAndTheMonitorsLimitsAreAlwaysIncluded) {
+  const MonitorConfig base;
+  const SweepGrid g = MakeSweepGrid(base, "kt_factor.worn=0.9:0.98:5,friction_factor.worn=1.5");
+  EXPECT_THAT(g[0].worn_values, testing::ElementsAre(0.9, 0.92, 0.93, 0.94, 0.96, 0.98));
+  EXPECT_THAT(g[2].worn_values, testing::ElementsAre(1.3, 1.5));
+  EXPECT_EQ(SettingCount(g), 6L * 8 * 2 * 6);
+  auto error = [&](const std::string& spec) {
+    try {
+      MakeSweepGrid(base, spec);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_THAT(error("kt_factr.worn=0.9"), HasSubstr("unknown detector parameter \"kt_factr\""));
+  EXPECT_THAT(error("kt_factor=0.9"), HasSubstr("NAME.worn"));
+  EXPECT_THAT(error("kt_factor.worn=0.9:0.8"), HasSubstr("FROM:TO:STEPS"));
+  EXPECT_THAT(error("kt_factor.worn=1.2"), HasSubstr("not a worn limit"));
+  EXPECT_THAT(error("friction_factor.worn=1:2:0"), HasSubstr("STEPS"));
+  EXPECT_THAT(error("friction_factor.worn=abc"), HasSubstr("expected a number, got \"abc\""));
+}
+
+// A small campaign the default K_T limit (0.93) half misses: K_T 0.95 and 0.9 faults.
+json KtCampaign(const json& monitor) {
+  json j = json::parse(R"({
+    "name": "kt-tune", "seed": 11, "duration_s": 6,
+    "trajectories": [{"name": "exp1", "joints": {"3": {"type": "sine_pair", "amplitude_deg": 25, "omega_rad_s": 1.2732}}}],
+    "faults": [{"family": "kt_degradation", "joint": 3, "kt_factor": [0.96, 0.95, 0.9], "onset_s": 1.5}],
+    "healthy": 3, "repetitions": 2,
+    "variation": {"payload_kg": {"uniform": [0, 0.5]}, "friction_spread": 0.1}
+  })");
+  j["monitor"] = monitor;
+  return j;
+}
+
+std::vector<RunRecord> ReadRecords(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::vector<RunRecord> out;
+  std::string line;
+  while (std::getline(in, line)) out.push_back(RunRecordFromJson(json::parse(line)));
+  return out;
+}
+
+TEST(Tune, ARerunWithTheTunedMonitorGivesThePredictedRates) {
+  ScratchDir dir("tune");
+  const Campaign first = CampaignFromJson(KtCampaign(json::object()), "kt.json", dir.path().string());
+  RunnerOptions o;
+  o.output_dir = (dir.path() / "first").string();
+  RunCampaign(first, o);
+
+  TuneOptions options;
+  options.sweep = "kt_factor.worn=0.9:0.99:10";
+  options.rule.false_alarm_ceiling = 0.0;
+  const TuningResult t = TuneCampaignDir(o.output_dir, options);
+  const json& op = t.report["operating_point"];
+  const json& as_run = t.report["default_point"];
+  // The tuner found a more sensitive K_T limit than the default, without false alarms.
+  EXPECT_GT(op["setting"]["kt_factor.worn"].get<double>(), 0.93);
+  EXPECT_GT(op["detection_rate"]["count"].get<long>(), as_run["detection_rate"]["count"].get<long>());
+  EXPECT_EQ(op["false_alarm_rate"]["count"].get<long>(), 0);
+  EXPECT_DOUBLE_EQ(t.tuned.kt_factor.worn, op["setting"]["kt_factor.worn"].get<double>());
+
+  // Run the campaign again with the tuned monitor, and score it from its own records.
+  const Campaign second = CampaignFromJson(KtCampaign(MonitorConfigToJson(t.tuned)), "kt.json", dir.path().string());
+  RunnerOptions o2 = o;
+  o2.output_dir = (dir.path() / "second").string();
+  RunCampaign(second, o2);
+  long faulty = 0, detected = 0, healthy = 0, false_alarms = 0, isolated = 0;
+  for (const RunRecord& r : ReadRecords(dir.path() / "second" / "results.jsonl")) {
+    if (r.family.empty()) {
+      ++healthy;
+      false_alarms += r.detected;
+    } else {
+      ++faulty;
+      detected += r.detected;
+      isolated += r.detected && r.isolated_family == r.family && r.isolated_joint == r.joint;
+    }
+  }
+  EXPECT_EQ(detected, op["detection_rate"]["count"].get<long>());
+  EXPECT_EQ(faulty, op["detection_rate"]["runs"].get<long>());
+  EXPECT_EQ(false_alarms, op["false_alarm_rate"]["count"].get<long>());
+  EXPECT_EQ(healthy, op["false_alarm_rate"]["runs"].get<long>());
+  EXPECT_EQ(isolated, op["isolation_accuracy"]["count"].get<long>());
+
+  // The statistics do not depend on the thresholds: both runs stored the same ones.
+  const auto a = ReadRecords(dir.path() / "first" / "results.jsonl");
+  const auto b = ReadRecords(dir.path() / "second" / "results.jsonl");
+  ASSERT_EQ(a.size(), b.size());
+  for (size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i].decision, b[i].decision) << a[i].run_id;
+}
+
+TEST(Tune, RefusesResultsWhoseStatisticsDoNotReproduceThem) {
+  ScratchDir dir("tune_tamper");
+  json j = KtCampaign(json::object());
+  j["faults"][0]["kt_factor"] = {0.7};
+  j["healthy"] = 0;
+  j["repetitions"] = 1;
+  const Campaign c = CampaignFromJson(j, "kt.json", dir.path().string());
+  RunnerOptions o;
+  o.output_dir = dir.path().string();
+  RunCampaign(c, o);
+  std::string text;
+  {
+    std::ifstream in(dir.path() / "results.jsonl");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    text = ss.str();
+  }
+  json line = json::parse(text.substr(0, text.find('\n')));
+  ASSERT_TRUE(line["detected"].get<bool>());
+  line["detected"] = false;
+  line["detection_time_s"] = nullptr;
+  dir.Write("results.jsonl", line.dump() + "\n");
+  try {
+    TuneCampaignDir(dir.path().string(), TuneOptions());
+    FAIL() << "tampered results were accepted";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("results.jsonl"));
+    EXPECT_THAT(e.what(), HasSubstr("line 1"));
+    EXPECT_THAT(e.what(), HasSubstr("do not reproduce"));
+  }
+}
+
+}  // namespace
+}  // namespace armfault

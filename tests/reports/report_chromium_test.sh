@@ -1,0 +1,120 @@
+#!/usr/bin/env bash
+# The campaign report as a browser shows it: runs campaigns/files/ci.json, tunes it (or, while
+# `armfault tune` does not exist, uses the tuning.json fixture), writes the report and renders
+# it in headless Chromium. Checks that every plot's <svg> is in the rendered DOM with non-empty
+# data paths, that the required plots are there, and that a screenshot is produced.
+# Chromium missing is a failure, not a skip: tools/bootstrap.sh installs it.
+# Usage: report_chromium_test.sh path/to/armfault
+# Prints one line per failed check and a final "N passed, M failed"; exits non-zero on failure.
+set -u
+
+if [[ $# -ne 1 || ! -x "$1" ]]; then
+  echo "usage: $0 path/to/armfault" >&2
+  exit 2
+fi
+armfault=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
+src=$(cd "$(dirname "$0")/../.." && pwd)
+fixture="$src/tests/reports/data/tuning.json"
+
+passed=0
+failed=0
+pass() { passed=$((passed + 1)); }
+fail() {
+  failed=$((failed + 1))
+  echo "FAIL: $*"
+}
+finish() {
+  echo "$passed passed, $failed failed"
+  [[ $failed -eq 0 ]]
+  exit $?
+}
+
+chromium=$(command -v chromium || command -v chromium-browser || true)
+if [[ -z "$chromium" ]]; then
+  fail "chromium is not installed (tools/bootstrap.sh installs the Debian package chromium)"
+  finish
+fi
+pass
+
+tmp=$(mktemp -d "${TMPDIR:-/tmp}/armfault_report_chromium.XXXXXX") || exit 2
+trap 'rm -rf "$tmp"' EXIT
+dir="$tmp/ci"
+
+# A campaign directory: ci.json meets its floors (0); a missed floor (1) still has every file.
+"$armfault" run "$src/campaigns/files/ci.json" -o "$dir" -q >"$tmp/run.log" 2>&1
+status=$?
+if [[ $status -le 1 && -f "$dir/summary.json" ]]; then pass; else fail "armfault run: status $status: $(tail -5 "$tmp/run.log")"; finish; fi
+
+# `armfault tune --help` alone is not enough: without a tune subcommand CLI11 prints the
+# top-level help and exits 0. The subcommand's own usage line names it.
+if "$armfault" tune --help 2>/dev/null | grep -q "Usage: .* tune "; then
+  "$armfault" tune "$dir" >"$tmp/tune.log" 2>&1 || true
+  if [[ -f "$dir/tuning.json" ]]; then pass; else fail "armfault tune wrote no tuning.json: $(tail -5 "$tmp/tune.log")"; fi
+else
+  cp "$fixture" "$dir/tuning.json" && pass
+fi
+
+"$armfault" report "$dir" >"$tmp/report.log" 2>&1
+status=$?
+if [[ $status -eq 0 && -s "$dir/report.html" && -s "$dir/report.md" ]]; then
+  pass
+else
+  fail "armfault report: status $status: $(tail -5 "$tmp/report.log")"
+  finish
+fi
+
+flags=(--headless --no-sandbox --disable-gpu --disable-dev-shm-usage --no-first-run --no-default-browser-check
+       --disable-extensions --hide-scrollbars "--user-data-dir=$tmp/profile")
+url="file://$dir/report.html"
+
+timeout 180 "$chromium" "${flags[@]}" --dump-dom "$url" >"$tmp/dom.html" 2>"$tmp/chromium-dom.log"
+status=$?
+if [[ $status -eq 0 && -s "$tmp/dom.html" ]]; then
+  pass
+else
+  fail "chromium --dump-dom: status $status: $(tail -5 "$tmp/chromium-dom.log")"
+  finish
+fi
+
+# Each <svg id> of the page, and in the rendered DOM each <svg id> with "ok" when it holds a data
+# path with path data (one awk record per </svg>).
+svg_status() {
+  awk -v RS='</svg>' '{
+    if (match($0, /<svg id="[^"]*"/)) {
+      id = substr($0, RSTART + 9, RLENGTH - 10)
+      rest = substr($0, RSTART)
+      print id, (rest ~ /<path class="data[^"]*"[^>]* d="M[^"]+"/ ? "ok" : "empty")
+    }
+  }' "$1"
+}
+svg_status "$dir/report.html" | awk '{print $1}' | sort >"$tmp/ids.txt"
+svg_status "$tmp/dom.html" | sort >"$tmp/dom-ids.txt"
+
+count=$(wc -l <"$tmp/ids.txt")
+if [[ $count -ge 9 ]]; then pass; else fail "only $count plots in report.html"; fi
+while read -r id; do
+  if grep -qx "$id ok" "$tmp/dom-ids.txt"; then
+    pass
+  else
+    fail "plot $id: not rendered with data ($(grep "^$id " "$tmp/dom-ids.txt" || echo missing))"
+  fi
+done <"$tmp/ids.txt"
+# The plots every report of this campaign must have.
+for pattern in '^roc$' '^pod-' '^latency-threshold-' '^confusion$' '^latency-distribution$' '^thesis-table-5-3$' \
+               '^run-j[0-9]+-efficiency$' '^run-j[0-9]+-current$' '^run-j[0-9]+-torque$'; do
+  if grep -Eq "$pattern" "$tmp/ids.txt"; then pass; else fail "no plot matching $pattern"; fi
+done
+# Nothing fetched from elsewhere.
+if grep -Eq '(src|href)="(https?:)?//' "$tmp/dom.html"; then fail "the page refers to a remote URL"; else pass; fi
+
+timeout 180 "$chromium" "${flags[@]}" "--screenshot=$tmp/shot.png" --window-size=1400,5000 "$url" \
+  >"$tmp/chromium-shot.log" 2>&1
+status=$?
+size=$(stat -c %s "$tmp/shot.png" 2>/dev/null || echo 0)
+magic=$(head -c 4 "$tmp/shot.png" 2>/dev/null | od -An -c | tr -d ' \n')
+if [[ $status -eq 0 && "$magic" == "211PNG" && $size -gt 100000 ]]; then
+  pass
+else
+  fail "screenshot: status $status, $size bytes, magic '$magic': $(tail -5 "$tmp/chromium-shot.log")"
+fi
+finish
