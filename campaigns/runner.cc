@@ -103,7 +103,8 @@ RunRecord RunCase(const Campaign& campaign, const CaseSpec& cs, const TickObserv
     r.decision = ToJson(decisions.stats());
     // The decision rule `armfault tune` re-scores: alarms before the onset are false alarms;
     // detection is the first alarm from the onset on.
-    const DecisionOutcome d = Decide(decisions.stats(), campaign.monitor_model.thresholds);
+    const DecisionOutcome d =
+        Decide(decisions.stats(), campaign.monitor_model.thresholds, campaign.monitor_model.config.significance);
     r.alarm_before_onset = d.alarm_before_onset;
     r.detected = d.detected;
     if (d.detected) {

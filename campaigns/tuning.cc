@@ -36,17 +36,17 @@ StateLimits MonitorConfig::*Limits(Detector d) {
   return &MonitorConfig::kt_factor;
 }
 
-// Default axes: worn limits from near the healthy value out to clearly worn.
+// Default axes: from the healthy value (where false alarms start) out to clearly worn.
 struct DefaultAxis {
   double from, to;
   int steps;
 };
 DefaultAxis DefaultAxisOf(Detector d) {
   switch (d) {
-    case Detector::kKtFactor: return {0.85, 0.99, 15};
-    case Detector::kResistanceFactor: return {1.2, 3.0, 7};
-    case Detector::kFrictionFactor: return {1.05, 1.95, 10};
-    case Detector::kSensorDrift: return {0.5, 3.0, 6};
+    case Detector::kKtFactor: return {0.90, 0.995, 20};
+    case Detector::kResistanceFactor: return {1.0, 3.0, 5};
+    case Detector::kFrictionFactor: return {1.0, 1.9, 10};
+    case Detector::kSensorDrift: return {0.1, 3.1, 6};
   }
   return {0, 0, 1};
 }
@@ -68,6 +68,20 @@ double ParseNumber(const std::string& text, const std::string& what) {
     throw InputError("--sweep", "", what + ": expected a number, got \"" + text + "\"");
   }
   return v;
+}
+
+// FROM:TO:STEPS (inclusive) or one value.
+std::vector<double> ParseValues(const std::string& range, const std::string& name) {
+  const size_t c1 = range.find(':');
+  if (c1 == std::string::npos) return {ParseNumber(range, name)};
+  const size_t c2 = range.find(':', c1 + 1);
+  if (c2 == std::string::npos) throw InputError("--sweep", "", name + ": expected FROM:TO:STEPS, got \"" + range + "\"");
+  const double from = ParseNumber(range.substr(0, c1), name), to = ParseNumber(range.substr(c1 + 1, c2 - c1 - 1), name);
+  const double steps = ParseNumber(range.substr(c2 + 1), name);
+  if (!(steps >= 1 && steps <= 10000 && steps == std::floor(steps))) {
+    throw InputError("--sweep", "", name + ": STEPS must be a whole number from 1 to 10000, got " + range.substr(c2 + 1));
+  }
+  return Grid(from, to, static_cast<int>(steps));
 }
 
 // Outcome of one detector (over all joints) or of the tick-level events, for one threshold.
@@ -97,16 +111,16 @@ struct RunTable {
   std::string category;  // magnitude of a family without a numeric one (the stuck lead...)
   double onset_s = 0;
   Hit event;
-  std::array<std::vector<Hit>, kDetectorCount> detector;  // per axis value
+  std::array<std::vector<std::vector<Hit>>, kDetectorCount> detector;  // [significance][worn limit]
 };
 
-// The first alarm of a run under the axis indices k: the same order as Decide().
-Hit Combine(const RunTable& r, const std::array<int, kDetectorCount>& k) {
+// The first alarm of a run under the setting k: the same order as Decide().
+Hit Combine(const RunTable& r, const SettingIndex& k) {
   Hit best = r.event;
   int best_priority = -1;
   bool pre = r.event.pre;
   for (int d = 0; d < kDetectorCount; ++d) {
-    const Hit& h = r.detector[d][k[d]];
+    const Hit& h = r.detector[d][k[kDetectorCount]][k[d]];
     pre = pre || h.pre;
     if (h.t == kInf) continue;
     if (best.t == kInf || std::tie(h.t, d, h.joint) < std::tie(best.t, best_priority, best.joint)) {
@@ -118,15 +132,13 @@ Hit Combine(const RunTable& r, const std::array<int, kDetectorCount>& k) {
   return best;
 }
 
-Hit DetectorHit(const DecisionStats& s, Detector d, double threshold, FamilyTable* families) {
+Hit DetectorHit(const DecisionStats& s, Detector d, double threshold, double significance, FamilyTable* families) {
   Hit out;
   for (const DecisionStats::Trace& t : s.traces) {
     if (t.detector != d) continue;
-    if (Alarms(t.pre_max_quanta, threshold)) out.pre = true;
-    const auto it = std::partition_point(t.rise.begin(), t.rise.end(), [&](const DecisionStats::Rise& r) {
-      return !Alarms(static_cast<double>(r.quanta), threshold);
-    });
-    if (it == t.rise.end()) continue;
+    if (AlarmedBefore(t, threshold, significance)) out.pre = true;
+    const DecisionStats::Rise* it = FirstAlarm(t, threshold, significance);
+    if (!it) continue;
     if (out.t == kInf || std::tie(it->t_s, t.joint) < std::tie(out.t, out.joint)) {
       out.t = it->t_s;
       out.joint = t.joint;
@@ -162,7 +174,7 @@ struct Scorer {
   long faulty = 0, healthy = 0;
   std::vector<long> family_runs;
 
-  Score Evaluate(const std::array<int, kDetectorCount>& k, std::vector<double>* latencies = nullptr,
+  Score Evaluate(const SettingIndex& k, std::vector<double>* latencies = nullptr,
                  int latency_family = -2) const {
     Score s;
     s.family_detected.assign(family_runs.size(), 0);
@@ -305,8 +317,9 @@ SweepGrid MakeSweepGrid(const MonitorConfig& base, const std::string& spec) {
   SweepGrid grid;
   for (const DetectorInfo& info : Detectors()) {
     const DefaultAxis a = DefaultAxisOf(info.detector);
-    grid.push_back({info.detector, Grid(a.from, a.to, a.steps)});
+    grid.axes.push_back({info.detector, Grid(a.from, a.to, a.steps)});
   }
+  grid.significance = Grid(1.0, 5.0, 9);
   size_t start = 0;
   while (start < spec.size()) {
     size_t comma = spec.find(',', start);
@@ -316,6 +329,13 @@ SweepGrid MakeSweepGrid(const MonitorConfig& base, const std::string& spec) {
     const size_t eq = item.find('=');
     const std::string name = item.substr(0, eq);
     const std::string suffix = ".worn";
+    if (name == "significance" && eq != std::string::npos) {
+      grid.significance = ParseValues(item.substr(eq + 1), name);
+      for (double v : grid.significance) {
+        if (!(v > 0 && v <= 100)) throw InputError("--sweep", "", name + ": " + std::to_string(v) + " is not in (0, 100]");
+      }
+      continue;
+    }
     if (eq == std::string::npos || name.size() <= suffix.size() ||
         name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0) {
       throw InputError("--sweep", "", "expected NAME.worn=FROM:TO:STEPS or NAME.worn=VALUE, got \"" + item + "\"");
@@ -326,21 +346,7 @@ SweepGrid MakeSweepGrid(const MonitorConfig& base, const std::string& spec) {
     } catch (const std::out_of_range& e) {
       throw InputError("--sweep", "", e.what());
     }
-    const std::string range = item.substr(eq + 1);
-    std::vector<double> values;
-    const size_t c1 = range.find(':');
-    if (c1 == std::string::npos) {
-      values = {ParseNumber(range, name)};
-    } else {
-      const size_t c2 = range.find(':', c1 + 1);
-      if (c2 == std::string::npos) throw InputError("--sweep", "", name + ": expected FROM:TO:STEPS, got \"" + range + "\"");
-      const double from = ParseNumber(range.substr(0, c1), name), to = ParseNumber(range.substr(c1 + 1, c2 - c1 - 1), name);
-      const double steps = ParseNumber(range.substr(c2 + 1), name);
-      if (!(steps >= 1 && steps <= 10000 && steps == std::floor(steps))) {
-        throw InputError("--sweep", "", name + ": STEPS must be a whole number from 1 to 10000, got " + range.substr(c2 + 1));
-      }
-      values = Grid(from, to, static_cast<int>(steps));
-    }
+    const std::vector<double> values = ParseValues(item.substr(eq + 1), name);
     for (double v : values) {
       // The same bounds the monitor config enforces.
       const bool below = info->detector == Detector::kKtFactor;
@@ -349,20 +355,22 @@ SweepGrid MakeSweepGrid(const MonitorConfig& base, const std::string& spec) {
                                             (below ? "0 < value <= 1" : "value >= " + std::to_string(info->healthy)) + ")");
       }
     }
-    grid[static_cast<int>(info->detector)].worn_values = values;
+    grid.axes[static_cast<int>(info->detector)].worn_values = values;
   }
-  // The monitor's own limits are always a setting, so the default point is scored the same way.
-  for (SweepAxis& axis : grid) {
-    axis.worn_values.push_back((base.*Limits(axis.detector)).worn);
-    std::sort(axis.worn_values.begin(), axis.worn_values.end());
-    axis.worn_values.erase(std::unique(axis.worn_values.begin(), axis.worn_values.end()), axis.worn_values.end());
-  }
+  // The monitor's own values are always a setting, so the default point is scored the same way.
+  auto add_sorted = [](std::vector<double>* v, double x) {
+    v->push_back(x);
+    std::sort(v->begin(), v->end());
+    v->erase(std::unique(v->begin(), v->end()), v->end());
+  };
+  for (SweepAxis& axis : grid.axes) add_sorted(&axis.worn_values, (base.*Limits(axis.detector)).worn);
+  add_sorted(&grid.significance, base.significance);
   return grid;
 }
 
 long SettingCount(const SweepGrid& grid) {
-  long n = 1;
-  for (const SweepAxis& a : grid) n *= static_cast<long>(a.worn_values.size());
+  long n = static_cast<long>(grid.significance.size());
+  for (const SweepAxis& a : grid.axes) n *= static_cast<long>(a.worn_values.size());
   return n;
 }
 
@@ -405,7 +413,7 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
         throw InputError(results_path.string(), "", where() + e.what());
       }
       // The stored statistics must give the recorded outcome under the thresholds the run used.
-      const DecisionOutcome check = Decide(stats, as_run);
+      const DecisionOutcome check = Decide(stats, as_run, base.significance);
       if (check.detected != rec.detected || check.alarm_before_onset != rec.alarm_before_onset ||
           (check.detected && (check.detection_time_s != *rec.detection_time_s || check.family != rec.isolated_family ||
                               check.joint != rec.isolated_joint))) {
@@ -420,10 +428,15 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
       r.category = CategoryOf(rec.fault);
       r.onset_s = rec.onset_s;
       r.event = EventHit(stats, &families);
-      for (const SweepAxis& axis : grid) {
+      for (const SweepAxis& axis : grid.axes) {
         const DetectorInfo& info = Detectors()[static_cast<int>(axis.detector)];
         auto& hits = r.detector[static_cast<int>(axis.detector)];
-        for (double worn : axis.worn_values) hits.push_back(DetectorHit(stats, axis.detector, ThresholdFor(info, worn), &families));
+        for (double z : grid.significance) {
+          hits.emplace_back();
+          for (double worn : axis.worn_values) {
+            hits.back().push_back(DetectorHit(stats, axis.detector, ThresholdFor(info, worn), z, &families));
+          }
+        }
       }
       runs.push_back(std::move(r));
     }
@@ -444,9 +457,11 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
   // Score every setting (mixed radix over the axes), in parallel: each setting is independent.
   const long settings = SettingCount(grid);
   auto indices = [&](long s) {
-    std::array<int, kDetectorCount> k{};
+    SettingIndex k{};
+    k[kDetectorCount] = static_cast<int>(s % static_cast<long>(grid.significance.size()));
+    s /= static_cast<long>(grid.significance.size());
     for (int d = kDetectorCount - 1; d >= 0; --d) {
-      const long size = static_cast<long>(grid[d].worn_values.size());
+      const long size = static_cast<long>(grid.axes[d].worn_values.size());
       k[d] = static_cast<int>(s % size);
       s /= size;
     }
@@ -467,11 +482,11 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
   // healthy joints the campaign did not cover), each normalised by its axis.
   auto margin = [&](long s) {
     const auto k = indices(s);
-    double sum = 0;
+    double sum = grid.significance[k[kDetectorCount]] / grid.significance.back();
     for (int d = 0; d < kDetectorCount; ++d) {
-      const double h = ThresholdFor(Detectors()[d], grid[d].worn_values[k[d]]);
-      sum += h / std::max(1e-12, ThresholdFor(Detectors()[d], grid[d].worn_values.back()) +
-                                     ThresholdFor(Detectors()[d], grid[d].worn_values.front()));
+      const auto& v = grid.axes[d].worn_values;
+      const double h = ThresholdFor(Detectors()[d], v[k[d]]);
+      sum += h / std::max(1e-12, ThresholdFor(Detectors()[d], v.back()) + ThresholdFor(Detectors()[d], v.front()));
     }
     return sum;
   };
@@ -508,19 +523,24 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
                      "no setting keeps the false-alarm rate at or below " + std::to_string(rule.false_alarm_ceiling) +
                          "; raise the ceiling or widen the sweep");
   }
-  const std::array<int, kDetectorCount> op = indices(best);
-  std::array<int, kDetectorCount> as_run_k{};
+  const SettingIndex op = indices(best);
+  SettingIndex as_run_k{};
   for (int d = 0; d < kDetectorCount; ++d) {
-    const auto& v = grid[d].worn_values;
-    as_run_k[d] = static_cast<int>(std::find(v.begin(), v.end(), (base.*Limits(grid[d].detector)).worn) - v.begin());
+    const auto& v = grid.axes[d].worn_values;
+    as_run_k[d] = static_cast<int>(std::find(v.begin(), v.end(), (base.*Limits(grid.axes[d].detector)).worn) - v.begin());
   }
+  as_run_k[kDetectorCount] = static_cast<int>(
+      std::find(grid.significance.begin(), grid.significance.end(), base.significance) - grid.significance.begin());
 
-  auto setting_json = [&](const std::array<int, kDetectorCount>& k) {
+  auto setting_json = [&](const SettingIndex& k) {
     nlohmann::json j = nlohmann::json::object();
-    for (int d = 0; d < kDetectorCount; ++d) j[std::string(Detectors()[d].parameter) + ".worn"] = grid[d].worn_values[k[d]];
+    for (int d = 0; d < kDetectorCount; ++d) {
+      j[std::string(Detectors()[d].parameter) + ".worn"] = grid.axes[d].worn_values[k[d]];
+    }
+    j["significance"] = grid.significance[k[kDetectorCount]];
     return j;
   };
-  auto point_json = [&](const std::array<int, kDetectorCount>& k) {
+  auto point_json = [&](const SettingIndex& k) {
     std::vector<double> all;
     const Score s = scorer.Evaluate(k, &all, -1);
     nlohmann::json j;
@@ -552,12 +572,13 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
   report["campaign"] = campaign.name;
   report["runs"] = {{"faulty", scorer.faulty}, {"healthy", scorer.healthy}, {"failed", failed}};
   nlohmann::json parameters = nlohmann::json::array();
-  for (const SweepAxis& a : grid) {
+  for (const SweepAxis& a : grid.axes) {
     const DetectorInfo& info = Detectors()[static_cast<int>(a.detector)];
     parameters.push_back({{"name", std::string(info.parameter) + ".worn"},
                           {"default", (base.*Limits(a.detector)).worn},
                           {"values", a.worn_values}});
   }
+  parameters.push_back({{"name", "significance"}, {"default", base.significance}, {"values", grid.significance}});
   report["parameters"] = parameters;
   report["settings"] = settings;
   switch (rule.kind) {
@@ -619,13 +640,12 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
     nlohmann::json points = nlohmann::json::array(), lat_points = nlohmann::json::array();
     std::vector<std::pair<double, double>> pts;
     if (own >= 0) {
-      std::array<int, kDetectorCount> k = op;
-      std::vector<std::pair<double, nlohmann::json>> ordered;
-      for (size_t i = 0; i < grid[own].worn_values.size(); ++i) {
+      SettingIndex k = op;
+      for (size_t i = 0; i < grid.axes[own].worn_values.size(); ++i) {
         k[own] = static_cast<int>(i);
         std::vector<double> lat;
         const Score s = scorer.Evaluate(k, &lat, static_cast<int>(f));
-        const double worn = grid[own].worn_values[i];
+        const double worn = grid.axes[own].worn_values[i];
         const double x = fa(s), y = Ratio(s.family_detected[f], scorer.family_runs[f]);
         points.push_back({{"threshold", worn}, {"false_alarm_rate", x}, {"detection_rate", y}});
         pts.emplace_back(x, y);
@@ -733,11 +753,13 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
   TuningResult result;
   result.tuned = base;
   for (int d = 0; d < kDetectorCount; ++d) {
-    StateLimits& l = result.tuned.*Limits(grid[d].detector);
-    l.worn = grid[d].worn_values[op[d]];
+    StateLimits& l = result.tuned.*Limits(grid.axes[d].detector);
+    l.worn = grid.axes[d].worn_values[op[d]];
     // Keep the defective limit beyond the worn one.
-    l.defective = grid[d].detector == Detector::kKtFactor ? std::min(l.defective, l.worn) : std::max(l.defective, l.worn);
+    l.defective =
+        grid.axes[d].detector == Detector::kKtFactor ? std::min(l.defective, l.worn) : std::max(l.defective, l.worn);
   }
+  result.tuned.significance = grid.significance[op[kDetectorCount]];
   Validate(result.tuned, "", "<tuned monitor>");
   result.report = std::move(report);
   result.settings = settings;

@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -25,12 +26,19 @@ struct SweepAxis {
   Detector detector = Detector::kKtFactor;
   std::vector<double> worn_values;
 };
-// The grid of settings: one axis per detector, in Detector order.
-using SweepGrid = std::vector<SweepAxis>;
+// The grid of settings: one worn-limit axis per detector (in Detector order) times the
+// significance (standard errors) all detectors share.
+struct SweepGrid {
+  std::vector<SweepAxis> axes;
+  std::vector<double> significance;
+};
+// Indices of one setting: the axes in Detector order, then the significance.
+using SettingIndex = std::array<int, kDetectorCount + 1>;
 
 // The default grid around a monitor's limits, or one edited by a spec:
-// "kt_factor.worn=0.85:0.99:15,friction_factor.worn=1.3" (FROM:TO:STEPS, inclusive; or one
-// value). Throws InputError (source "--sweep") on a bad spec.
+// "kt_factor.worn=0.85:0.99:15,friction_factor.worn=1.3,significance=2:5:7" (FROM:TO:STEPS,
+// inclusive; or one value). The monitor's own values are always included. Throws InputError
+// (source "--sweep") on a bad spec.
 SweepGrid MakeSweepGrid(const MonitorConfig& base, const std::string& spec);
 long SettingCount(const SweepGrid& grid);
 

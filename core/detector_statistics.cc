@@ -55,8 +55,10 @@ DetectorThresholds ThresholdsOf(const MonitorConfig& config) {
   return h;
 }
 
-double Quantize(double statistic) {
-  return std::isfinite(statistic) ? std::floor(statistic / kStatisticQuantum) : kNoStatistic;
+double Quantize(double statistic, double quantum) {
+  if (std::isnan(statistic) || statistic == kNoStatistic) return kNoStatistic;
+  // Bounded so that held values fit a JSON integer exactly.
+  return std::floor(std::min(statistic, 1e12 * quantum) / quantum);
 }
 
 double SlidingMin::Push(double value) {
@@ -70,21 +72,22 @@ double SlidingMin::Push(double value) {
 nlohmann::json ToJson(const DecisionStats& s) {
   nlohmann::json traces = nlohmann::json::array();
   for (const DecisionStats::Trace& t : s.traces) {
-    nlohmann::json rise = nlohmann::json::array();
+    nlohmann::json rise = nlohmann::json::array(), pre = nlohmann::json::array();
     for (const DecisionStats::Rise& r : t.rise) {
-      nlohmann::json item = {r.t_s, r.quanta};
+      nlohmann::json item = {r.t_s, r.held.quanta, r.held.significance_quanta};
       if (!r.family.empty()) item.push_back(r.family);
       rise.push_back(std::move(item));
     }
+    for (const DecisionStats::Point& p : t.pre) pre.push_back({p.quanta, p.significance_quanta});
     traces.push_back({{"joint", t.joint},
                       {"detector", Detectors()[static_cast<int>(t.detector)].parameter},
-                      {"pre", std::isfinite(t.pre_max_quanta) ? nlohmann::json(static_cast<long>(t.pre_max_quanta))
-                                                              : nlohmann::json(nullptr)},
+                      {"pre", std::move(pre)},
                       {"rise", std::move(rise)}});
   }
   nlohmann::json events = nlohmann::json::array();
   for (const DecisionStats::Event& e : s.events) events.push_back({{"joint", e.joint}, {"family", e.family}, {"t_s", e.t_s}});
   return {{"quantum", kStatisticQuantum},
+          {"significance_quantum", kSignificanceQuantum},
           {"onset_s", s.onset_s},
           {"first_tick_s", s.first_tick_s},
           {"traces", std::move(traces)},
@@ -97,9 +100,11 @@ DecisionStats DecisionStatsFromJson(const nlohmann::json& j) {
     return o.at(key);
   };
   try {
-    if (need(j, "quantum").get<double>() != kStatisticQuantum) {
-      throw std::runtime_error("decision: statistics quantized to " + need(j, "quantum").dump() +
-                               ", this armfault uses " + std::to_string(kStatisticQuantum));
+    if (need(j, "quantum").get<double>() != kStatisticQuantum ||
+        need(j, "significance_quantum").get<double>() != kSignificanceQuantum) {
+      throw std::runtime_error("decision: statistics quantized to " + need(j, "quantum").dump() + " and " +
+                               need(j, "significance_quantum").dump() + ", this armfault uses " +
+                               std::to_string(kStatisticQuantum) + " and " + std::to_string(kSignificanceQuantum));
     }
     DecisionStats s;
     s.onset_s = need(j, "onset_s").get<double>();
@@ -108,13 +113,12 @@ DecisionStats DecisionStatsFromJson(const nlohmann::json& j) {
       DecisionStats::Trace trace;
       trace.joint = need(t, "joint").get<int>();
       trace.detector = DetectorByParameter(need(t, "detector").get<std::string>()).detector;
-      const nlohmann::json& pre = need(t, "pre");
-      trace.pre_max_quanta = pre.is_null() ? kNoStatistic : pre.get<double>();
+      for (const nlohmann::json& p : need(t, "pre")) trace.pre.push_back({p.at(0).get<long>(), p.at(1).get<long>()});
       for (const nlohmann::json& r : need(t, "rise")) {
         DecisionStats::Rise rise;
         rise.t_s = r.at(0).get<double>();
-        rise.quanta = r.at(1).get<long>();
-        if (r.size() > 2) rise.family = r.at(2).get<std::string>();
+        rise.held = {r.at(1).get<long>(), r.at(2).get<long>()};
+        if (r.size() > 3) rise.family = r.at(3).get<std::string>();
         trace.rise.push_back(std::move(rise));
       }
       s.traces.push_back(std::move(trace));
@@ -146,7 +150,7 @@ void DecisionRecorder::Record(double t_s, int joint, const DetectorReadings& rea
   }
   for (int d = 0; d < kDetectorCount; ++d) {
     const DetectorReading& r = readings[d];
-    if (!std::isfinite(r.held_quanta)) continue;
+    if (r.held_quanta == kNoStatistic || r.held_significance_quanta == kNoStatistic) continue;
     int& index = trace_index_[joint][d];
     if (index < 0) {
       index = static_cast<int>(stats_.traces.size());
@@ -156,16 +160,41 @@ void DecisionRecorder::Record(double t_s, int joint, const DetectorReadings& rea
       stats_.traces.push_back(std::move(t));
     }
     DecisionStats::Trace& t = stats_.traces[index];
+    const DecisionStats::Point p{static_cast<long>(r.held_quanta), static_cast<long>(r.held_significance_quanta)};
+    auto dominates = [](const DecisionStats::Point& a, const DecisionStats::Point& b) {
+      return a.quanta >= b.quanta && a.significance_quanta >= b.significance_quanta;
+    };
     if (!after) {
-      t.pre_max_quanta = std::max(t.pre_max_quanta, r.held_quanta);
-    } else if (t.rise.empty() || r.held_quanta > static_cast<double>(t.rise.back().quanta)) {
+      if (std::none_of(t.pre.begin(), t.pre.end(), [&](const DecisionStats::Point& q) { return dominates(q, p); })) {
+        t.pre.erase(std::remove_if(t.pre.begin(), t.pre.end(), [&](const DecisionStats::Point& q) { return dominates(p, q); }),
+                    t.pre.end());
+        t.pre.push_back(p);
+      }
+    } else if (std::none_of(t.rise.rbegin(), t.rise.rend(),  // most ticks repeat the last record
+                            [&](const DecisionStats::Rise& q) { return dominates(q.held, p); })) {
       const char* own = Detectors()[d].family;
-      t.rise.push_back({t_s, static_cast<long>(r.held_quanta), std::string(r.family) == own ? "" : r.family});
+      t.rise.push_back({t_s, p, std::string(r.family) == own ? "" : r.family});
     }
   }
 }
 
-DecisionOutcome Decide(const DecisionStats& s, const DetectorThresholds& h) {
+bool AlarmedBefore(const DecisionStats::Trace& t, double threshold, double significance) {
+  for (const DecisionStats::Point& p : t.pre) {
+    if (Alarms(static_cast<double>(p.quanta), static_cast<double>(p.significance_quanta), threshold, significance)) return true;
+  }
+  return false;
+}
+
+const DecisionStats::Rise* FirstAlarm(const DecisionStats::Trace& t, double threshold, double significance) {
+  for (const DecisionStats::Rise& r : t.rise) {
+    if (Alarms(static_cast<double>(r.held.quanta), static_cast<double>(r.held.significance_quanta), threshold, significance)) {
+      return &r;
+    }
+  }
+  return nullptr;
+}
+
+DecisionOutcome Decide(const DecisionStats& s, const DetectorThresholds& h, double significance) {
   DecisionOutcome out;
   // The first alarm at or after the onset: (time, priority, joint); events come first.
   std::tuple<double, int, int> best{0, 0, 0};
@@ -185,11 +214,10 @@ DecisionOutcome Decide(const DecisionStats& s, const DetectorThresholds& h) {
   }
   for (const DecisionStats::Trace& t : s.traces) {
     const int d = static_cast<int>(t.detector);
-    if (Alarms(t.pre_max_quanta, h[d])) out.alarm_before_onset = true;
-    // Rises are strictly increasing: the first that alarms.
-    const auto it = std::partition_point(t.rise.begin(), t.rise.end(),
-                                         [&](const DecisionStats::Rise& r) { return !Alarms(static_cast<double>(r.quanta), h[d]); });
-    if (it != t.rise.end()) consider(it->t_s, d, t.joint, it->family.empty() ? Detectors()[d].family : it->family);
+    if (AlarmedBefore(t, h[d], significance)) out.alarm_before_onset = true;
+    if (const DecisionStats::Rise* r = FirstAlarm(t, h[d], significance)) {
+      consider(r->t_s, d, t.joint, r->family.empty() ? Detectors()[d].family : r->family);
+    }
   }
   return out;
 }

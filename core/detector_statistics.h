@@ -2,19 +2,22 @@
 // compact per-run record of those statistics that lets `armfault tune` re-score any
 // threshold setting without simulating again.
 //
-// Each parametric detector d of a joint has, at every controller tick, a deviation statistic
-// b_d >= 0 (how far the estimate lies from healthy, in the estimate's units) when the
-// estimate is significant (its gate: enough excitation, |deviation| >= significance x std
-// error), else none. The statistic is quantized down to kStatisticQuantum and held: the
-// detector's held value at tick k is the minimum of the quantized statistic over ticks
-// k-H..k, H = round(debounce_s / control period). The detector alarms while
-//     held x kStatisticQuantum > threshold_d,   threshold_d = |worn limit - healthy value|.
-// A run's alarm time under thresholds h is the first tick where any detector's held value
-// passes its h (ties: Detector order, then joint), or a tick-level (structural) detector
-// latches; the run's isolation is that detector's family and joint.
+// Each parametric detector d of a joint has, at every controller tick where its estimate is
+// judged (enough excitation), two statistics: the deviation b_d (how far the estimate lies
+// from healthy, in the estimate's units) and its significance s_d (deviation / standard
+// error). Both are quantized down (kStatisticQuantum, kSignificanceQuantum) and held: the
+// held value at tick k is the minimum over ticks k-H..k, H = round(debounce_s / control
+// period). The detector alarms while
+//     held b x kStatisticQuantum > threshold_d  and  held s x kSignificanceQuantum >= z,
+// threshold_d = |worn limit - healthy value|, z = the monitor's significance. (For all ticks
+// of the window, b > h and s >= z  <=>  min b > h and min s >= z.)
+// A run's alarm time under (h, z) is the first tick where any detector alarms (ties:
+// Detector order, then joint), or a tick-level (structural) detector latches; the run's
+// isolation is that detector's family and joint.
 //
-// Because held values do not depend on the thresholds, the running maximum of each held
-// value (from the fault onset on) and its maximum before the onset are all a setting needs.
+// Held values do not depend on (h, z), so each detector stores, from the fault onset on, the
+// ticks whose (held b, held s) no earlier tick dominates: the first alarm under any (h, z) is
+// one of them. Before the onset, the non-dominated pairs tell whether any tick alarmed.
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -31,7 +34,8 @@ struct MonitorConfig;
 
 enum class Detector { kKtFactor = 0, kResistanceFactor, kFrictionFactor, kSensorDrift };
 constexpr int kDetectorCount = 4;
-constexpr double kStatisticQuantum = 1e-3;  // of a factor, or N m for the drift
+constexpr double kStatisticQuantum = 1e-3;    // of a factor, or N m for the drift
+constexpr double kSignificanceQuantum = 1e-2;  // standard errors
 constexpr double kNoStatistic = -std::numeric_limits<double>::infinity();
 
 struct DetectorInfo {
@@ -51,12 +55,14 @@ DetectorThresholds ThresholdsOf(const MonitorConfig& config);
 double WornLimitFor(const DetectorInfo& info, const MonitorConfig& config, double threshold);
 double ThresholdFor(const DetectorInfo& info, double worn_limit);
 
-// True when a held value (in quanta) alarms against a threshold; the one comparison the
-// monitor and the re-scoring share.
-inline bool Alarms(double held_quanta, double threshold) { return held_quanta * kStatisticQuantum > threshold; }
+// True when held values (in quanta) alarm against a threshold and a significance; the one
+// comparison the monitor and the re-scoring share.
+inline bool Alarms(double held_quanta, double held_significance_quanta, double threshold, double significance) {
+  return held_quanta * kStatisticQuantum > threshold && held_significance_quanta * kSignificanceQuantum >= significance;
+}
 
 // Quantized statistic (in quanta, an integer-valued double), kNoStatistic when none.
-double Quantize(double statistic);
+double Quantize(double statistic, double quantum = kStatisticQuantum);
 
 // Minimum of the last `span` pushed values (a monotone deque).
 class SlidingMin {
@@ -72,23 +78,28 @@ class SlidingMin {
 // One detector's held value at a tick, with the family it would name (a friction factor far
 // beyond wear names brake_lock).
 struct DetectorReading {
-  double held_quanta = kNoStatistic;
+  double held_quanta = kNoStatistic;               // deviation
+  double held_significance_quanta = kNoStatistic;  // deviation / standard error
   const char* family = "";
 };
 using DetectorReadings = std::array<DetectorReading, kDetectorCount>;
 
 // The compact record of one run, stored as "decision" in results.jsonl.
 struct DecisionStats {
+  struct Point {
+    long quanta = 0;               // held deviation
+    long significance_quanta = 0;  // held significance
+  };
   struct Rise {
     double t_s = 0;
-    long quanta = 0;
+    Point held;
     std::string family;  // set when it differs from the detector's own family
   };
   struct Trace {
     int joint = 0;  // 1-based
     Detector detector = Detector::kKtFactor;
-    double pre_max_quanta = kNoStatistic;  // max held value before the onset
-    std::vector<Rise> rise;                // running maxima of the held value from the onset on
+    std::vector<Point> pre;  // the non-dominated held pairs before the onset
+    std::vector<Rise> rise;  // from the onset on, ticks whose held pair no earlier one dominates
   };
   struct Event {
     int joint = 0;
@@ -125,6 +136,11 @@ struct DecisionOutcome {
   int joint = 0;
   std::string family;
 };
-DecisionOutcome Decide(const DecisionStats& stats, const DetectorThresholds& thresholds);
+DecisionOutcome Decide(const DecisionStats& stats, const DetectorThresholds& thresholds, double significance);
+
+// One detector trace against (h, z): whether it alarmed before the onset, and its first
+// alarm from the onset on (nullptr if none).
+bool AlarmedBefore(const DecisionStats::Trace& trace, double threshold, double significance);
+const DecisionStats::Rise* FirstAlarm(const DecisionStats::Trace& trace, double threshold, double significance);
 
 }  // namespace armfault

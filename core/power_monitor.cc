@@ -33,6 +33,12 @@ constexpr double kBrakeDragFrictionFactor = 4.0;
 
 double NormalCdf(double z) { return 0.5 * std::erfc(-z / std::sqrt(2.0)); }
 
+// Deviation in standard errors; an exact (se 0) deviation counts as very significant.
+double Significance(double deviation, double se) {
+  if (se > 0) return deviation / se;
+  return deviation > 0 ? 1e9 : (deviation < 0 ? -1e9 : 0.0);
+}
+
 // Solves the 2x2 system (A) x = b; returns false if singular.
 bool Solve2(double a11, double a12, double a22, double b1, double b2, double* x1, double* x2,
             double* inv11, double* inv22) {
@@ -65,6 +71,7 @@ struct Candidate {
 struct PowerEfficiencyMonitor::JointState {
   explicit JointState(long hold_span) {
     for (SlidingMin& h : held) h = SlidingMin(hold_span);
+    for (SlidingMin& h : held_significance) h = SlidingMin(hold_span);
   }
   // current window
   bool in_window = false;
@@ -76,11 +83,13 @@ struct PowerEfficiencyMonitor::JointState {
   // mechanical fit
   std::deque<MechanicalWindow> mech;
   Estimates est;
-  // Mechanical statistics (friction, drift) from the latest judged window, and the raw ones
-  // of the window before: a statistic must come up at two evaluations in a row (a fit that
-  // straddles an onset mixes before and after) unless it is twice as significant.
-  std::array<double, 2> mech_statistic{kNoStatistic, kNoStatistic};
-  std::array<double, 2> mech_raw{kNoStatistic, kNoStatistic};
+  // Mechanical statistics (friction, drift) from the latest judged window, and the raw
+  // significance of the window before: a deviation must be significant at two evaluations in
+  // a row (a fit that straddles an onset mixes before and after) unless it is twice as
+  // significant.
+  std::array<double, 2> mech_deviation{kNoStatistic, kNoStatistic};
+  std::array<double, 2> mech_significance{kNoStatistic, kNoStatistic};
+  std::array<double, 2> mech_raw_significance{kNoStatistic, kNoStatistic};
   // tick-level detectors
   double overpower_s = 0;
   double dead_s = 0;
@@ -88,7 +97,7 @@ struct PowerEfficiencyMonitor::JointState {
   double rail_s = 0;
   double blocked_s = 0;
   // decision
-  std::array<SlidingMin, kDetectorCount> held;
+  std::array<SlidingMin, kDetectorCount> held, held_significance;
   DetectorReadings readings;
   Candidate structural;  // latched once a tick-level detector fires
   std::string shown_family = "";  // family of the last verdict emitted ("" healthy)
@@ -331,16 +340,19 @@ void PowerEfficiencyMonitor::Observe(double t_s, const std::vector<JointSignals>
         s.est.windows_in_fit = static_cast<int>(s.mech.size());
         // Mechanical statistics, re-judged at each judged window.
         const Estimates& e = s.est;
-        const double z = c.significance;
         const bool fit = e.windows_in_fit >= 2;
-        const double friction_dev = e.friction_factor - 1, drift_dev = std::fabs(e.sensor_drift_Nm);
-        const std::array<double, 2> raw = {
-            fit && friction_dev >= z * e.friction_factor_se ? friction_dev : kNoStatistic,
-            fit && drift_dev >= z * e.sensor_drift_se ? drift_dev : kNoStatistic};
-        const std::array<bool, 2> clear = {fit && friction_dev >= 2 * z * e.friction_factor_se,
-                                           fit && drift_dev >= 2 * z * e.sensor_drift_se};
-        for (int m = 0; m < 2; ++m) s.mech_statistic[m] = clear[m] ? raw[m] : std::min(raw[m], s.mech_raw[m]);
-        s.mech_raw = raw;
+        const std::array<double, 2> deviation = {fit ? e.friction_factor - 1 : kNoStatistic,
+                                                 fit ? std::fabs(e.sensor_drift_Nm) : kNoStatistic};
+        const std::array<double, 2> significance = {
+            fit ? Significance(deviation[0], e.friction_factor_se) : kNoStatistic,
+            fit ? Significance(deviation[1], e.sensor_drift_se) : kNoStatistic};
+        for (int m = 0; m < 2; ++m) {
+          s.mech_deviation[m] = deviation[m];
+          // Significant at z in two windows in a row, or at 2 z now.
+          s.mech_significance[m] =
+              std::max(std::min(significance[m], s.mech_raw_significance[m]), significance[m] / 2);
+        }
+        s.mech_raw_significance = significance;
       }
     }
 
@@ -395,15 +407,19 @@ void PowerEfficiencyMonitor::Observe(double t_s, const std::vector<JointSignals>
 
     // --- parametric detectors: deviation statistics, held over the debounce time ---
     const Estimates& e = s.est;
-    const double z = c.significance;
     const bool judge_n = s.excitation_rotor_J >= c.min_rotor_energy_J;
     const bool judge_r = s.excitation_copper_J >= c.min_copper_energy_J;
-    const std::array<double, kDetectorCount> statistic = {
-        judge_n && 1 - e.kt_factor >= z * e.kt_factor_se ? 1 - e.kt_factor : kNoStatistic,
-        judge_r && e.resistance_factor - 1 >= z * e.resistance_factor_se ? e.resistance_factor - 1 : kNoStatistic,
-        s.mech_statistic[0], s.mech_statistic[1]};
+    const std::array<double, kDetectorCount> deviation = {judge_n ? 1 - e.kt_factor : kNoStatistic,
+                                                          judge_r ? e.resistance_factor - 1 : kNoStatistic,
+                                                          s.mech_deviation[0], s.mech_deviation[1]};
+    const std::array<double, kDetectorCount> significance = {
+        judge_n ? Significance(deviation[0], e.kt_factor_se) : kNoStatistic,
+        judge_r ? Significance(deviation[1], e.resistance_factor_se) : kNoStatistic, s.mech_significance[0],
+        s.mech_significance[1]};
     for (int d = 0; d < kDetectorCount; ++d) {
-      s.readings[d].held_quanta = s.held[d].Push(Quantize(statistic[d]));
+      s.readings[d].held_quanta = s.held[d].Push(Quantize(deviation[d]));
+      s.readings[d].held_significance_quanta =
+          s.held_significance[d].Push(Quantize(significance[d], kSignificanceQuantum));
       s.readings[d].family = Detectors()[d].family;
     }
     // Far beyond wear: a brake dragging on the shaft.
@@ -417,7 +433,8 @@ void PowerEfficiencyMonitor::Observe(double t_s, const std::vector<JointSignals>
     } else {
       auto confidence = [](double margin, double se) { return se > 0 ? NormalCdf(margin / se) : 1.0; };
       for (int d = 0; d < kDetectorCount && shown.state == HealthState::kHealthy; ++d) {
-        if (!Alarms(s.readings[d].held_quanta, model_.thresholds[d])) continue;
+        const DetectorReading& r = s.readings[d];
+        if (!Alarms(r.held_quanta, r.held_significance_quanta, model_.thresholds[d], c.significance)) continue;
         switch (static_cast<Detector>(d)) {
           case Detector::kKtFactor:
             shown = {e.kt_factor < c.kt_factor.defective ? HealthState::kDefective : HealthState::kWorn, "kt_degradation",

@@ -47,49 +47,82 @@ DecisionStats Stats() {
   DecisionStats::Trace kt;
   kt.joint = 3;
   kt.detector = Detector::kKtFactor;
-  kt.pre_max_quanta = 20;  // 0.020 before the onset
-  kt.rise = {{2.0, 10, ""}, {2.5, 50, ""}, {3.0, 200, ""}};
+  kt.pre = {{20, 500}, {5, 900}};  // 0.020 at 5 standard errors, 0.005 at 9, before the onset
+  kt.rise = {{2.0, {10, 500}, ""}, {2.5, {50, 500}, ""}, {3.0, {200, 350}, ""}, {3.2, {150, 600}, ""}};
   DecisionStats::Trace friction;
   friction.joint = 2;
   friction.detector = Detector::kFrictionFactor;
-  friction.rise = {{2.5, 400, ""}, {4.0, 3500, "brake_lock"}};
+  friction.rise = {{2.5, {400, 500}, ""}, {4.0, {3500, 500}, "brake_lock"}};
   s.traces = {kt, friction};
   return s;
 }
 
 DetectorThresholds Thresholds(double kt, double friction) { return {kt, 10.0, friction, 10.0}; }
 
-TEST(Decide, TheFirstRiseAboveTheThresholdAlarms) {
-  const DecisionOutcome d = Decide(Stats(), Thresholds(0.07, 10.0));
+TEST(Decide, TheFirstRecordPastBothTheThresholdAndTheSignificanceAlarms) {
+  DecisionOutcome d = Decide(Stats(), Thresholds(0.07, 10.0), 3.0);
   EXPECT_TRUE(d.detected);
-  EXPECT_DOUBLE_EQ(d.detection_time_s, 3.0);  // 0.200 > 0.07; 0.050 is not
+  EXPECT_DOUBLE_EQ(d.detection_time_s, 3.0);  // 0.200 > 0.07 at 3.5 standard errors; 0.050 is not
   EXPECT_EQ(d.family, "kt_degradation");
   EXPECT_EQ(d.joint, 3);
   EXPECT_FALSE(d.alarm_before_onset);
+  d = Decide(Stats(), Thresholds(0.07, 10.0), 4.0);  // 3.5 is not significant enough: 6.0 at 3.2 s
+  EXPECT_DOUBLE_EQ(d.detection_time_s, 3.2);
+  EXPECT_TRUE(Decide(Stats(), Thresholds(0.07, 10.0), 6.0).detected);  // >= z
+  EXPECT_FALSE(Decide(Stats(), Thresholds(0.07, 10.0), 6.01).detected);
 }
 
-TEST(Decide, PreOnsetMaximumIsAFalseAlarm) {
-  EXPECT_TRUE(Decide(Stats(), Thresholds(0.019, 10.0)).alarm_before_onset);
-  EXPECT_FALSE(Decide(Stats(), Thresholds(0.020, 10.0)).alarm_before_onset);  // strictly above
+TEST(Decide, PreOnsetPairsAreFalseAlarms) {
+  EXPECT_TRUE(Decide(Stats(), Thresholds(0.019, 10.0), 3.0).alarm_before_onset);
+  EXPECT_FALSE(Decide(Stats(), Thresholds(0.020, 10.0), 3.0).alarm_before_onset);  // strictly above
+  EXPECT_TRUE(Decide(Stats(), Thresholds(0.004, 10.0), 8.0).alarm_before_onset);   // the second pair
+  EXPECT_FALSE(Decide(Stats(), Thresholds(0.019, 10.0), 5.5).alarm_before_onset);
+}
+
+TEST(DecisionRecorder, KeepsOnlyPairsNoEarlierPairDominates) {
+  DecisionRecorder rec(1, 1.0);
+  auto record = [&](double t, double b, double z) {
+    DetectorReadings r;
+    r[0] = {b, z, "kt_degradation"};
+    rec.Record(t, 0, r, "");
+  };
+  record(0.5, 10, 100);
+  record(0.6, 20, 50);
+  record(0.7, 5, 50);  // dominated by both
+  record(0.8, 30, 200);  // dominates both: they go
+  record(1.0, 1, 1);
+  record(1.1, 1, 1);  // a repeat
+  record(1.2, 2, 0);
+  record(1.3, 0, 2);
+  record(1.4, 2, 2);
+  record(1.5, 1, 2);  // dominated
+  const DecisionStats& s = rec.stats();
+  ASSERT_EQ(s.traces.size(), 1u);
+  ASSERT_EQ(s.traces[0].pre.size(), 1u);
+  EXPECT_EQ(s.traces[0].pre[0].quanta, 30);
+  std::vector<double> times;
+  for (const auto& r : s.traces[0].rise) times.push_back(r.t_s);
+  EXPECT_THAT(times, testing::ElementsAre(1.0, 1.2, 1.3, 1.4));
+  EXPECT_DOUBLE_EQ(s.first_tick_s, 1.0);
 }
 
 TEST(Decide, TiesGoToTheEarlierDetectorAndLabelsComeFromTheRise) {
   // Both detectors pass at 2.5 s: K_T comes first in the detector order.
-  DecisionOutcome d = Decide(Stats(), Thresholds(0.04, 0.3));
+  DecisionOutcome d = Decide(Stats(), Thresholds(0.04, 0.3), 3.0);
   EXPECT_DOUBLE_EQ(d.detection_time_s, 2.5);
   EXPECT_EQ(d.family, "kt_degradation");
-  d = Decide(Stats(), Thresholds(1.0, 3.0));
+  d = Decide(Stats(), Thresholds(1.0, 3.0), 3.0);
   EXPECT_DOUBLE_EQ(d.detection_time_s, 4.0);
   EXPECT_EQ(d.family, "brake_lock");
   EXPECT_EQ(d.joint, 2);
-  EXPECT_FALSE(Decide(Stats(), Thresholds(1.0, 3.5)).detected);
+  EXPECT_FALSE(Decide(Stats(), Thresholds(1.0, 3.5), 3.0).detected);
 }
 
 TEST(Decide, ALatchedEventBeforeTheOnsetAlarmsAtTheFirstTickAfterIt) {
   DecisionStats s = Stats();
   s.first_tick_s = 2.001;
   s.events = {{1, "inverter_short", 1.0}};
-  const DecisionOutcome d = Decide(s, Thresholds(1.0, 10.0));
+  const DecisionOutcome d = Decide(s, Thresholds(1.0, 10.0), 3.0);
   EXPECT_TRUE(d.alarm_before_onset);
   EXPECT_DOUBLE_EQ(d.detection_time_s, 2.001);
   EXPECT_EQ(d.family, "inverter_short");
@@ -141,10 +174,15 @@ TEST(FitPod, CompleteSeparationStillGivesAFiniteCurve) {
 
 TEST(SweepGrid, SpecsEditAxesAndTheMonitorsLimitsAreAlwaysIncluded) {
   const MonitorConfig base;
-  const SweepGrid g = MakeSweepGrid(base, "kt_factor.worn=0.9:0.98:5,friction_factor.worn=1.5");
-  EXPECT_THAT(g[0].worn_values, testing::ElementsAre(0.9, 0.92, 0.93, 0.94, 0.96, 0.98));
-  EXPECT_THAT(g[2].worn_values, testing::ElementsAre(1.3, 1.5));
-  EXPECT_EQ(SettingCount(g), 6L * 8 * 2 * 6);
+  const SweepGrid g = MakeSweepGrid(base, "kt_factor.worn=0.9:0.98:5,friction_factor.worn=1.5,significance=4:5:2");
+  EXPECT_THAT(g.axes[0].worn_values, testing::ElementsAre(0.9, 0.92, 0.93, 0.94, 0.96, 0.98));
+  EXPECT_THAT(g.axes[2].worn_values, testing::ElementsAre(1.3, 1.5));
+  EXPECT_THAT(g.significance, testing::ElementsAre(3, 4, 5));
+  EXPECT_EQ(SettingCount(g), 6L * 6 * 2 * 7 * 3);
+  // kt 0.900..0.995 by 0.005 (20, 0.93 among them); resistance 1.0..3.0 by 0.5 plus 1.4;
+  // friction 1.0..1.9 by 0.1 (1.3 among them); drift 0.1..3.1 by 0.6 plus 1.0;
+  // significance 1..5 by 0.5 (3 among them).
+  EXPECT_EQ(SettingCount(MakeSweepGrid(base, "")), 20L * 6 * 10 * 7 * 9);
   auto error = [&](const std::string& spec) {
     try {
       MakeSweepGrid(base, spec);
@@ -159,6 +197,7 @@ TEST(SweepGrid, SpecsEditAxesAndTheMonitorsLimitsAreAlwaysIncluded) {
   EXPECT_THAT(error("kt_factor.worn=1.2"), HasSubstr("not a worn limit"));
   EXPECT_THAT(error("friction_factor.worn=1:2:0"), HasSubstr("STEPS"));
   EXPECT_THAT(error("friction_factor.worn=abc"), HasSubstr("expected a number, got \"abc\""));
+  EXPECT_THAT(error("significance=0"), HasSubstr("significance: 0.000000 is not in (0, 100]"));
 }
 
 // A small campaign the default K_T limit (0.93) half misses: K_T 0.95 and 0.9 faults.
