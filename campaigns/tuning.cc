@@ -26,16 +26,6 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kZ95Two = 1.959963984540054;
 constexpr double kZ95One = 1.6448536269514722;
 
-StateLimits MonitorConfig::*Limits(Detector d) {
-  switch (d) {
-    case Detector::kKtFactor: return &MonitorConfig::kt_factor;
-    case Detector::kResistanceFactor: return &MonitorConfig::resistance_factor;
-    case Detector::kFrictionFactor: return &MonitorConfig::friction_factor;
-    case Detector::kSensorDrift: return &MonitorConfig::sensor_drift_Nm;
-  }
-  return &MonitorConfig::kt_factor;
-}
-
 // Default axes: from the healthy value (where false alarms start) out to clearly worn.
 struct DefaultAxis {
   double from, to;
@@ -363,7 +353,7 @@ SweepGrid MakeSweepGrid(const MonitorConfig& base, const std::string& spec) {
     std::sort(v->begin(), v->end());
     v->erase(std::unique(v->begin(), v->end()), v->end());
   };
-  for (SweepAxis& axis : grid.axes) add_sorted(&axis.worn_values, (base.*Limits(axis.detector)).worn);
+  for (SweepAxis& axis : grid.axes) add_sorted(&axis.worn_values, (base.*LimitsOf(axis.detector)).worn);
   add_sorted(&grid.significance, base.significance);
   return grid;
 }
@@ -527,7 +517,7 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
   SettingIndex as_run_k{};
   for (int d = 0; d < kDetectorCount; ++d) {
     const auto& v = grid.axes[d].worn_values;
-    as_run_k[d] = static_cast<int>(std::find(v.begin(), v.end(), (base.*Limits(grid.axes[d].detector)).worn) - v.begin());
+    as_run_k[d] = static_cast<int>(std::find(v.begin(), v.end(), (base.*LimitsOf(grid.axes[d].detector)).worn) - v.begin());
   }
   as_run_k[kDetectorCount] = static_cast<int>(
       std::find(grid.significance.begin(), grid.significance.end(), base.significance) - grid.significance.begin());
@@ -575,7 +565,7 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
   for (const SweepAxis& a : grid.axes) {
     const DetectorInfo& info = Detectors()[static_cast<int>(a.detector)];
     parameters.push_back({{"name", std::string(info.parameter) + ".worn"},
-                          {"default", (base.*Limits(a.detector)).worn},
+                          {"default", (base.*LimitsOf(a.detector)).worn},
                           {"values", a.worn_values}});
   }
   parameters.push_back({{"name", "significance"}, {"default", base.significance}, {"values", grid.significance}});
@@ -753,7 +743,7 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
   TuningResult result;
   result.tuned = base;
   for (int d = 0; d < kDetectorCount; ++d) {
-    StateLimits& l = result.tuned.*Limits(grid.axes[d].detector);
+    StateLimits& l = result.tuned.*LimitsOf(grid.axes[d].detector);
     l.worn = grid.axes[d].worn_values[op[d]];
     // Keep the defective limit beyond the worn one.
     l.defective =

@@ -28,8 +28,7 @@ const DetectorInfo& DetectorByParameter(const std::string& parameter) {
   throw std::out_of_range("unknown detector parameter \"" + parameter + "\" (known: " + known + ")");
 }
 
-namespace {
-StateLimits MonitorConfig::*LimitsMember(Detector d) {
+StateLimits MonitorConfig::*LimitsOf(Detector d) {
   switch (d) {
     case Detector::kKtFactor: return &MonitorConfig::kt_factor;
     case Detector::kResistanceFactor: return &MonitorConfig::resistance_factor;
@@ -38,19 +37,13 @@ StateLimits MonitorConfig::*LimitsMember(Detector d) {
   }
   return &MonitorConfig::kt_factor;
 }
-}  // namespace
 
 double ThresholdFor(const DetectorInfo& info, double worn_limit) { return std::fabs(worn_limit - info.healthy); }
-
-double WornLimitFor(const DetectorInfo& info, const MonitorConfig&, double threshold) {
-  // K_T falls below 1; the other parameters rise above their healthy value.
-  return info.detector == Detector::kKtFactor ? info.healthy - threshold : info.healthy + threshold;
-}
 
 DetectorThresholds ThresholdsOf(const MonitorConfig& config) {
   DetectorThresholds h{};
   for (const DetectorInfo& d : Detectors()) {
-    h[static_cast<int>(d.detector)] = ThresholdFor(d, (config.*LimitsMember(d.detector)).worn);
+    h[static_cast<int>(d.detector)] = ThresholdFor(d, (config.*LimitsOf(d.detector)).worn);
   }
   return h;
 }

@@ -51,8 +51,6 @@ const DetectorInfo& DetectorByParameter(const std::string& parameter);
 // Thresholds on the deviation statistic, one per detector, in Detector order.
 using DetectorThresholds = std::array<double, kDetectorCount>;
 DetectorThresholds ThresholdsOf(const MonitorConfig& config);
-// The worn limit a threshold stands for (inverse of ThresholdsOf for one detector).
-double WornLimitFor(const DetectorInfo& info, const MonitorConfig& config, double threshold);
 double ThresholdFor(const DetectorInfo& info, double worn_limit);
 
 // True when held values (in quanta) alarm against a threshold and a significance; the one

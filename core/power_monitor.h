@@ -68,6 +68,9 @@ struct MonitorConfig {
   double blocked_time_s = 0.2;         // ... with the joint at rest, this long
 };
 
+// The worn/defective limits a swept detector uses.
+StateLimits MonitorConfig::*LimitsOf(Detector detector);
+
 // Parses a monitor JSON object (every key optional, unknown keys rejected); Validate()s it.
 MonitorConfig MonitorConfigFromJson(const nlohmann::json& value, const std::string& pointer,
                                     const std::string& source);
