@@ -127,12 +127,8 @@ int TraceCampaignCase(const TraceOptions& o) {
   if (!file) throw InputError(o.output, "", "error while writing the trace file");
 
   if (!o.monitor_output.empty()) {
-    nlohmann::json out = {{"diagnosis", ToJson(Diagnose(monitor.output()))},
-                          {"record", ToJson(record)},
-                          {"verdicts", nlohmann::json::array()},
-                          {"windows", nlohmann::json::array()}};
-    for (const Verdict& v : monitor.output().verdicts) out["verdicts"].push_back(ToJson(v));
-    for (const EfficiencyWindow& w : monitor.output().windows) out["windows"].push_back(ToJson(w));
+    nlohmann::json out = ToJson(monitor.output());
+    out["record"] = ToJson(record);
     std::ofstream mf(o.monitor_output, std::ios::binary);
     mf << out.dump(1) << "\n";
     if (!mf) throw InputError(o.monitor_output, "", "cannot write the monitor output");

@@ -157,13 +157,8 @@ int RunTrace(const TraceOptions& o) {
     }
   }
   if (!o.monitor_output.empty()) {
-    nlohmann::json out = {{"diagnosis", ToJson(Diagnose(monitor.output()))},
-                          {"verdicts", nlohmann::json::array()},
-                          {"windows", nlohmann::json::array()}};
-    for (const Verdict& v : monitor.output().verdicts) out["verdicts"].push_back(ToJson(v));
-    for (const EfficiencyWindow& w : monitor.output().windows) out["windows"].push_back(ToJson(w));
     std::ofstream mf(o.monitor_output, std::ios::binary);
-    mf << out.dump(1) << "\n";
+    mf << ToJson(monitor.output()).dump(1) << "\n";
     if (!mf) throw InputError(o.monitor_output, "", "cannot write the monitor output");
   }
   if (!o.quiet) PrintMonitorSummary(monitor);

@@ -94,6 +94,15 @@ nlohmann::json ToJson(const Diagnosis& d) {
   return j;
 }
 
+nlohmann::json ToJson(const MonitorOutput& output) {
+  nlohmann::json out = {{"diagnosis", ToJson(Diagnose(output))},
+                        {"verdicts", nlohmann::json::array()},
+                        {"windows", nlohmann::json::array()}};
+  for (const Verdict& v : output.verdicts) out["verdicts"].push_back(ToJson(v));
+  for (const EfficiencyWindow& w : output.windows) out["windows"].push_back(ToJson(w));
+  return out;
+}
+
 TickObserver ObserveWith(HealthMonitor* monitor, TickObserver also) {
   return [monitor, also, signals = std::vector<JointSignals>()](const Tick& tick) mutable {
     signals.resize(tick.joints->size());

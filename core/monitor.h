@@ -84,6 +84,8 @@ Diagnosis Diagnose(const MonitorOutput& output);
 nlohmann::json ToJson(const Verdict& v);
 nlohmann::json ToJson(const EfficiencyWindow& w);
 nlohmann::json ToJson(const Diagnosis& d);
+// {"diagnosis", "verdicts", "windows"}: what `trace --monitor-out` writes.
+nlohmann::json ToJson(const MonitorOutput& output);
 
 // A health monitor in the loop: Observe() is called at every controller tick with every
 // joint's signals, in time order; Finish() once at the end of the run.
