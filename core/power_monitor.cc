@@ -31,6 +31,15 @@ constexpr double kMechanicalNoiseFloor_J = 0.05;
 // Above this friction factor the extra drag is a dragging brake, not wear.
 constexpr double kBrakeDragFrictionFactor = 4.0;
 
+// Memory of the torque-balance fit that carries the sensor offset: long enough to hold both
+// directions of motion of most tasks.
+constexpr double kSlowBalanceTimeConstant_s = 4.0;
+// Moving time each way in that fit before its offset is judged.
+constexpr double kMinOffsetMovingEachWay_s = 1.0;
+
+// Ticks over which the balance residual stays correlated (the low-pass memory, both sides).
+double CorrelationTicks(const MonitorConfig& c, double dt) { return std::max(1.0, 2.0 * c.balance_filter_s / dt); }
+
 double NormalCdf(double z) { return 0.5 * std::erfc(-z / std::sqrt(2.0)); }
 
 // Deviation in standard errors; an exact (se 0) deviation counts as very significant.
@@ -51,6 +60,41 @@ bool Solve2(double a11, double a12, double a22, double b1, double b2, double* x1
   return true;
 }
 
+// The electrical balance y = U_d I_d - fixed losses = n P_r + rho P_copper, weighted least
+// squares with forgetting, weak priors n = rho = 1 so it is defined at rest.
+struct ElectricalFit {
+  double forget = 1;
+  double a11 = 0, a12 = 0, a22 = 0, b1 = 0, b2 = 0, yy = 0, weight = 0;
+  double n = 1, n_se = 0, rho = 1, rho_se = 0;
+  void Add(double y, double p_rotor, double p_copper) {
+    a11 = forget * a11 + p_rotor * p_rotor;
+    a12 = forget * a12 + p_rotor * p_copper;
+    a22 = forget * a22 + p_copper * p_copper;
+    b1 = forget * b1 + p_rotor * y;
+    b2 = forget * b2 + p_copper * y;
+    yy = forget * yy + y * y;
+    weight = forget * weight + 1.0;
+    double nn, r, inv11, inv22;
+    if (!Solve2(a11 + kElectricalPrior_W2, a12, a22 + kElectricalPrior_W2, b1 + kElectricalPrior_W2,
+                b2 + kElectricalPrior_W2, &nn, &r, &inv11, &inv22)) {
+      return;
+    }
+    const double sse = std::max(0.0, yy - 2 * (nn * b1 + r * b2) + nn * nn * a11 + 2 * nn * r * a12 + r * r * a22);
+    const double sigma2 = sse / std::max(1.0, weight - 2.0);
+    n = nn;
+    rho = r;
+    n_se = std::sqrt(sigma2 * inv11);
+    rho_se = std::sqrt(sigma2 * inv22);
+    if (nn > 1.0) {
+      // K_T cannot rise: supply power above the model is an extra loss. Refit rho with
+      // n = 1 (rotor and copper power are nearly collinear in many motions).
+      const double a22p = a22 + kElectricalPrior_W2;
+      rho = (b2 + kElectricalPrior_W2 - a12) / a22p;
+      rho_se = std::sqrt(sigma2 / a22p);
+    }
+  }
+};
+
 // One judged window as the mechanical fit uses it.
 struct MechanicalWindow {
   double rotor_J, out_J, mesh_loss_J, friction_J, dq_rad, sigma_J;
@@ -69,7 +113,13 @@ struct Candidate {
 }  // namespace
 
 struct PowerEfficiencyMonitor::JointState {
-  explicit JointState(long hold_span) {
+  JointState(const MonitorConfig& c, const JointKnowledge& k, double dt, long hold_span)
+      : balance_filter(c.balance_filter_s, dt, c.rest_velocity_rad_s, k.mechanical.stribeck_s2),
+        balance(false, c.balance_time_constant_s, dt, CorrelationTicks(c, dt), k.balance_sigma_Nm),
+        balance_slow(true, kSlowBalanceTimeConstant_s, dt, CorrelationTicks(c, dt), k.balance_sigma_Nm),
+        balance_since_alarm(true, 0, dt, CorrelationTicks(c, dt), k.balance_sigma_Nm) {
+    electrical.forget = std::exp(-dt / c.electrical_time_constant_s);
+    electrical_fast.forget = std::exp(-dt / c.balance_time_constant_s);
     for (SlidingMin& h : held) h = SlidingMin(hold_span);
     for (SlidingMin& h : held_significance) h = SlidingMin(hold_span);
   }
@@ -77,19 +127,20 @@ struct PowerEfficiencyMonitor::JointState {
   bool in_window = false;
   EfficiencyWindow window;
   double window_dq = 0;
-  // electrical fit: y = n x1 + rho x2, weighted with forgetting
-  double a11 = 0, a12 = 0, a22 = 0, b1 = 0, b2 = 0, yy = 0, weight = 0;
+  // electrical balance: the K_T and resistance detectors' fit, and a fast one whose n is the
+  // torque gain of the torque balance
+  ElectricalFit electrical, electrical_fast;
   double excitation_rotor_J = 0, excitation_copper_J = 0;
-  // mechanical fit
+  // tick-rate torque balance: friction alone, fast (the friction detector); friction and the
+  // sensor offset, slow (the drift detector, and the offset the fast fit removes); and one
+  // that grows from the friction or drift statistic's first crossing (the magnitude, free of
+  // the data before the change)
+  BalanceFilter balance_filter;
+  BalanceFit balance, balance_slow, balance_since_alarm;
+  bool balance_crossed = false;
+  // mechanical window fit (the thesis's view)
   std::deque<MechanicalWindow> mech;
   Estimates est;
-  // Mechanical statistics (friction, drift) from the latest judged window, and the raw
-  // significance of the window before: a deviation must be significant at two evaluations in
-  // a row (a fit that straddles an onset mixes before and after) unless it is twice as
-  // significant.
-  std::array<double, 2> mech_deviation{kNoStatistic, kNoStatistic};
-  std::array<double, 2> mech_significance{kNoStatistic, kNoStatistic};
-  std::array<double, 2> mech_raw_significance{kNoStatistic, kNoStatistic};
   // tick-level detectors
   double overpower_s = 0;
   double dead_s = 0;
@@ -107,7 +158,9 @@ struct PowerEfficiencyMonitor::JointState {
 };
 
 PowerEfficiencyMonitor::PowerEfficiencyMonitor(const PowerMonitorModel& model) : model_(model) {
-  for (size_t j = 0; j < model.joints.size(); ++j) joints_.push_back(std::make_unique<JointState>(model.hold_span));
+  for (size_t j = 0; j < model.joints.size(); ++j) {
+    joints_.push_back(std::make_unique<JointState>(model.config, model.joints[j], model.control_dt_s, model.hold_span));
+  }
 }
 PowerEfficiencyMonitor::~PowerEfficiencyMonitor() = default;
 
@@ -140,6 +193,20 @@ PowerMonitorModel MakePowerMonitorModel(const RobotConfig& robot, const MonitorC
     k.friction = p.friction;
     k.brake_holding_Nm = p.brake.holding_torque_Nm;
     k.rotor_inertia_link_kg_m2 = p.motor.rotor_inertia_kg_m2 * p.drive.ratio * p.drive.ratio;
+    // Until commissioning, the unit is its datasheet.
+    k.electrical.quiescent_W = k.quiescent_W;
+    k.electrical.copper_W_per_A2 = 2.0 * k.phase_resistance_ohm;
+    k.electrical.conduction_W_per_A2 = 2.0 * k.switch_resistance_ohm;
+    k.electrical.switching_W_per_A = 2.0 * k.switching_loss_W_per_A;
+    MechanicalCalibration& mc = k.mechanical;
+    mc.rotor_inertia_kg_m2 = k.rotor_inertia_link_kg_m2;
+    mc.rotor_coupling_kg_m2 = p.motor.rotor_inertia_kg_m2 * p.drive.ratio;
+    mc.viscous_Nm_s = k.ratio * p.friction.viscous_Nm_s_per_rad;
+    mc.coulomb_Nm = k.ratio * p.friction.coulomb_Nm;
+    mc.stribeck_Nm = k.ratio * p.friction.static_Nm;
+    mc.stribeck_s2 = p.friction.stribeck_s2_per_rad2;
+    mc.mesh_loss_fraction = k.mesh_loss_fraction;
+    k.balance_sigma_Nm = std::max(0.05, p.torque_sensor.noise_Nm);
     const std::array<double, 3> a = robot.links.at(i).joint_axis;
     const double na = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
     for (const auto& b : axes) {
@@ -157,16 +224,6 @@ PowerMonitorModel MakePowerMonitorModel(const RobotConfig& robot, const MonitorC
 
 namespace {
 
-// Electrical losses the monitor expects at commanded current i [A]: copper (two phases
-// conduct in six-step) and the inverter (two switches, conduction and switching).
-double CopperW(const JointKnowledge& k, double i) { return 2.0 * k.phase_resistance_ohm * i * i; }
-double InverterW(const JointKnowledge& k, double i) {
-  return 2.0 * (k.switch_resistance_ohm * i * i + k.switching_loss_W_per_A * std::fabs(i));
-}
-// Modelled friction torque at the link [N m], signed with the velocity.
-double FrictionLinkNm(const JointKnowledge& k, double qd) {
-  return k.ratio * FrictionTorqueNm(k.friction, 1.0, qd);
-}
 
 void FinishWindow(EfficiencyWindow* w) {
   w->mesh_in_J = w->rotor_J - w->friction_J;
@@ -217,7 +274,6 @@ void PowerEfficiencyMonitor::Observe(double t_s, const std::vector<JointSignals>
   }
   const double dt = t_s - t_prev_;
   if (!(dt > 0)) return;
-  const double forget = std::exp(-dt / c.electrical_time_constant_s);
 
   for (int j = 0; j < n; ++j) {
     const JointKnowledge& k = model_.joints[j];
@@ -229,50 +285,53 @@ void PowerEfficiencyMonitor::Observe(double t_s, const std::vector<JointSignals>
     const double tau_mean = 0.5 * (now.tau_sensor_Nm + prev.tau_sensor_Nm);
     const double rotor_torque = k.ratio * k.kt_Nm_per_A * i;  // perceived, at the link
     const double p_supply = now.v_bus_meas_V * now.i_supply_meas_A;
-    const double p_rotor = rotor_torque * dq / dt;
-    const double p_copper = CopperW(k, i);
-    const double p_fixed = InverterW(k, i) + k.quiescent_W;
+    const double p_rotor = k.electrical.rotor_gain * rotor_torque * dq / dt;
+    const double p_copper = k.electrical.Copper(i);
+    const double p_fixed = k.electrical.Fixed(i);
 
-    // Coupling correction (eq 4-15, 5-6): the rotor, lumped with the link, also turns with
-    // the parallel lower joints; its inertial torque from their acceleration is output too.
+    // --- tick-rate torque balance (core/torque_balance.h) ---
+    // Coupling (eq 4-14, 4-15): the rotor turns with the parallel lower joints, so their
+    // acceleration I_m γ c_l q̈_l is rotor torque the sensor never sees.
+    const FilteredTerms& terms = s.balance_filter.Push(rotor_torque, dq / dt, tau_mean);
     double coupling_torque = 0;
     for (int l = 0; l < j; ++l) {
-      const double cl = k.coupling[l];
-      if (cl == 0) continue;
-      const double acc = (signals[l].qd_est_rad_s - previous_[l].qd_est_rad_s) / dt;
-      coupling_torque += cl * k.rotor_inertia_link_kg_m2 * acc;
+      if (k.coupling[l] != 0) {
+        coupling_torque += k.coupling[l] * k.mechanical.rotor_coupling_kg_m2 * joints_[l]->balance_filter.terms().accel_rad_s2;
+      }
     }
-
-    // --- electrical fit, every tick ---
+    // --- electrical balance, every tick ---
     const double y = p_supply - p_fixed;
-    s.a11 = forget * s.a11 + p_rotor * p_rotor;
-    s.a12 = forget * s.a12 + p_rotor * p_copper;
-    s.a22 = forget * s.a22 + p_copper * p_copper;
-    s.b1 = forget * s.b1 + p_rotor * y;
-    s.b2 = forget * s.b2 + p_copper * y;
-    s.yy = forget * s.yy + y * y;
-    s.weight = forget * s.weight + 1.0;
+    s.electrical.Add(y, p_rotor, p_copper);
+    s.electrical_fast.Add(y, p_rotor, p_copper);
+    const double forget = s.electrical.forget;
     s.excitation_rotor_J = forget * s.excitation_rotor_J + std::fabs(p_rotor) * dt;
     s.excitation_copper_J = forget * s.excitation_copper_J + p_copper * dt;
+    s.est.kt_factor = s.electrical.n;
+    s.est.kt_factor_se = s.electrical.n_se;
+    s.est.resistance_factor = s.electrical.rho;
+    s.est.resistance_factor_se = s.electrical.rho_se;
+
+    // The torque gain is the K_T factor the fast electrical fit sees (a magnet cannot
+    // strengthen, so never above 1).
+    const BalanceRow row = RowOf(k.mechanical, terms, coupling_torque);
+    const double gain = std::min(1.0, s.electrical_fast.n);
+    s.balance_slow.Add(row, gain);
+    // The fast fit keeps the calibrated offset: within one direction of motion an offset
+    // change cannot be told from friction, and friction is the commoner wear.
+    s.balance.Add(row, gain, 0.0);
+    if (s.balance_crossed) s.balance_since_alarm.Add(row, std::min(1.0, s.electrical.n));
     {
-      double nn, rho, inv11, inv22;
-      if (Solve2(s.a11 + kElectricalPrior_W2, s.a12, s.a22 + kElectricalPrior_W2, s.b1 + kElectricalPrior_W2,
-                 s.b2 + kElectricalPrior_W2, &nn, &rho, &inv11, &inv22)) {
-        const double sse = std::max(0.0, s.yy - 2 * (nn * s.b1 + rho * s.b2) +
-                                             nn * nn * s.a11 + 2 * nn * rho * s.a12 + rho * rho * s.a22);
-        const double sigma2 = sse / std::max(1.0, s.weight - 2.0);
-        s.est.kt_factor = nn;
-        s.est.resistance_factor = rho;
-        s.est.kt_factor_se = std::sqrt(sigma2 * inv11);
-        s.est.resistance_factor_se = std::sqrt(sigma2 * inv22);
-        if (nn > 1.0) {
-          // K_T cannot rise: supply power above the model is an extra loss. Refit rho with
-          // n = 1 (rotor and copper power are nearly collinear in many motions).
-          const double a22p = s.a22 + kElectricalPrior_W2;
-          s.est.resistance_factor = (s.b2 + kElectricalPrior_W2 - s.a12) / a22p;
-          s.est.resistance_factor_se = std::sqrt(sigma2 / a22p);
-        }
-      }
+      const BalanceFit::Estimate& b = s.balance.estimate();
+      const BalanceFit::Estimate& m = s.balance_since_alarm.estimate();
+      const BalanceFit::Estimate& sl = s.balance_slow.estimate();
+      const bool grown = s.balance_crossed && m.moving_s >= c.min_balance_moving_s;
+      s.est.friction_factor = grown ? m.friction_factor : b.friction_factor;
+      s.est.friction_factor_se = b.friction_factor_se;
+      s.est.sensor_drift_Nm = grown ? m.offset_Nm : sl.offset_Nm;
+      s.est.sensor_drift_se = sl.offset_se;
+      s.est.torque_gain = gain;
+      s.est.torque_gain_se = s.electrical_fast.n_se;
+      s.est.balance_moving_s = b.moving_s;
     }
 
     // --- windows bounded by zero velocity ---
@@ -291,8 +350,8 @@ void PowerEfficiencyMonitor::Observe(double t_s, const std::vector<JointSignals>
       EfficiencyWindow& w = s.window;
       w.out_J += (tau_mean + coupling_torque) * dq;
       w.rotor_J += rotor_torque * dq;
-      w.friction_J += FrictionLinkNm(k, v) * dq;
-      w.mesh_loss_J += k.mesh_loss_fraction * std::fabs(tau_mean + coupling_torque) * std::fabs(dq);
+      w.friction_J += k.mechanical.FrictionNm(v) * dq;
+      w.mesh_loss_J += k.mechanical.mesh_loss_fraction * std::fabs(tau_mean + coupling_torque) * std::fabs(dq);
       w.supply_J += p_supply * dt;
       w.electrical_loss_J += (p_copper + p_fixed) * dt;
       w.t_end_s = t_s;
@@ -331,28 +390,8 @@ void PowerEfficiencyMonitor::Observe(double t_s, const std::vector<JointSignals>
           b2 += wgt * x2 * yw;
         }
         double kf, d, inv11, inv22;
-        if (Solve2(a11, a12, a22, b1, b2, &kf, &d, &inv11, &inv22)) {
-          s.est.friction_factor = kf;
-          s.est.sensor_drift_Nm = d;
-          s.est.friction_factor_se = std::sqrt(inv11);
-          s.est.sensor_drift_se = std::sqrt(inv22);
-        }
+        if (Solve2(a11, a12, a22, b1, b2, &kf, &d, &inv11, &inv22)) s.est.window_friction_factor = kf;
         s.est.windows_in_fit = static_cast<int>(s.mech.size());
-        // Mechanical statistics, re-judged at each judged window.
-        const Estimates& e = s.est;
-        const bool fit = e.windows_in_fit >= 2;
-        const std::array<double, 2> deviation = {fit ? e.friction_factor - 1 : kNoStatistic,
-                                                 fit ? std::fabs(e.sensor_drift_Nm) : kNoStatistic};
-        const std::array<double, 2> significance = {
-            fit ? Significance(deviation[0], e.friction_factor_se) : kNoStatistic,
-            fit ? Significance(deviation[1], e.sensor_drift_se) : kNoStatistic};
-        for (int m = 0; m < 2; ++m) {
-          s.mech_deviation[m] = deviation[m];
-          // Significant at z in two windows in a row, or at 2 z now.
-          s.mech_significance[m] =
-              std::max(std::min(significance[m], s.mech_raw_significance[m]), significance[m] / 2);
-        }
-        s.mech_raw_significance = significance;
       }
     }
 
@@ -363,7 +402,7 @@ void PowerEfficiencyMonitor::Observe(double t_s, const std::vector<JointSignals>
     s.overpower_s = excess > c.overpower_W ? s.overpower_s + dt : 0.0;
     // Dead drive: a large command but no copper loss in the supply: the over-current
     // protection has opened the bridge (a short that tripped faster than it could be seen).
-    const bool dead = std::fabs(i) >= c.dead_drive_current_A && p_supply - k.quiescent_W < 0.25 * p_copper;
+    const bool dead = std::fabs(i) >= c.dead_drive_current_A && p_supply - k.electrical.quiescent_W < 0.25 * p_copper;
     s.dead_s = dead ? s.dead_s + dt : 0.0;
     // Stuck torque sensor: on a rail, or unchanged while the joint moves and the commanded
     // torque swings (a live sensor would follow it).
@@ -409,13 +448,24 @@ void PowerEfficiencyMonitor::Observe(double t_s, const std::vector<JointSignals>
     const Estimates& e = s.est;
     const bool judge_n = s.excitation_rotor_J >= c.min_rotor_energy_J;
     const bool judge_r = s.excitation_copper_J >= c.min_copper_energy_J;
-    const std::array<double, kDetectorCount> deviation = {judge_n ? 1 - e.kt_factor : kNoStatistic,
-                                                          judge_r ? e.resistance_factor - 1 : kNoStatistic,
-                                                          s.mech_deviation[0], s.mech_deviation[1]};
+    const BalanceFit::Estimate& bal = s.balance.estimate();
+    const BalanceFit::Estimate& slow = s.balance_slow.estimate();
+    const bool judge_b = bal.moving_s >= c.min_balance_moving_s;
+    // An offset is told from friction only by motion both ways.
+    const bool judge_d = std::min(slow.positive_s, slow.negative_s) >= kMinOffsetMovingEachWay_s;
+    const std::array<double, kDetectorCount> deviation = {
+        judge_n ? 1 - e.kt_factor : kNoStatistic, judge_r ? e.resistance_factor - 1 : kNoStatistic,
+        judge_b ? bal.friction_factor - 1 : kNoStatistic, judge_d ? std::fabs(slow.offset_Nm) : kNoStatistic};
     const std::array<double, kDetectorCount> significance = {
         judge_n ? Significance(deviation[0], e.kt_factor_se) : kNoStatistic,
-        judge_r ? Significance(deviation[1], e.resistance_factor_se) : kNoStatistic, s.mech_significance[0],
-        s.mech_significance[1]};
+        judge_r ? Significance(deviation[1], e.resistance_factor_se) : kNoStatistic,
+        judge_b ? Significance(deviation[2], bal.friction_factor_se) : kNoStatistic,
+        judge_d ? Significance(deviation[3], slow.offset_se) : kNoStatistic};
+    // The magnitude fit starts where the friction or drift statistic first crosses its limit.
+    if (!s.balance_crossed && ((judge_b && deviation[2] > model_.thresholds[2]) || (judge_d && deviation[3] > model_.thresholds[3]))) {
+      s.balance_crossed = true;
+      s.balance_since_alarm.Reset();
+    }
     for (int d = 0; d < kDetectorCount; ++d) {
       s.readings[d].held_quanta = s.held[d].Push(Quantize(deviation[d]));
       s.readings[d].held_significance_quanta =

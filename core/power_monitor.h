@@ -20,6 +20,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
@@ -28,6 +29,7 @@
 #include "core/json_input.h"
 #include "core/monitor.h"
 #include "core/robot_config.h"
+#include "core/torque_balance.h"
 
 namespace armfault {
 
@@ -66,6 +68,10 @@ struct MonitorConfig {
   double blocked_current_A = 3.0;      // |i_cmd| at least this ...
   double blocked_error_rad = 0.02;     // ... tracking error at least this ...
   double blocked_time_s = 0.2;         // ... with the joint at rest, this long
+  // tick-rate torque balance (friction and sensor offset, core/torque_balance.h)
+  double balance_filter_s = 0.03;      // T_f of the low-pass every balance term passes
+  double balance_time_constant_s = 0.5;  // forgetting of the fit the friction and drift detectors judge
+  double min_balance_moving_s = 0.3;   // moving time in that fit needed to judge
 };
 
 // The worn/defective limits a swept detector uses.
@@ -77,8 +83,22 @@ MonitorConfig MonitorConfigFromJson(const nlohmann::json& value, const std::stri
 nlohmann::json MonitorConfigToJson(const MonitorConfig& config);
 void Validate(const MonitorConfig& config, const std::string& pointer, const std::string& source);
 
+// The electrical balance the monitor believes of one unit (thesis eq 4-4 ... 4-8):
+//   U_d I_d = quiescent + rotor_gain P_r + (copper + conduction) i² + switching |i|
+// with P_r = γ K_T i q̇ from the datasheet K_T. From the datasheet, or fitted by commissioning.
+struct ElectricalCalibration {
+  double quiescent_W = 0;
+  double rotor_gain = 1.0;             // supply power per perceived rotor power
+  double copper_W_per_A2 = 0;          // 2 R: scales with the winding resistance
+  double conduction_W_per_A2 = 0;      // 2 R_sw: the switches' conduction loss
+  double switching_W_per_A = 0;        // 2 U_d t_sw f_pwm
+  double Copper(double i) const { return copper_W_per_A2 * i * i; }
+  double Fixed(double i) const { return quiescent_W + conduction_W_per_A2 * i * i + switching_W_per_A * std::fabs(i); }
+};
+
 // What the monitor knows about one joint module: its datasheet (nominal) parameters, taken
-// from the robot config. The monitor never sees the hardware condition of a run.
+// from the robot config, and what commissioning on the unit taught it. The monitor never
+// sees the hardware condition of a run.
 struct JointKnowledge {
   double ratio = 0;
   double kt_Nm_per_A = 0;
@@ -92,6 +112,11 @@ struct JointKnowledge {
   double rotor_inertia_link_kg_m2 = 0; // I_m ratio^2: coupling correction
   std::vector<double> coupling;        // per lower joint: a_i . a_j at the zero pose
   double sensor_min_Nm = 0, sensor_max_Nm = 0;  // readings at the ADC rails
+  // The unit as the monitor believes it: the datasheet's values until commissioning fits them.
+  bool commissioned = false;
+  ElectricalCalibration electrical;
+  MechanicalCalibration mechanical;
+  double balance_sigma_Nm = 0.05;      // healthy scatter of one tick's balance residual
 };
 
 // Immutable, shared by all runs of a robot.
@@ -118,7 +143,10 @@ class PowerEfficiencyMonitor : public HealthMonitor {
     double resistance_factor = 1, resistance_factor_se = 0;
     double friction_factor = 1, friction_factor_se = 0;
     double sensor_drift_Nm = 0, sensor_drift_se = 0;
-    int windows_in_fit = 0;
+    int windows_in_fit = 0;      // windows in the (thesis-view) mechanical window fit
+    double window_friction_factor = 1;  // the window fit's friction factor
+    double torque_gain = 1, torque_gain_se = 0;  // the torque balance's a
+    double balance_moving_s = 0;  // moving time in the balance fit
   };
   Estimates estimates(int joint) const;
   // The swept detectors' held statistics at the latest tick (see detector_statistics.h), and
