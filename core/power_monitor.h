@@ -129,6 +129,11 @@ struct PowerMonitorModel {
 };
 PowerMonitorModel MakePowerMonitorModel(const RobotConfig& robot, const MonitorConfig& config);
 
+// The monitor model of one unit after commissioning: each joint's electrical and mechanical
+// calibration fitted (least squares, pulled to the datasheet) on signals the unit gave while
+// healthy (core/commissioning.cc). A failed or empty recording leaves the nominal model.
+PowerMonitorModel CommissionMonitorModel(const PowerMonitorModel& nominal, const CommissioningData& data);
+
 class PowerEfficiencyMonitor : public HealthMonitor {
  public:
   explicit PowerEfficiencyMonitor(const PowerMonitorModel& model);

@@ -313,5 +313,103 @@ TEST(MonitorConfigJson, RunFilesTakeThresholdsInlineOrFromAFile) {
   EXPECT_THAT(ErrorOf([&] { RunConfigFromJson(run, "", context); }).what(), HasSubstr("missing.json"));
 }
 
+// --- commissioning ------------------------------------------------------------------------
+
+// A unit that is not its datasheet: stronger magnet, more friction, a lower mesh loss, more
+// quiescent draw.
+RobotConfig OffDatasheetUnit() {
+  RobotConfig robot = RobotPreset("mrr-config1");
+  for (ModuleParams& m : robot.modules) {
+    m.motor.kt_Nm_per_A *= 1.05;
+    m.friction.viscous_Nm_s_per_rad *= 1.25;
+    m.friction.coulomb_Nm *= 1.25;
+    m.friction.static_Nm *= 1.25;
+    m.drive.mesh_loss_fraction = 0.20;
+    m.inverter.quiescent_power_W = 2.6;
+  }
+
+  return robot;
+}
+
+// Every joint moving both ways at several speeds.
+json MovingAllJoints(double duration_s) {
+  return {{"duration_s", duration_s},
+          {"joints",
+           {{"1", {{"type", "sine_pair"}, {"amplitude_deg", 30}, {"omega_rad_s", 1.1}}},
+            {"2", {{"type", "cosine_ramp"}, {"amplitude_deg", 25}, {"period_s", 4}}},
+            {"3", {{"type", "sine_pair"}, {"amplitude_deg", 25}, {"omega_rad_s", 1.2732}}}}}};
+}
+
+// Simulates `run_json` on `robot` and records what a monitor may read.
+CommissioningData Record(const RobotConfig& robot, const json& run_json, uint64_t seed) {
+  InputContext context;
+  context.source = "<test>";
+  RunConfig run = RunConfigFromJson(run_json, "", context);
+  run.robot = robot;
+  run.seed = seed;
+  const ArmModel model(robot);
+  CommissioningData data;
+  data.control_dt_s = model.control_dt_s();
+  const RunResult r = Simulate(model, MakeRunSpec(run), [&](const Tick& tick) {
+    data.t_s.push_back(tick.t_s);
+    std::vector<JointSignals> s;
+    for (const JointTick& jt : *tick.joints) s.push_back(SignalsOf(jt));
+    data.signals.push_back(std::move(s));
+  });
+  data.ok = r.ok;
+  return data;
+}
+
+// The friction factor the fast balance fit holds at the end of a healthy run of `robot`.
+double HealthyFrictionFactor(const RobotConfig& robot, const PowerMonitorModel& monitor_model, int joint, uint64_t seed) {
+  const CommissioningData run = Record(robot, MovingAllJoints(8), seed);
+  PowerEfficiencyMonitor monitor(monitor_model);
+  for (size_t t = 0; t < run.t_s.size(); ++t) monitor.Observe(run.t_s[t], run.signals[t]);
+  return monitor.estimates(joint).friction_factor;
+}
+
+TEST(Commissioning, LearnsTheUnitFromItsHealthySignals) {
+  const RobotConfig unit = OffDatasheetUnit();
+  const PowerMonitorModel nominal = MakePowerMonitorModel(RobotPreset("mrr-config1"), MonitorConfig());
+  const PowerMonitorModel learned = CommissionMonitorModel(nominal, Record(unit, MovingAllJoints(16), 99));
+  for (int j = 0; j < 3; ++j) {
+    const JointKnowledge& k = learned.joints[j];
+    EXPECT_TRUE(k.commissioned) << "joint " << j + 1;
+    // Electrical: 30 % more quiescent draw, 5 % more back-EMF per perceived rotor power.
+    EXPECT_NEAR(k.electrical.quiescent_W, 2.6, 0.15) << "joint " << j + 1;
+    EXPECT_NEAR(k.electrical.rotor_gain, 1.05, 0.02) << "joint " << j + 1;
+    // Mechanical: torque per perceived torque 1.05, friction 1.25 x the datasheet's.
+    const MechanicalCalibration& m = k.mechanical;
+    const MechanicalCalibration& m0 = nominal.joints[j].mechanical;
+    EXPECT_NEAR(m.torque_gain, 1.05, 0.03) << "joint " << j + 1;
+    const double f = m.FrictionNm(0.5) / m0.FrictionNm(0.5);
+    RecordProperty("friction_ratio_j" + std::to_string(j + 1), std::to_string(f));
+    EXPECT_NEAR(f, 1.25, 0.08) << "joint " << j + 1;
+  }
+  for (const JointKnowledge& k : learned.joints) EXPECT_NEAR(k.mechanical.sensor_offset_Nm, 0.0, 0.1);
+}
+
+TEST(Commissioning, HealthyUnitReadsHealthyOnlyAfterCommissioning) {
+  const RobotConfig unit = OffDatasheetUnit();
+  const PowerMonitorModel nominal = MakePowerMonitorModel(RobotPreset("mrr-config1"), MonitorConfig());
+  const PowerMonitorModel learned = CommissionMonitorModel(nominal, Record(unit, MovingAllJoints(16), 99));
+  for (int j = 0; j < 3; ++j) {
+    const double before = HealthyFrictionFactor(unit, nominal, j, 5);
+    const double after = HealthyFrictionFactor(unit, learned, j, 5);
+    RecordProperty("friction_factor_nominal_j" + std::to_string(j + 1), std::to_string(before));
+    RecordProperty("friction_factor_commissioned_j" + std::to_string(j + 1), std::to_string(after));
+    EXPECT_GT(std::fabs(before - 1.0), 0.1) << "joint " << j + 1 << ": the datasheet should not fit this unit";
+    EXPECT_NEAR(after, 1.0, 0.05) << "joint " << j + 1;
+  }
+}
+
+TEST(Commissioning, AFailedRecordingLeavesTheDatasheet) {
+  const PowerMonitorModel nominal = MakePowerMonitorModel(RobotPreset("mrr-config1"), MonitorConfig());
+  CommissioningData failed;
+  failed.ok = false;
+  const PowerMonitorModel m = CommissionMonitorModel(nominal, failed);
+  for (const JointKnowledge& k : m.joints) EXPECT_FALSE(k.commissioned);
+}
+
 }  // namespace
 }  // namespace armfault
