@@ -1,4 +1,5 @@
 // MonitorConfig <-> JSON, driven by one table so parsing, checks and output cannot drift.
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -47,6 +48,9 @@ const std::vector<NumberField>& NumberFields() {
       {"blocked_current_A", &MonitorConfig::blocked_current_A, 0, 1e4},
       {"blocked_error_rad", &MonitorConfig::blocked_error_rad, 0, 10},
       {"blocked_time_s", &MonitorConfig::blocked_time_s, 0, 1e3},
+      {"balance_filter_s", &MonitorConfig::balance_filter_s, 0.002, 10},
+      {"balance_time_constant_s", &MonitorConfig::balance_time_constant_s, 0.01, 1e3},
+      {"min_balance_moving_s", &MonitorConfig::min_balance_moving_s, 0, 1e3},
   };
   return f;
 }
@@ -127,6 +131,57 @@ nlohmann::json MonitorConfigToJson(const MonitorConfig& c) {
   for (const auto& f : IntFields()) j[f.key] = c.*f.member;
   for (const auto& f : LimitFields()) j[f.key] = {{"worn", (c.*f.member).worn}, {"defective", (c.*f.member).defective}};
   return j;
+}
+
+}  // namespace armfault
+
+namespace armfault {
+
+namespace {
+// Scales at which a constant error shows in a statistic: rotor power of a typical motion, the
+// current at which copper loss is judged, a typical joint torque, the self-heating a winding
+// may add over ambient in a task (docs/monitor.md, "Without commissioning").
+constexpr double kTypicalRotorPower_W = 10.0;
+constexpr double kTypicalCurrent_A = 2.0;
+constexpr double kTypicalTorque_Nm = 6.0;
+constexpr double kSelfHeatingMargin_K = 10.0;
+// How strongly a torque-scale error reaches the friction factor: torque over friction of a
+// loaded joint; and the mesh loss over friction (μ |τ| / friction).
+constexpr double kTorqueOverFriction = 2.5;
+constexpr double kMeshOverFriction = 0.6;
+constexpr double kCopperPerK = 0.00393;   // copper resistance, per K
+constexpr double kMagnetPerK = 0.001;     // NdFeB K_T loss, per K
+}  // namespace
+
+MonitorConfig WidenedForTolerances(const MonitorConfig& config, const StatedTolerances& tol, const RobotConfig& robot) {
+  MonitorConfig c = config;
+  const double dT = std::max(std::fabs(tol.ambient_max_C - 20.0), std::fabs(tol.ambient_min_C - 20.0)) + kSelfHeatingMargin_K;
+  double dn = 0, drho = 0, dkappa = 0, ddrift = 0;
+  for (const ModuleParams& m : robot.modules) {
+    const double u = m.inverter.bus_voltage_V;
+    const double sw = 2.0 * u * m.inverter.switching_time_s * m.inverter.pwm_frequency_Hz;
+    const double constant_W = tol.quiescent_power * m.inverter.quiescent_power_W + tol.supply_current_offset_A * u +
+                              tol.switching_loss * sw * kTypicalCurrent_A;
+    const double r = m.motor.phase_resistance_ohm;
+    const double friction_Nm = m.drive.ratio * (m.friction.coulomb_Nm + m.friction.static_Nm);
+    dn = std::max(dn, tol.kt + tol.supply_current_gain + kMagnetPerK * dT + constant_W / kTypicalRotorPower_W);
+    drho = std::max(drho, tol.winding_resistance + kCopperPerK * dT + tol.supply_current_gain +
+                              tol.switch_resistance * m.inverter.switch_resistance_ohm / r +
+                              constant_W / (2.0 * r * kTypicalCurrent_A * kTypicalCurrent_A));
+    dkappa = std::max(dkappa, tol.friction + kTorqueOverFriction * (tol.kt + tol.torque_sensor_gain + kMagnetPerK * dT) +
+                                  kMeshOverFriction * tol.mesh_loss + 0.5 * tol.rotor_inertia +
+                                  0.3 * tol.stribeck_velocity + tol.torque_sensor_offset_Nm / friction_Nm);
+    ddrift = std::max(ddrift, tol.torque_sensor_offset_Nm + tol.torque_sensor_gain * kTypicalTorque_Nm);
+  }
+  c.kt_factor.worn = std::max(0.02, c.kt_factor.worn - dn);
+  c.kt_factor.defective = std::max(0.01, std::min(c.kt_factor.worn, c.kt_factor.defective - dn));
+  c.resistance_factor.worn += drho;
+  c.resistance_factor.defective += drho;
+  c.friction_factor.worn += dkappa;
+  c.friction_factor.defective += dkappa;
+  c.sensor_drift_Nm.worn += ddrift;
+  c.sensor_drift_Nm.defective += ddrift;
+  return c;
 }
 
 }  // namespace armfault

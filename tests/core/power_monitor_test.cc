@@ -403,6 +403,28 @@ TEST(Commissioning, HealthyUnitReadsHealthyOnlyAfterCommissioning) {
   }
 }
 
+TEST(WidenedForTolerances, NoToleranceNoChangeAndEachToleranceWidensItsDetectors) {
+  const RobotConfig robot = RobotPreset("mrr-config1");
+  const MonitorConfig base;
+  const MonitorConfig same = WidenedForTolerances(base, StatedTolerances(), robot);
+  // At 20 °C with nothing stated only the self-heating margin remains.
+  EXPECT_LT(same.kt_factor.worn, base.kt_factor.worn);
+  EXPECT_GT(same.kt_factor.worn, base.kt_factor.worn - 0.02);
+  StatedTolerances kt;
+  kt.kt = 0.05;
+  const MonitorConfig wide = WidenedForTolerances(base, kt, robot);
+  EXPECT_NEAR(same.kt_factor.worn - wide.kt_factor.worn, 0.05, 1e-12);
+  EXPECT_GT(wide.friction_factor.worn, same.friction_factor.worn);  // a torque-scale error reaches friction
+  EXPECT_EQ(wide.resistance_factor.worn, same.resistance_factor.worn);
+  StatedTolerances offset;
+  offset.torque_sensor_offset_Nm = 0.5;
+  EXPECT_NEAR(WidenedForTolerances(base, offset, robot).sensor_drift_Nm.worn - same.sensor_drift_Nm.worn, 0.5, 1e-12);
+  StatedTolerances quiescent;
+  quiescent.quiescent_power = 0.3;
+  EXPECT_GT(WidenedForTolerances(base, quiescent, robot).resistance_factor.worn, same.resistance_factor.worn + 0.1);
+  Validate(WidenedForTolerances(base, quiescent, robot), "", "<test>");  // still a valid config
+}
+
 TEST(Commissioning, AFailedRecordingLeavesTheDatasheet) {
   const PowerMonitorModel nominal = MakePowerMonitorModel(RobotPreset("mrr-config1"), MonitorConfig());
   CommissioningData failed;
