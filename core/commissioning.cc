@@ -116,6 +116,16 @@ PowerMonitorModel CommissionMonitorModel(const PowerMonitorModel& nominal, const
     // load gain from offset.
     model.joints[j].mechanical.torque_gain = te(1);
   }
+  // With a winding-temperature sensor, the calibration holds at the mean temperature seen.
+  for (int j = 0; j < n; ++j) {
+    double sum = 0;
+    long count = 0;
+    for (size_t t = 0; t < ticks; ++t) {
+      const double temp = data.signals[t][j].winding_temp_C;
+      if (std::isfinite(temp)) sum += temp, ++count;
+    }
+    if (count > 0) model.joints[j].electrical.reference_temp_C = sum / count;
+  }
 
   // 2. Torque balance with that gain: rotor inertia, mesh loss, friction curve, offset.
   std::vector<BalanceFilter> filters;

@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,8 @@ struct JointSignals {
   double i_cmd_A = 0;                      // commanded current (after the DAC)
   double i_supply_meas_A = 0;              // driver input current, mean over the control period
   double v_bus_meas_V = 0;                 // driver input (bus) voltage
+  // winding temperature sensor, only where the robot config declares one; NaN otherwise
+  double winding_temp_C = std::numeric_limits<double>::quiet_NaN();
 };
 JointSignals SignalsOf(const JointTick& tick);
 

@@ -40,6 +40,10 @@ constexpr double kMinOffsetMovingEachWay_s = 1.0;
 // Ticks over which the balance residual stays correlated (the low-pass memory, both sides).
 double CorrelationTicks(const MonitorConfig& c, double dt) { return std::max(1.0, 2.0 * c.balance_filter_s / dt); }
 
+// Copper resistance rises 0.393 %/K; an NdFeB magnet's flux (K_T) falls about 0.1 %/K.
+constexpr double kCopperPerK = 0.00393;
+constexpr double kMagnetLossPerK = 0.001;
+
 double NormalCdf(double z) { return 0.5 * std::erfc(-z / std::sqrt(2.0)); }
 
 // Deviation in standard errors; an exact (se 0) deviation counts as very significant.
@@ -283,10 +287,15 @@ void PowerEfficiencyMonitor::Observe(double t_s, const std::vector<JointSignals>
     const double dq = now.q_meas_rad - prev.q_meas_rad;
     const double i = prev.i_cmd_A;  // the command held over the period just ended
     const double tau_mean = 0.5 * (now.tau_sensor_Nm + prev.tau_sensor_Nm);
-    const double rotor_torque = k.ratio * k.kt_Nm_per_A * i;  // perceived, at the link
+    // A declared winding-temperature sensor lets the monitor follow copper resistance and
+    // magnet strength from the temperature its calibration holds at (docs/monitor.md).
+    const bool has_temp = std::isfinite(now.winding_temp_C);
+    const double dT = has_temp ? now.winding_temp_C - k.electrical.reference_temp_C : 0.0;
+    const double kt_scale = 1.0 - kMagnetLossPerK * dT;
+    const double rotor_torque = kt_scale * k.ratio * k.kt_Nm_per_A * i;  // perceived, at the link
     const double p_supply = now.v_bus_meas_V * now.i_supply_meas_A;
     const double p_rotor = k.electrical.rotor_gain * rotor_torque * dq / dt;
-    const double p_copper = k.electrical.Copper(i);
+    const double p_copper = (1.0 + kCopperPerK * dT) * k.electrical.Copper(i);
     const double p_fixed = k.electrical.Fixed(i);
 
     // --- tick-rate torque balance (core/torque_balance.h) ---

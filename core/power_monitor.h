@@ -109,6 +109,7 @@ struct ElectricalCalibration {
   double copper_W_per_A2 = 0;          // 2 R: scales with the winding resistance
   double conduction_W_per_A2 = 0;      // 2 R_sw: the switches' conduction loss
   double switching_W_per_A = 0;        // 2 U_d t_sw f_pwm
+  double reference_temp_C = 20.0;      // winding temperature the values hold at (datasheet: 20 °C)
   double Copper(double i) const { return copper_W_per_A2 * i * i; }
   double Fixed(double i) const { return quiescent_W + conduction_W_per_A2 * i * i + switching_W_per_A * std::fabs(i); }
 };
