@@ -119,9 +119,9 @@ struct Candidate {
 struct PowerEfficiencyMonitor::JointState {
   JointState(const MonitorConfig& c, const JointKnowledge& k, double dt, long hold_span)
       : balance_filter(c.balance_filter_s, dt, c.rest_velocity_rad_s, k.mechanical.stribeck_s2),
-        balance(false, c.balance_time_constant_s, dt, CorrelationTicks(c, dt), k.balance_sigma_Nm),
-        balance_slow(true, kSlowBalanceTimeConstant_s, dt, CorrelationTicks(c, dt), k.balance_sigma_Nm),
-        balance_since_alarm(true, 0, dt, CorrelationTicks(c, dt), k.balance_sigma_Nm) {
+        balance({false, false}, c.balance_time_constant_s, dt, CorrelationTicks(c, dt), k.balance_sigma_Nm),
+        balance_slow({false, true}, kSlowBalanceTimeConstant_s, dt, CorrelationTicks(c, dt), k.balance_sigma_Nm),
+        balance_since_alarm({false, true}, 0, dt, CorrelationTicks(c, dt), k.balance_sigma_Nm) {
     electrical.forget = std::exp(-dt / c.electrical_time_constant_s);
     electrical_fast.forget = std::exp(-dt / c.balance_time_constant_s);
     for (SlidingMin& h : held) h = SlidingMin(hold_span);
@@ -324,11 +324,11 @@ void PowerEfficiencyMonitor::Observe(double t_s, const std::vector<JointSignals>
     // strengthen, so never above 1).
     const BalanceRow row = RowOf(k.mechanical, terms, coupling_torque);
     const double gain = std::min(1.0, s.electrical_fast.n);
-    s.balance_slow.Add(row, gain);
+    s.balance_slow.Add(row, gain, 0.0);
     // The fast fit keeps the calibrated offset: within one direction of motion an offset
     // change cannot be told from friction, and friction is the commoner wear.
     s.balance.Add(row, gain, 0.0);
-    if (s.balance_crossed) s.balance_since_alarm.Add(row, std::min(1.0, s.electrical.n));
+    if (s.balance_crossed) s.balance_since_alarm.Add(row, std::min(1.0, s.electrical.n), 0.0);
     {
       const BalanceFit::Estimate& b = s.balance.estimate();
       const BalanceFit::Estimate& m = s.balance_since_alarm.estimate();

@@ -86,37 +86,43 @@ class BalanceFilter {
   FilteredTerms f_;
 };
 
-// Least squares of the friction factor κ (and, optionally, the offset change e = d − d_cal)
-// over BalanceRows with exponential forgetting, given the torque gain a from elsewhere (the
-// electrical balance sees a K_T change at any speed; the torque balance alone cannot tell it
-// from friction while torque and velocity keep one sign). Pulled weakly to the healthy
-// (κ, e) = (1, 0) so the fit is defined without excitation; the offset's pull is stronger, so
-// that where one direction of motion cannot tell friction from an offset, the residual is put
-// on friction. Standard errors from the residuals, inflated for the filter's correlation.
+// Which of the balance's (a, κ, e) a fit estimates; the others it holds at the values given
+// with each row.
+struct BalanceParams {
+  bool torque_gain = false;
+  bool offset = false;  // κ is always estimated
+};
+
+// Least squares of (a, κ, e) (κ always; a and e where asked) over BalanceRows with exponential
+// forgetting. Pulled weakly to the healthy (1, 1, 0) so the fit is defined without
+// excitation; the offset's pull is stronger, so that where one direction of motion cannot tell
+// friction from an offset, the residual is put on friction. Standard errors from the
+// residuals, inflated for the filter's correlation between ticks.
 class BalanceFit {
  public:
   // `time_constant_s` <= 0: no forgetting (a growing window). `min_sigma_Nm`: floor of the
   // residual scale (the sensor's own noise), so a fit on a few ticks is not overconfident.
-  BalanceFit(bool fit_offset, double time_constant_s, double dt_s, double correlation_ticks, double min_sigma_Nm);
-  // `torque_gain`: a; `offset_Nm`: e where the offset is not fitted.
-  void Add(const BalanceRow& row, double torque_gain, double offset_Nm = 0);
+  BalanceFit(BalanceParams params, double time_constant_s, double dt_s, double correlation_ticks, double min_sigma_Nm);
+  // `torque_gain`, `offset_Nm`: a and e where they are held, not estimated.
+  void Add(const BalanceRow& row, double torque_gain, double offset_Nm);
   void Reset();
   struct Estimate {
-    double friction_factor = 1, offset_Nm = 0;
-    double friction_factor_se = 0, offset_se = 0;
-    double moving_s = 0;                  // weighted time of usable ticks in the fit
+    double torque_gain = 1, friction_factor = 1, offset_Nm = 0;
+    double torque_gain_se = 0, friction_factor_se = 0, offset_se = 0;
+    double moving_s = 0;                    // weighted time of usable ticks in the fit
     double positive_s = 0, negative_s = 0;  // of which moving forward, backward
   };
   const Estimate& estimate() const { return est_; }
 
  private:
   void Solve();
-  bool fit_offset_;
+  BalanceParams params_;
   double forget_;
   double dt_s_;
   double correlation_ticks_;
   double min_sigma2_;
-  double a00_ = 0, a01_ = 0, a11_ = 0, b0_ = 0, b1_ = 0;
+  std::array<double, 6> a_{};  // information matrix of (a, κ, e), upper triangle: 00 01 02 11 12 22
+  std::array<double, 3> b_{};
   double yy_ = 0, n_ = 0, n_pos_ = 0, n_neg_ = 0;
   Estimate est_;
 };
