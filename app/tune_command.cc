@@ -56,6 +56,15 @@ int TuneCommand(const TuneCommandOptions& o) {
               r.report["rule"].dump().c_str());
   PrintPoint("as run", r.report["default_point"]);
   PrintPoint("operating point", r.report["operating_point"]);
+  const nlohmann::json& sel = r.report["selection"];
+  std::printf("operating point chosen on: %s\n", sel["split"].get<std::string>().c_str());
+  if (sel.contains("held_out")) {
+    std::printf("  on the runs it was chosen on: detection %s, false alarms %s\n",
+                RateText(sel["chosen_on"]["detection_rate"]).c_str(), RateText(sel["chosen_on"]["false_alarm_rate"]).c_str());
+    std::printf("  on the held-out runs (honest): detection %s, false alarms %s\n",
+                RateText(sel["held_out"]["detection_rate"]).c_str(), RateText(sel["held_out"]["false_alarm_rate"]).c_str());
+  }
+  for (const auto& w : r.report["warnings"]) std::printf("warning: %s\n", w.get<std::string>().c_str());
   std::printf("ROC AUC: overall %.3f", r.report["roc"]["overall"]["auc"].get<double>());
   for (const auto& [family, roc] : r.report["roc"].items()) {
     if (family != "overall") std::printf(", %s %.3f", family.c_str(), roc["auc"].get<double>());

@@ -94,6 +94,7 @@ struct FamilyTable {
 };
 
 struct RunTable {
+  bool select = true;  // in the half the operating point is chosen on (even seed)
   int family = -1;  // true family id, -1 healthy
   int joint = 0;
   std::string magnitude_key;
@@ -163,6 +164,23 @@ struct Scorer {
   const std::vector<RunTable>& runs;
   long faulty = 0, healthy = 0;
   std::vector<long> family_runs;
+  int part = -1;  // -1: every run; 1: the selection half; 0: the held-out half
+
+  bool Counts(const RunTable& r) const { return part < 0 || r.select == (part == 1); }
+  // Fills the run counts of this part.
+  void CountRuns(size_t families) {
+    faulty = healthy = 0;
+    family_runs.assign(families, 0);
+    for (const RunTable& r : runs) {
+      if (!Counts(r)) continue;
+      if (r.family < 0) {
+        ++healthy;
+      } else {
+        ++faulty;
+        ++family_runs[r.family];
+      }
+    }
+  }
 
   Score Evaluate(const SettingIndex& k, std::vector<double>* latencies = nullptr,
                  int latency_family = -2) const {
@@ -170,6 +188,7 @@ struct Scorer {
     s.family_detected.assign(family_runs.size(), 0);
     s.family_isolated.assign(family_runs.size(), 0);
     for (const RunTable& r : runs) {
+      if (!Counts(r)) continue;
       const Hit h = Combine(r, k);
       const bool detected = h.t != kInf;
       if (r.family < 0) {
@@ -411,6 +430,7 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
                          where() + "run " + rec.run_id + ": its decision statistics do not reproduce its result");
       }
       RunTable r;
+      r.select = rec.seed % 2 == 0;
       r.family = rec.family.empty() ? -1 : families.Id(rec.family);
       r.joint = rec.joint;
       r.magnitude_key = rec.magnitude_key;
@@ -433,16 +453,15 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
   }
   if (runs.empty()) throw InputError(results_path.string(), "", "no completed runs to tune on");
 
-  Scorer scorer{runs, 0, 0, {}};
-  scorer.family_runs.assign(families.names.size(), 0);
-  for (const RunTable& r : runs) {
-    if (r.family < 0) {
-      ++scorer.healthy;
-    } else {
-      ++scorer.faulty;
-      ++scorer.family_runs[r.family];
-    }
-  }
+  // Every run; the half with even seeds, on which the operating point is chosen; the other
+  // half, on which its rates are reported without having chosen it (honest rates).
+  Scorer scorer{runs, 0, 0, {}, -1}, chooser{runs, 0, 0, {}, 1}, held_out{runs, 0, 0, {}, 0};
+  scorer.CountRuns(families.names.size());
+  chooser.CountRuns(families.names.size());
+  held_out.CountRuns(families.names.size());
+  // Too few runs in a half (a tiny campaign): choose on every run and say so.
+  const bool split = chooser.faulty > 0 && held_out.faulty > 0 && chooser.healthy > 0 && held_out.healthy > 0;
+  const Scorer& choose_on = split ? chooser : scorer;
 
   // Score every setting (mixed radix over the axes), in parallel: each setting is independent.
   const long settings = SettingCount(grid);
@@ -457,12 +476,15 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
     }
     return k;
   };
-  std::vector<Score> scores(static_cast<size_t>(settings));
+  std::vector<Score> scores(static_cast<size_t>(settings)), chosen_scores(static_cast<size_t>(settings));
   const int threads = options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency();
   tbb::task_arena arena(threads);
   arena.execute([&] {
     tbb::parallel_for(tbb::blocked_range<long>(0, settings), [&](const tbb::blocked_range<long>& range) {
-      for (long s = range.begin(); s != range.end(); ++s) scores[s] = scorer.Evaluate(indices(s));
+      for (long s = range.begin(); s != range.end(); ++s) {
+        scores[s] = scorer.Evaluate(indices(s));
+        chosen_scores[s] = split ? choose_on.Evaluate(indices(s)) : scores[s];
+      }
     });
   });
 
@@ -480,30 +502,34 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
     }
     return sum;
   };
-  auto prefer = [&](long a, long b) {  // true if a is the better tie
-    const Score &x = scores[a], &y = scores[b];
+  auto prefer_in = [&](const std::vector<Score>& sc, long a, long b) {  // true if a is the better tie
+    const Score &x = sc[a], &y = sc[b];
     if (x.false_alarms != y.false_alarms) return x.false_alarms < y.false_alarms;
     if (x.isolated != y.isolated) return x.isolated > y.isolated;
     const double ma = margin(a), mb = margin(b);
     if (ma != mb) return ma > mb;
     return a < b;
   };
+  auto prefer = [&](long a, long b) { return prefer_in(scores, a, b); };
+  auto cdr = [&](const Score& s) { return Ratio(s.detected, choose_on.faulty); };
+  auto cfa = [&](const Score& s) { return Ratio(s.false_alarms, choose_on.healthy); };
   const OperatingRule& rule = options.rule;
   long best = -1;
   double best_value = 0;
   for (long s = 0; s < settings; ++s) {
     double value = 0;
+    const Score& sc = chosen_scores[s];
     switch (rule.kind) {
       case OperatingRule::Kind::kMaxDetection:
-        if (fa(scores[s]) > rule.false_alarm_ceiling) continue;
-        value = dr(scores[s]);
+        if (cfa(sc) > rule.false_alarm_ceiling) continue;
+        value = cdr(sc);
         break;
-      case OperatingRule::Kind::kYouden: value = dr(scores[s]) - fa(scores[s]); break;
+      case OperatingRule::Kind::kYouden: value = cdr(sc) - cfa(sc); break;
       case OperatingRule::Kind::kMinCost:
-        value = -(rule.miss_cost * (1 - dr(scores[s])) + rule.false_alarm_cost * fa(scores[s]));
+        value = -(rule.miss_cost * (1 - cdr(sc)) + rule.false_alarm_cost * cfa(sc));
         break;
     }
-    if (best < 0 || value > best_value || (value == best_value && prefer(s, best))) {
+    if (best < 0 || value > best_value || (value == best_value && prefer_in(chosen_scores, s, best))) {
       best = s;
       best_value = value;
     }
@@ -530,7 +556,7 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
     j["significance"] = grid.significance[k[kDetectorCount]];
     return j;
   };
-  auto point_json = [&](const SettingIndex& k) {
+  auto point_json = [&](const SettingIndex& k, const Scorer& scorer) {
     std::vector<double> all;
     const Score s = scorer.Evaluate(k, &all, -1);
     nlohmann::json j;
@@ -580,8 +606,33 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
       report["rule"] = {{"name", "min_cost"}, {"miss_cost", rule.miss_cost}, {"false_alarm_cost", rule.false_alarm_cost}};
       break;
   }
-  report["operating_point"] = point_json(op);
-  report["default_point"] = point_json(as_run_k);
+  report["operating_point"] = point_json(op, scorer);
+  report["default_point"] = point_json(as_run_k, scorer);
+  // Honest rates: the point was chosen on one half of the runs (even seeds) and is scored on
+  // the other; the chosen half's own rates show how much choosing flatters them.
+  nlohmann::json selection = {{"split", split ? "seed parity: chosen on even seeds, scored on odd seeds"
+                                              : "none: a half would have no faulty or no healthy runs"}};
+  if (split) {
+    selection["chosen_on"] = point_json(op, chooser);
+    selection["held_out"] = point_json(op, held_out);
+  }
+  report["selection"] = selection;
+  // A point on the edge of the grid may lie beyond it: widen the sweep to see.
+  nlohmann::json warnings = nlohmann::json::array();
+  for (int d = 0; d < kDetectorCount; ++d) {
+    const auto& v = grid.axes[d].worn_values;
+    if (v.size() > 1 && (op[d] == 0 || op[d] + 1 == static_cast<int>(v.size()))) {
+      warnings.push_back(std::string(Detectors()[d].parameter) + ".worn = " + FormatNumber(v[op[d]]) +
+                         " is at the edge of the swept range [" + FormatNumber(v.front()) + ", " + FormatNumber(v.back()) +
+                         "]: widen the sweep to see beyond it");
+    }
+  }
+  if (grid.significance.size() > 1 && (op[kDetectorCount] == 0 || op[kDetectorCount] + 1 == static_cast<int>(grid.significance.size()))) {
+    warnings.push_back("significance = " + FormatNumber(grid.significance[op[kDetectorCount]]) +
+                       " is at the edge of the swept range [" + FormatNumber(grid.significance.front()) + ", " +
+                       FormatNumber(grid.significance.back()) + "]: widen the sweep to see beyond it");
+  }
+  report["warnings"] = warnings;
 
   // ROC frontier: per false-alarm count, the best setting; kept where detection rises.
   std::map<long, long> by_fa;

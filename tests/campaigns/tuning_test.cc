@@ -221,6 +221,37 @@ std::vector<RunRecord> ReadRecords(const std::filesystem::path& path) {
   return out;
 }
 
+TEST(Tune, ChoosesOnEvenSeedsReportsOnOddSeedsAndWarnsAtTheGridsEdge) {
+  ScratchDir dir("tune_split");
+  json file = KtCampaign(json::object());
+  file["healthy"] = 8;  // both halves need healthy runs
+  const Campaign campaign = CampaignFromJson(file, "kt.json", dir.path().string());
+  RunnerOptions o;
+  o.output_dir = (dir.path() / "out").string();
+  RunCampaign(campaign, o);
+  long even_faulty = 0, odd_faulty = 0;
+  for (const RunRecord& r : ReadRecords(dir.path() / "out" / "results.jsonl")) {
+    if (!r.family.empty()) (r.seed % 2 == 0 ? even_faulty : odd_faulty) += 1;
+  }
+  TuneOptions options;
+  options.sweep = "kt_factor.worn=0.9:0.99:10";
+  options.rule.false_alarm_ceiling = 0.0;
+  const TuningResult t = TuneCampaignDir(o.output_dir, options);
+  const json& sel = t.report["selection"];
+  ASSERT_TRUE(sel.contains("held_out")) << sel.dump();
+  EXPECT_EQ(sel["chosen_on"]["detection_rate"]["runs"].get<long>(), even_faulty);
+  EXPECT_EQ(sel["held_out"]["detection_rate"]["runs"].get<long>(), odd_faulty);
+  EXPECT_EQ(sel["chosen_on"]["setting"], t.report["operating_point"]["setting"]);
+  // Resistance and drift never alarm here, so the tie-break takes their largest limits: the
+  // grid's edge, which the report must point out.
+  bool resistance_edge = false;
+  for (const json& w : t.report["warnings"]) {
+    EXPECT_THAT(w.get<std::string>(), HasSubstr("edge of the swept range"));
+    resistance_edge = resistance_edge || w.get<std::string>().rfind("resistance_factor.worn", 0) == 0;
+  }
+  EXPECT_TRUE(resistance_edge) << t.report["warnings"].dump();
+}
+
 TEST(Tune, ARerunWithTheTunedMonitorGivesThePredictedRates) {
   ScratchDir dir("tune");
   const Campaign first = CampaignFromJson(KtCampaign(json::object()), "kt.json", dir.path().string());
