@@ -114,7 +114,7 @@ int FinishCampaignOutputs(const std::string& dir_name, const Campaign& campaign)
   }
   const std::vector<FloorVerdict> verdicts = builder.Verdicts(campaign.floors);
   WriteAtomically(dir / "summary.json", builder.Build(campaign.floors, campaign.resolved, ARMFAULT_VERSION).dump(2) + "\n");
-  WriteAtomically(dir / "junit.xml", JUnitXml(campaign.name, verdicts));
+  WriteAtomically(dir / "junit.xml", JUnitXml(campaign.name, builder, campaign.floors, "campaign.json"));
   bool all_met = true;
   for (const FloorVerdict& v : verdicts) {
     std::printf("floor %-50s %s  %s\n", v.name.c_str(), v.met ? "met   " : "MISSED", v.message.c_str());

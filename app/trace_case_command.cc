@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 
 #include "app/commands.h"
@@ -108,7 +109,13 @@ int TraceCampaignCase(const TraceOptions& o) {
     throw InputError("--run", "", "the case runs as the campaign ran it: --robot, --duration, --seed, --joint and "
                                   "--fault do not apply");
   }
-  const Campaign campaign = ReadCampaignFile(o.run_file);
+  // A campaign file, or the campaign.json of a campaign's output directory (which wraps the
+  // resolved campaign with the version and shard).
+  const nlohmann::json input = ReadJsonFile(o.run_file);
+  const bool output_dir_file = input.is_object() && input.contains("armfault_version") && input.contains("campaign");
+  const std::string base = std::filesystem::path(o.run_file).parent_path().string();
+  const Campaign campaign = output_dir_file ? CampaignFromJson(input["campaign"], o.run_file, base.empty() ? "." : base)
+                                            : ReadCampaignFile(o.run_file);
   const std::vector<CaseSpec> cases = ExpandCases(campaign);
   const CaseSpec& spec = FindCase(cases, o.run_id);
 

@@ -183,6 +183,27 @@ void SummaryBuilder::Add(const RunRecord& r) {
     return;
   }
   ++ok_runs_;
+  {
+    TrajectoryCell& cell = by_trajectory_[{r.family, r.trajectory, r.group}];
+    SummaryTally& tt = cell.tally;
+    bool wrong;
+    if (r.family.empty()) {
+      ++tt.healthy;
+      tt.healthy_alarms += r.detected;
+      wrong = r.detected;
+    } else {
+      ++tt.faulty;
+      tt.before_onset += r.alarm_before_onset;
+      tt.detected += r.detected;
+      const bool isolated = r.detected && r.isolated_family == r.family && r.isolated_joint == r.joint;
+      tt.isolated += isolated;
+      wrong = !isolated;
+    }
+    if (wrong && (cell.first_wrong_case < 0 || r.case_index < cell.first_wrong_case)) {
+      cell.first_wrong_case = r.case_index;
+      cell.first_wrong_run_id = r.run_id;
+    }
+  }
   SummaryTally& t = cells_[{r.group, r.family}];
   const auto descriptor = std::tie(r.joint, r.magnitude_key, r.magnitude);
   if (!t.has_descriptor || descriptor < std::tie(t.joint, t.magnitude_key, t.magnitude)) {
@@ -345,6 +366,75 @@ std::string JUnitXml(const std::string& campaign_name, const std::vector<FloorVe
   }
   xml += "  </testsuite>\n</testsuites>\n";
   return xml;
+}
+
+std::string JUnitXml(const std::string& campaign_name, const SummaryBuilder& builder, const Floors& floors,
+                     const std::string& campaign_json) {
+  const std::vector<FloorVerdict> verdicts = builder.Verdicts(floors);
+  // The floors suite as the plain writer makes it, without its closing tags.
+  std::string floors_xml = JUnitXml(campaign_name, verdicts);
+  floors_xml = floors_xml.substr(floors_xml.find("  <testsuite "));
+  floors_xml = floors_xml.substr(0, floors_xml.rfind("</testsuites>"));
+  long tests = verdicts.empty() ? 1 : static_cast<long>(verdicts.size()), failures = 0;
+  for (const FloorVerdict& v : verdicts) failures += v.met ? 0 : 1;
+
+  // Suites in family order, "healthy" last.
+  std::map<std::string, std::vector<const std::pair<const SummaryBuilder::TrajectoryKey, SummaryBuilder::TrajectoryCell>*>> suites;
+  for (const auto& item : builder.trajectory_cells()) suites[std::get<0>(item.first)].push_back(&item);
+  std::string body;
+  auto emit_suite = [&](const std::string& family) {
+    auto it = suites.find(family);
+    if (it == suites.end()) return;
+    const std::string suite = family.empty() ? kHealthyLabel : family;
+    auto floors_it = floors.per_family.find(family);
+    const FloorSet& set = family.empty() || floors_it == floors.per_family.end() ? floors.overall : floors_it->second;
+    std::string cases;
+    long suite_failures = 0;
+    for (const auto* item : it->second) {
+      const auto& [key, cell] = *item;
+      const SummaryTally& t = cell.tally;
+      const std::string name = std::get<1>(key) + ": " + (family.empty() ? "healthy runs" : std::get<2>(key));
+      std::vector<FloorVerdict> checks;
+      if (family.empty()) {
+        if (set.false_alarm_rate) {
+          checks.push_back(Check("false_alarm_rate", false, *set.false_alarm_rate, t.healthy_alarms, t.healthy,
+                                 "healthy runs", "no healthy runs"));
+        }
+      } else {
+        CheckSet(set, "", t, !family.empty() && floors_it != floors.per_family.end(), "no faulty runs", &checks);
+      }
+      std::string counts = family.empty()
+                               ? std::to_string(t.healthy) + " healthy runs, " + std::to_string(t.healthy_alarms) + " alarmed"
+                               : std::to_string(t.faulty) + " runs, " + std::to_string(t.detected) + " detected, " +
+                                     std::to_string(t.isolated) + " isolated (family and joint), " +
+                                     std::to_string(t.before_onset) + " alarmed before the onset";
+      cases += "    <testcase classname=\"" + XmlEscape(suite) + "\" name=\"" + XmlEscape(name) + "\">\n";
+      cases += "      <system-out>" + XmlEscape(counts) + "</system-out>\n";
+      for (const FloorVerdict& v : checks) {
+        if (v.met || !v.measured) continue;  // a floor with nothing to measure here is not this case's
+        ++suite_failures;
+        std::string text = v.message + "; " + counts;
+        if (cell.first_wrong_case >= 0) {
+          text += "\nreplay the first wrong run, in the output directory: armfault trace " + campaign_json + " --run '" +
+                  cell.first_wrong_run_id + "' -o trace.csv";
+        }
+        cases += "      <failure message=\"" + XmlEscape(v.message) + "\">" + XmlEscape(text) + "</failure>\n";
+      }
+      cases += "    </testcase>\n";
+    }
+    tests += static_cast<long>(it->second.size());
+    failures += suite_failures;
+    body += "  <testsuite name=\"" + XmlEscape(suite) + "\" tests=\"" + std::to_string(it->second.size()) +
+            "\" failures=\"" + std::to_string(suite_failures) + "\">\n" + cases + "  </testsuite>\n";
+  };
+  for (const auto& [family, cells] : suites) {
+    if (!family.empty()) emit_suite(family);
+  }
+  emit_suite("");
+  std::string xml = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
+  xml += "<testsuites name=\"" + XmlEscape("armfault: " + campaign_name) + "\" tests=\"" + std::to_string(tests) +
+         "\" failures=\"" + std::to_string(failures) + "\">\n";
+  return xml + floors_xml + body + "</testsuites>\n";
 }
 
 }  // namespace armfault

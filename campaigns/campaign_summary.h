@@ -51,6 +51,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -122,9 +123,22 @@ class SummaryBuilder {
   // campaigns (armfault diff) with exactly the definitions above.
   const std::map<std::pair<std::string, std::string>, internal::SummaryTally>& cells() const { return cells_; }
 
+  // The runs of one group on one trajectory (a JUnit test case), with the first run (lowest
+  // case number) that went wrong: a faulty run missed or misisolated, a healthy run that
+  // alarmed.
+  struct TrajectoryCell {
+    internal::SummaryTally tally;
+    long first_wrong_case = -1;
+    std::string first_wrong_run_id;
+  };
+  // Key: (family, or "" for healthy runs; trajectory; group).
+  using TrajectoryKey = std::tuple<std::string, std::string, std::string>;
+  const std::map<TrajectoryKey, TrajectoryCell>& trajectory_cells() const { return by_trajectory_; }
+
  private:
   std::map<std::pair<std::string, std::string>, internal::SummaryTally> cells_;  // (group, family)
   std::map<std::string, std::map<std::string, long>> confusion_;  // true -> predicted -> count
+  std::map<TrajectoryKey, TrajectoryCell> by_trajectory_;
   std::multiset<std::pair<std::string, std::string>> failed_listed_;  // (run_id, reason)
   long ok_runs_ = 0;
   long failed_runs_ = 0;
@@ -133,6 +147,15 @@ class SummaryBuilder {
 // JUnit XML with one testcase per floor verdict (classname "floors"), a <failure> for each
 // floor not met; a single passing "no floors" testcase if there are none.
 std::string JUnitXml(const std::string& campaign_name, const std::vector<FloorVerdict>& verdicts);
+
+// The same floors suite, then one test suite per fault family (and "healthy") with one test
+// case per group and trajectory, named "<trajectory>: <group>", holding its counts. The floors
+// that apply to the family (its per_family floors, else the overall ones) are checked on the
+// case's own runs; each one missed is a <failure> with the numbers and the command that
+// replays the case's first wrong run: `armfault trace <campaign_json> --run <run_id>`, with
+// `campaign_json` relative to the output directory (so a merged directory's file is the same).
+std::string JUnitXml(const std::string& campaign_name, const SummaryBuilder& builder, const Floors& floors,
+                     const std::string& campaign_json);
 
 // 95 % Wilson score interval (z = 1.959963984540054) of successes / trials.
 struct RateInterval {

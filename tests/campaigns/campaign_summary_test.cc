@@ -349,6 +349,37 @@ TEST(CampaignSummaryJUnitTest, FailureForMissedFloorAndEscaping) {
   EXPECT_THAT(JUnitXml("c", {quoted}), HasSubstr("message=\"it&apos;s &lt; 1\""));
 }
 
+TEST(CampaignSummaryJUnitTest, OneSuitePerFamilyOneCasePerGroupAndTrajectoryWithTheReplayCommand) {
+  SummaryBuilder b;
+  auto on = [](RunRecord r, const std::string& trajectory, long case_index) {
+    r.trajectory = trajectory;
+    r.case_index = case_index;
+    return r;
+  };
+  // exp1: 1 of 3 detected (cases 4 and 2 missed: the replay names case 2); p2p: 2 of 2.
+  b.Add(on(Detect(Faulty("exp1/kt/a", kKt, 2, kKtGroup), kKt, 2, 0.5), "exp1", 1));
+  b.Add(on(Faulty("exp1/kt/b", kKt, 2, kKtGroup), "exp1", 4));
+  b.Add(on(Faulty("exp1/kt/c", kKt, 2, kKtGroup), "exp1", 2));
+  b.Add(on(Detect(Faulty("p2p/kt/a", kKt, 2, kKtGroup), kKt, 2, 0.5), "p2p", 7));
+  b.Add(on(Detect(Faulty("p2p/kt/b", kKt, 2, kKtGroup), kKt, 2, 0.5), "p2p", 8));
+  b.Add(on(Healthy("exp1/healthy/0", true), "exp1", 5));
+  b.Add(on(Healthy("exp1/healthy/1", false), "exp1", 6));
+  Floors floors;
+  floors.overall.detection_rate = 0.9;
+  floors.overall.false_alarm_rate = 0.1;
+  const std::string xml = JUnitXml("c", b, floors, "campaign.json");
+  EXPECT_THAT(xml, HasSubstr("<testsuite name=\"kt_degradation\" tests=\"2\" failures=\"1\">"));
+  EXPECT_THAT(xml, HasSubstr("name=\"exp1: kt_degradation kt_factor=0.9 joint=2\""));
+  EXPECT_THAT(xml, HasSubstr("<failure message=\"detection_rate 0.333 &lt; 0.900 (1 of 3 runs)\">"));
+  EXPECT_THAT(xml, HasSubstr("armfault trace campaign.json --run &apos;exp1/kt/c&apos;"));
+  EXPECT_THAT(xml, HasSubstr("name=\"p2p: kt_degradation kt_factor=0.9 joint=2\">\n      <system-out>2 runs, 2 detected"));
+  EXPECT_THAT(xml, HasSubstr("<testsuite name=\"healthy\" tests=\"1\" failures=\"1\">"));
+  EXPECT_THAT(xml, HasSubstr("false_alarm_rate 0.500 &gt; 0.100 (1 of 2 healthy runs)"));
+  EXPECT_THAT(xml, HasSubstr("--run &apos;exp1/healthy/0&apos;"));
+  // The floors suite comes first, and the totals count every case: 3 floors + 3 group cases.
+  EXPECT_THAT(xml, HasSubstr("<testsuites name=\"armfault: c\" tests=\"5\" failures=\"4\">"));
+}
+
 TEST(CampaignSummaryJUnitTest, NoFloorsIsOnePassingCase) {
   const std::string xml = JUnitXml("c", {});
   EXPECT_THAT(xml, HasSubstr("tests=\"1\" failures=\"0\""));
