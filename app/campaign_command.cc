@@ -1,9 +1,11 @@
 // `armfault run CAMPAIGN`, `validate`: a campaign from file to results, summary and floors.
+#include <sys/ioctl.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -24,7 +26,8 @@ namespace fs = std::filesystem;
 // otherwise (CI logs).
 class Progress {
  public:
-  explicit Progress(bool enabled) : enabled_(enabled), tty_(isatty(STDERR_FILENO) != 0) {}
+  explicit Progress(bool enabled)
+      : enabled_(enabled), tty_(isatty(STDERR_FILENO) != 0 && std::getenv("CI") == nullptr) {}
   void Update(long done, long total) {
     if (!enabled_ || total == 0) return;
     const auto now = std::chrono::steady_clock::now();
@@ -38,14 +41,19 @@ class Progress {
     const double rate = elapsed > 0 ? ran / elapsed : 0;
     const double left = rate > 0 ? (total - done) / rate : 0;
     if (tty_) {
-      const int width = 30, filled = static_cast<int>(width * done / total);
-      std::fprintf(stderr, "\r[%s%s] %ld/%ld runs  %.1f runs/s  %.0f s left ", std::string(filled, '#').c_str(),
-                   std::string(width - filled, '.').c_str(), done, total, rate, left);
+      // One line, redrawn in place, as wide as the terminal allows.
+      char text[128];
+      std::snprintf(text, sizeof text, " %ld/%ld runs  %.1f runs/s  %.0f s left", done, total, rate, left);
+      winsize ws{};
+      const int columns = ioctl(STDERR_FILENO, TIOCGWINSZ, &ws) == 0 && ws.ws_col > 0 ? ws.ws_col : 80;
+      const int width = std::max(0, std::min(40, columns - static_cast<int>(std::strlen(text)) - 3));
+      const int filled = static_cast<int>(width * done / total);
+      std::fprintf(stderr, "\r%s%s%s%s\033[K", width > 0 ? "[" : "", std::string(filled, '#').c_str(),
+                   (std::string(width - filled, '.') + (width > 0 ? "]" : "")).c_str(), text);
       if (done == total) std::fprintf(stderr, "\n");
     } else {
-      const long step = std::max(1L, total / 10);
-      if (done == total || done / step != last_done_ / step ||
-          std::chrono::duration<double>(now - last_).count() >= 10.0) {
+      // Logs (no terminal, or CI set): a line every 20 s at most, and the last one.
+      if (done == total || std::chrono::duration<double>(now - last_).count() >= 20.0) {
         std::fprintf(stderr, "progress: %ld/%ld runs, %.1f runs/s, %.0f s left\n", done, total, rate, left);
         last_ = now;
       }
@@ -86,6 +94,12 @@ ShardSpec ResolveShard(const CampaignRunOptions& o) {
     if (o.shard_count <= 0) throw InputError("--shard-count", "", "JOB_COMPLETION_INDEX is set: give the job's completions as --shard-count");
     s.index = parse_int(index, "JOB_COMPLETION_INDEX");
     s.count = o.shard_count;
+  } else if (o.shard_count > 0) {
+    throw InputError("--shard-count", "", "gives N with the shard index from JOB_COMPLETION_INDEX, which is not set; "
+                                          "for one shard by hand use --shard K/N");
+  }
+  if (!o.shard.empty() && o.shard_count > 0) {
+    throw InputError("--shard-count", "", "--shard K/N already gives the count; drop --shard-count");
   }
   if (s.count < 1 || s.index >= s.count) {
     throw InputError("--shard", "", "shard " + std::to_string(s.index) + " of " + std::to_string(s.count) +
@@ -148,6 +162,11 @@ int RunCampaignCommand(const CampaignRunOptions& o) {
   std::printf("ran %ld runs in %.1f s (%ld resumed, %ld failed)\n", r.ran, seconds, r.resumed, r.failed);
   const int status = FinishCampaignOutputs(o.output_dir, campaign);
   std::printf("wrote %s/results.jsonl, summary.json, junit.xml\n", o.output_dir.c_str());
+  if (!o.quiet) {
+    std::printf("next: armfault report %s  (the results as one page)\n"
+                "      armfault tune %s    (thresholds re-scored from these runs)\n",
+                o.output_dir.c_str(), o.output_dir.c_str());
+  }
   return status;
 }
 

@@ -6,12 +6,14 @@
 #include <iostream>
 
 #include "app/commands.h"
+#include "app/suggest.h"
 #include "core/json_input.h"
 #include "core/ode_runtime.h"
 
 int main(int argc, char** argv) {
   armfault::InitOde();  // before any thread starts
-  CLI::App app{"armfault: fault-injection campaigns for power-efficiency health monitoring of robot joints"};
+  // Named, so usage lines say "armfault" and not the path it was started from.
+  CLI::App app{"armfault: fault-injection campaigns for power-efficiency health monitoring of robot joints", "armfault"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("armfault ") + ARMFAULT_VERSION);
 
@@ -93,7 +95,8 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   tune_cmd->add_option("--miss-cost", tune.miss_cost, "min_cost: cost of a missed fault")->capture_default_str();
   tune_cmd->add_option("--false-alarm-cost", tune.false_alarm_cost, "min_cost: cost of a false alarm")->capture_default_str();
-  tune_cmd->add_option("-o,--monitor-out", tune.monitor_output, "tuned monitor JSON (default DIR/tuned-monitor.json)");
+  // Not -o: -o names a command's main output, and tune's is DIR/tuning.json.
+  tune_cmd->add_option("--monitor-out", tune.monitor_output, "tuned monitor JSON (default DIR/tuned-monitor.json)");
   tune_cmd->add_option("-j,--jobs", tune.threads, "threads (0: all cores)")->capture_default_str();
 
   try {
@@ -106,6 +109,8 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     app.exit(e);
+    const std::string hint = armfault::SuggestForParseError(app, argc, argv);
+    if (!hint.empty()) std::fprintf(stderr, "%s\n", hint.c_str());
     return 2;
   }
 

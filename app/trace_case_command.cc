@@ -8,6 +8,7 @@
 #include <fstream>
 
 #include "app/commands.h"
+#include "app/suggest.h"
 #include "campaigns/campaign.h"
 #include "campaigns/runner.h"
 #include "core/json_input.h"
@@ -17,21 +18,6 @@
 namespace armfault {
 
 namespace {
-
-size_t EditDistance(const std::string& a, const std::string& b) {
-  std::vector<size_t> row(b.size() + 1);
-  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (size_t i = 1; i <= a.size(); ++i) {
-    size_t diagonal = row[0];
-    row[0] = i;
-    for (size_t j = 1; j <= b.size(); ++j) {
-      const size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diagonal = up;
-    }
-  }
-  return row[b.size()];
-}
 
 // The run_id nearest to `id`: among the ids sharing the longest prefix with it (a typo is
 // usually in a value or the repetition near the end), the one with the fewest edits. Bounded

@@ -12,7 +12,11 @@ std::string FormatWhat(const std::string& source, const std::string& pointer,
                        const std::string& message) {
   std::string out;
   if (!source.empty()) out += source + ": ";
-  out += (pointer.empty() ? std::string("(document root)") : pointer) + ": " + message;
+  // An option or an environment variable has no document: its name says where.
+  const bool not_a_document = !source.empty() && pointer.empty() &&
+                              (source[0] == '-' || source.find_first_of("abcdefghijklmnopqrstuvwxyz./") == std::string::npos);
+  if (!not_a_document) out += (pointer.empty() ? std::string("(document root)") : pointer) + ": ";
+  out += message;
   return out;
 }
 

@@ -130,10 +130,10 @@ run unknown_joint "$armfault" trace --joint '7={"type":"hold"}' -q -o "$tmp/x.cs
 expect_input_error '/joints/7: "7" is not a joint of robot mrr-config1 (joints 1..3)'
 
 run joint_not_json "$armfault" trace --joint '3={"type":' -q -o "$tmp/x.csv"
-expect_input_error "armfault: error: --joint 3: (document root): not valid JSON: "
+expect_input_error "armfault: error: --joint 3: not valid JSON: "
 
 run joint_without_equals "$armfault" trace --joint 3 -q -o "$tmp/x.csv"
-expect_input_error "armfault: error: --joint: (document root): expected J=<trajectory JSON>, got \"3\""
+expect_input_error "armfault: error: --joint: expected J=<trajectory JSON>, got \"3\""
 
 run duration_zero "$armfault" trace --duration 0 -q -o "$tmp/x.csv"
 expect_input_error "/duration_s: 0 is outside [0.002, 3600]"
@@ -325,7 +325,7 @@ printf '{"case": 52, "run_id": \n' >>"$tmp/diff_d/results.jsonl"
 run diff_bad_line "$armfault" diff "$tmp/diff_a" "$tmp/diff_d"
 expect_input_error "$tmp/diff_d/results.jsonl: (document root): line 53: "
 run diff_bad_alpha "$armfault" diff "$tmp/diff_a" "$tmp/diff_a" --alpha 2
-expect_input_error "--alpha: (document root): 2 is outside (0, 1]"
+expect_input_error "--alpha: 2 is outside (0, 1]"
 
 # ------------------------------------------------------------------ shards, merge, kill -9 and --resume, trace --run
 ci="$src/campaigns/files/ci.json"
@@ -401,7 +401,7 @@ expect_status 0
 current=trace_campaign_case_number_same
 if cmp -s "$tmp/case.csv" "$tmp/case33.csv"; then pass; else fail "--run 33 and --run '$id' give different traces"; fi
 run trace_campaign_unknown_id "$armfault" trace "$ci" --run 'exp1/healty/3' -q -o "$tmp/x.csv"
-expect_input_error '--run: (document root): no run "exp1/healty/3" in this campaign; did you mean "exp1/healthy/3"?'
+expect_input_error '--run: no run "exp1/healty/3" in this campaign; did you mean "exp1/healthy/3"?'
 run trace_campaign_bad_case "$armfault" trace "$ci" --run 52 -q -o "$tmp/x.csv"
 expect_input_error "case 52 does not exist: the campaign's cases are 0..51"
 run trace_campaign_override "$armfault" trace "$ci" --run 3 --seed 2 -q -o "$tmp/x.csv"
@@ -429,6 +429,29 @@ if grep -q '"failed": 1,' "$tmp/dv/summary.json"; then pass; else fail "summary.
 run trace_diverged_case "$armfault" trace "$tmp/diverge.json" --run 'swing/friction_increase#0/friction_factor=100/j1/r0' -o "$tmp/x.csv"
 expect_status 3
 expect_stdout_contains "result: failed: simulation diverged at t="
+
+# ------------------------------------------------------------------ habits of the command line
+run usage_names_the_program "$armfault" --help
+expect_status 0
+expect_stdout_contains "Usage: armfault [OPTIONS] SUBCOMMAND"
+run unknown_command "$armfault" rn
+expect_status 2
+expect_stderr_contains 'armfault: unknown command "rn"; did you mean "run"?'
+run unknown_option "$armfault" run --jbos 2
+expect_status 2
+expect_stderr_contains "armfault run: unknown option --jbos; did you mean --jobs?"
+run shard_count_without_index env -u JOB_COMPLETION_INDEX -u SLURM_ARRAY_TASK_ID "$armfault" run --shard-count 4 -o "$tmp/sc" -q
+expect_input_error "armfault: error: --shard-count: gives N with the shard index from JOB_COMPLETION_INDEX, which is not set"
+run shard_and_shard_count env -u JOB_COMPLETION_INDEX -u SLURM_ARRAY_TASK_ID "$armfault" run --shard 0/2 --shard-count 2 -o "$tmp/sc" -q
+expect_input_error "armfault: error: --shard-count: --shard K/N already gives the count"
+run run_says_what_next "$armfault" run "$src/campaigns/files/thesis-sweep.json" -o "$tmp/next" -j 2
+expect_stdout_contains "next: armfault report $tmp/next"
+expect_stdout_contains "armfault tune $tmp/next"
+# junit.xml: a case per group and trajectory, and its failure replays the first wrong run.
+if grep -q '<testsuite name="kt_degradation" tests=' "$tmp/next/junit.xml" &&
+  grep -q '<testcase classname="healthy" name="exp1: healthy runs">' "$tmp/next/junit.xml"; then pass; else
+  fail "junit.xml lacks the per-family suites: $(head -c 400 "$tmp/next/junit.xml")"
+fi
 
 echo "$passed passed, $failed failed"
 [[ $failed -eq 0 ]]
