@@ -108,13 +108,17 @@ int TraceCampaignCase(const TraceOptions& o) {
   std::ofstream file(o.output, std::ios::binary);
   if (!file) throw InputError(o.output, "", "cannot open the trace file for writing");
   TraceCsvWriter writer(&file, static_cast<int>(campaign.robot.modules.size()));
-  // A second monitor beside the one inside RunCase, for --monitor-out: it sees the same ticks.
-  PowerEfficiencyMonitor monitor(campaign.monitor_model);
+  // A second monitor beside the one inside RunCase, for --monitor-out: it sees the same ticks,
+  // with the same knowledge (the unit's commissioned model).
+  UnitMonitors units(campaign);
+  const UnitMonitor unit = units.For(spec);
+  PowerEfficiencyMonitor monitor(unit.model ? *unit.model : campaign.monitor_model);
   double end_s = 0;
   const RunRecord record = RunCase(campaign, spec, ObserveWith(&monitor, [&](const Tick& tick) {
                                      writer.Write(tick);
                                      end_s = tick.t_s;
-                                   }));
+                                   }),
+                                   &units);
   monitor.Finish(end_s);
   file.close();
   if (!file) throw InputError(o.output, "", "error while writing the trace file");

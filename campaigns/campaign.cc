@@ -123,6 +123,31 @@ Sweep VariationSweep(ObjectReader& reader, const char* key, double min, double m
   return p.sweep;
 }
 
+// "datasheet", {"preset": "datasheet", key: half-width...}, or {key: half-width...}.
+StatedTolerances ParseTolerances(const nlohmann::json& v, const std::string& pointer) {
+  if (v.is_string()) {
+    if (v.get<std::string>() != "datasheet") {
+      throw InputError("", pointer, "unknown tolerance preset " + Describe(v) + " (known: \"datasheet\")");
+    }
+    return DatasheetTolerances();
+  }
+  ObjectReader reader(v, pointer);
+  std::vector<std::string> allowed = {"preset"};
+  for (const ToleranceKey& k : ToleranceKeys()) allowed.push_back(k.name);
+  reader.AllowOnly(allowed);
+  StatedTolerances t;
+  if (const auto* p = reader.Find("preset")) t = ParseTolerances(*p, reader.PointerTo("preset"));
+  for (const ToleranceKey& k : ToleranceKeys()) {
+    if (const auto* x = reader.Find(k.name)) {
+      const double s = AsNumber(*x, reader.PointerTo(k.name));
+      RequireInRange(s, 0, k.max, reader.PointerTo(k.name));
+      t.*k.member = s;
+    }
+  }
+  reader.Finish();
+  return t;
+}
+
 FloorSet ParseFloorSet(const nlohmann::json& v, const std::string& pointer, bool allow_per_family) {
   ObjectReader reader(v, pointer);
   if (allow_per_family) reader.AllowOnly({"detection_rate", "false_alarm_rate", "isolation_accuracy", "per_family"});
@@ -226,12 +251,107 @@ FaultEntry ParseFaultEntry(const nlohmann::json& v, const std::string& pointer, 
 
 }  // namespace
 
+const std::vector<ToleranceKey>& ToleranceKeys() {
+  static const std::vector<ToleranceKey> keys = {
+      {"kt", &StatedTolerances::kt, false, 0.5},
+      {"winding_resistance", &StatedTolerances::winding_resistance, false, 0.9},
+      {"switch_resistance", &StatedTolerances::switch_resistance, false, 0.9},
+      {"switching_loss", &StatedTolerances::switching_loss, false, 0.9},
+      {"quiescent_power", &StatedTolerances::quiescent_power, false, 0.9},
+      {"mesh_loss", &StatedTolerances::mesh_loss, false, 0.9},
+      {"rotor_inertia", &StatedTolerances::rotor_inertia, false, 0.5},
+      {"stribeck_velocity", &StatedTolerances::stribeck_velocity, false, 0.9},
+      {"torque_sensor_gain", &StatedTolerances::torque_sensor_gain, false, 0.5},
+      {"torque_sensor_offset_Nm", &StatedTolerances::torque_sensor_offset_Nm, true, 100},
+      {"supply_current_gain", &StatedTolerances::supply_current_gain, false, 0.5},
+      {"supply_current_offset_A", &StatedTolerances::supply_current_offset_A, true, 10},
+      {"bus_voltage", &StatedTolerances::bus_voltage, false, 0.5},
+  };
+  return keys;
+}
+
+StatedTolerances DatasheetTolerances() {
+  // Sources and reasoning: docs/assumptions.md, "Unit tolerances".
+  StatedTolerances t;
+  t.kt = 0.05;
+  t.winding_resistance = 0.10;
+  t.switch_resistance = 0.25;
+  t.switching_loss = 0.25;
+  t.quiescent_power = 0.25;
+  t.mesh_loss = 0.25;
+  t.rotor_inertia = 0.05;
+  t.stribeck_velocity = 0.25;
+  t.torque_sensor_gain = 0.02;
+  t.torque_sensor_offset_Nm = 0.3;
+  t.supply_current_gain = 0.014;
+  t.supply_current_offset_A = 0.007;
+  t.bus_voltage = 0.02;
+  return t;
+}
+
 nlohmann::json CaseSpec::VariationJson() const {
   nlohmann::json j = nlohmann::json::object();
   j["extra_payload_kg"] = extra_payload_kg;
   j["torque_noise_Nm"] = torque_noise_Nm < 0 ? nlohmann::json(nullptr) : nlohmann::json(torque_noise_Nm);
   j["friction_factors"] = friction_factors;
+  // Only campaigns that use them carry the newer keys, so older results stay byte-identical.
+  if (unit >= 0) j["unit"] = unit;
+  if (ambient_C != 20) j["ambient_C"] = ambient_C;
+  if (!tolerance_draws.empty()) {
+    nlohmann::json drawn = nlohmann::json::object();
+    for (size_t k = 0; k < ToleranceKeys().size(); ++k) {
+      nlohmann::json per_joint = nlohmann::json::array();
+      for (const auto& joint : tolerance_draws) per_joint.push_back(joint[k]);
+      drawn[ToleranceKeys()[k].name] = per_joint;
+    }
+    j["tolerances"] = drawn;
+  }
   return j;
+}
+
+RobotConfig UnitRobot(const Campaign& c, const CaseSpec& cs) {
+  RobotConfig r = c.robot;
+  for (size_t j = 0; j < r.modules.size(); ++j) {
+    ModuleParams& m = r.modules[j];
+    const double f = j < cs.friction_factors.size() ? cs.friction_factors[j] : 1.0;
+    m.friction.viscous_Nm_s_per_rad *= f;
+    m.friction.coulomb_Nm *= f;
+    m.friction.static_Nm *= f;
+    if (j >= cs.tolerance_draws.size()) continue;
+    const std::vector<double>& d = cs.tolerance_draws[j];  // ToleranceKeys() order
+    m.motor.kt_Nm_per_A *= d[0];
+    m.motor.phase_resistance_ohm *= d[1];
+    m.inverter.switch_resistance_ohm *= d[2];
+    m.inverter.switching_time_s *= d[3];
+    m.inverter.quiescent_power_W *= d[4];
+    m.drive.mesh_loss_fraction *= d[5];
+    m.motor.rotor_inertia_kg_m2 *= d[6];
+    m.friction.stribeck_s2_per_rad2 /= d[7] * d[7];  // F_t = 1 / v_s²: the Stribeck velocity scales by d
+    m.torque_sensor.gain_error = d[8] - 1.0;
+    m.torque_sensor.offset_error_Nm = d[9];
+    m.inverter.supply_current_gain_error = d[10] - 1.0;
+    m.inverter.supply_current_offset_error_A = d[11];
+    m.inverter.bus_voltage_V *= d[12];
+  }
+  return r;
+}
+
+RobotConfig CaseRobot(const Campaign& c, const CaseSpec& cs) {
+  RobotConfig r = UnitRobot(c, cs);
+  r.payload_kg += cs.extra_payload_kg;
+  for (ModuleParams& m : r.modules) {
+    if (cs.torque_noise_Nm >= 0) m.torque_sensor.noise_Nm = cs.torque_noise_Nm;
+  }
+  return r;
+}
+
+StatedTolerances StatedOf(const Campaign& c) {
+  StatedTolerances t = c.variation.tolerances;
+  t.friction = c.variation.friction_spread;
+  const Sweep& a = c.variation.ambient_C;
+  t.ambient_min_C = a.uniform ? a.low : (a.values.empty() ? 20.0 : a.values[0].get<double>());
+  t.ambient_max_C = a.uniform ? a.high : t.ambient_min_C;
+  return t;
 }
 
 Campaign CampaignFromJson(const nlohmann::json& value, const std::string& source, const std::string& base_dir) {
@@ -245,7 +365,7 @@ Campaign CampaignFromJson(const nlohmann::json& value, const std::string& source
     if (!value.is_object()) throw InputError("", "", "expected a JSON object describing a campaign, got " + Describe(value));
     ObjectReader reader(value, "");
     reader.AllowOnly({"name", "seed", "robot", "duration_s", "trajectories", "faults", "healthy", "repetitions",
-                      "variation", "monitor", "floors"});
+                      "variation", "commissioning", "monitor", "floors"});
     c.name = std::filesystem::path(source).stem().string();
     reader.OptionalString("name", &c.name);
     if (const auto* seed = reader.Find("seed")) {
@@ -293,11 +413,25 @@ Campaign CampaignFromJson(const nlohmann::json& value, const std::string& source
     RequireInRange(c.repetitions, 1, 1000000, reader.PointerTo("repetitions"));
     if (const auto* v = reader.Find("variation")) {
       ObjectReader vr(*v, reader.PointerTo("variation"));
-      vr.AllowOnly({"payload_kg", "torque_noise_Nm", "friction_spread"});
+      vr.AllowOnly({"payload_kg", "torque_noise_Nm", "friction_spread", "tolerances", "ambient_C", "units"});
       c.variation.payload_kg = VariationSweep(vr, "payload_kg", 0, 100);
       c.variation.torque_noise_Nm = VariationSweep(vr, "torque_noise_Nm", 0, 100);
       vr.OptionalNumber("friction_spread", &c.variation.friction_spread);
       RequireInRange(c.variation.friction_spread, 0, 0.9, vr.PointerTo("friction_spread"));
+      if (const auto* t = vr.Find("tolerances")) {
+        c.variation.tolerances = ParseTolerances(*t, vr.PointerTo("tolerances"));
+        c.variation.has_tolerances = true;
+      }
+      c.variation.ambient_C = VariationSweep(vr, "ambient_C", -40, 120);
+      if (vr.Has("units")) {
+        vr.OptionalInt("units", &c.variation.units);
+        RequireInRange(c.variation.units, 1, 100000, vr.PointerTo("units"));
+      }
+    }
+    c.commissioning = c.variation.has_tolerances;
+    if (const auto* v = reader.Find("commissioning")) {
+      if (!v->is_boolean()) throw InputError("", reader.PointerTo("commissioning"), "expected true or false, got " + Describe(*v));
+      c.commissioning = v->get<bool>();
     }
     if (const auto* m = reader.Find("monitor")) c.monitor = MonitorConfigFromJsonOrFile(*m, reader.PointerTo("monitor"), context);
     if (const auto* f = reader.Find("floors")) c.floors = ParseFloors(*f, reader.PointerTo("floors"));
@@ -314,7 +448,11 @@ Campaign CampaignFromJson(const nlohmann::json& value, const std::string& source
     throw;
   }
 
-  c.monitor_model = MakePowerMonitorModel(c.robot, c.monitor);
+  // A monitor left with the datasheet must allow for the tolerances the datasheet states.
+  const MonitorConfig monitor = c.variation.has_tolerances && !c.commissioning
+                                    ? WidenedForTolerances(c.monitor, StatedOf(c), c.robot)
+                                    : c.monitor;
+  c.monitor_model = MakePowerMonitorModel(c.robot, monitor);
   c.resolved = value;
   c.resolved["name"] = c.name;
   c.resolved["seed"] = c.seed;
@@ -322,7 +460,8 @@ Campaign CampaignFromJson(const nlohmann::json& value, const std::string& source
   c.resolved["duration_s"] = c.duration_s;
   c.resolved["healthy"] = c.healthy;
   c.resolved["repetitions"] = c.repetitions;
-  c.resolved["monitor"] = MonitorConfigToJson(c.monitor);
+  c.resolved["monitor"] = MonitorConfigToJson(c.monitor);  // as given: the widening is derived again on reading
+  if (c.variation.has_tolerances || value.contains("commissioning")) c.resolved["commissioning"] = c.commissioning;
   if (!c.resolved.contains("faults")) c.resolved["faults"] = nlohmann::json::array();
   if (!c.resolved.contains("variation")) c.resolved["variation"] = nlohmann::json::object();
   if (!c.resolved.contains("floors")) c.resolved["floors"] = nlohmann::json::object();
@@ -366,6 +505,30 @@ void DrawVariation(const Campaign& c, Rng* rng, CaseSpec* cs) {
     const double u = rng->Uniform();
     cs->friction_factors.push_back(1.0 + c.variation.friction_spread * (2.0 * u - 1.0));
   }
+  // Newer draws come after the older ones, and only where used, so older campaigns keep
+  // their streams. A fleet's unit draws its friction and tolerances from its own stream.
+  Rng unit_rng(0);
+  Rng* parts = rng;
+  if (c.variation.units > 0) {
+    cs->unit = static_cast<int>(cs->seed % static_cast<unsigned long long>(c.variation.units));
+    unit_rng = Rng(MixSeed(c.seed, 0x756e6974ULL + static_cast<uint64_t>(cs->unit)));
+    parts = &unit_rng;
+    for (size_t j = 0; j < c.robot.modules.size(); ++j) {
+      cs->friction_factors[j] = 1.0 + c.variation.friction_spread * (2.0 * parts->Uniform() - 1.0);
+    }
+  }
+  cs->tolerance_draws.clear();
+  if (c.variation.has_tolerances) {
+    for (size_t j = 0; j < c.robot.modules.size(); ++j) {
+      std::vector<double> d;
+      for (const ToleranceKey& k : ToleranceKeys()) {
+        const double s = c.variation.tolerances.*k.member * (2.0 * parts->Uniform() - 1.0);
+        d.push_back(k.absolute ? s : 1.0 + s);
+      }
+      cs->tolerance_draws.push_back(std::move(d));
+    }
+  }
+  cs->ambient_C = draw(c.variation.ambient_C, 20.0);
 }
 
 }  // namespace

@@ -47,11 +47,27 @@ struct CampaignTrajectory {
   std::map<int, std::shared_ptr<const Trajectory>> parsed;
 };
 
+// The per-joint values a unit draws from its stated tolerances, in this order: relative ones
+// multiply the datasheet value by 1 + s (2u - 1), absolute ones (_Nm, _A) add s (2u - 1).
+struct ToleranceKey {
+  const char* name;                 // key under "tolerances"
+  double StatedTolerances::*member;
+  bool absolute;
+  double max;                       // largest half-width accepted
+};
+const std::vector<ToleranceKey>& ToleranceKeys();
+// The "datasheet" preset: typical catalogue tolerances of this class of drive (docs/assumptions.md).
+StatedTolerances DatasheetTolerances();
+
 // Variation between runs; each value is fixed or {"uniform": [a, b]}.
 struct Variation {
   Sweep payload_kg;        // added to the robot's payload; empty: none
   Sweep torque_noise_Nm;   // torque-sensor noise (1 sigma); empty: the robot's
   double friction_spread = 0;  // each joint's true friction x U[1 - s, 1 + s]; the monitor keeps nominal
+  bool has_tolerances = false;
+  StatedTolerances tolerances;  // half-widths a unit draws in (and its datasheet states)
+  Sweep ambient_C;         // per run; empty: 20 °C
+  int units = 0;           // a fleet of this many robot units; 0: every run is its own unit
 };
 
 struct Campaign {
@@ -66,6 +82,9 @@ struct Campaign {
   int healthy = 0;
   int repetitions = 1;
   Variation variation;
+  // One healthy commissioning run per unit teaches the monitor that unit (docs/monitor.md);
+  // default: on when the campaign states tolerances.
+  bool commissioning = false;
   MonitorConfig monitor;
   PowerMonitorModel monitor_model;  // built once: what the monitor knows (the nominal robot)
   Floors floors;
@@ -91,8 +110,19 @@ struct CaseSpec {
   double extra_payload_kg = 0;
   double torque_noise_Nm = -1;             // < 0: the robot's
   std::vector<double> friction_factors;    // per joint, true friction scale
+  int unit = -1;                           // the robot unit (-1: this run is its own unit)
+  double ambient_C = 20;
+  std::vector<std::vector<double>> tolerance_draws;  // [joint][ToleranceKeys() order]; empty: none
   nlohmann::json VariationJson() const;
 };
+
+// The robot of a case's unit: the campaign's robot with the unit's tolerances and friction
+// (no run-to-run payload or noise).
+RobotConfig UnitRobot(const Campaign& campaign, const CaseSpec& spec);
+// The case's robot: its unit's, with the run's payload and sensor noise.
+RobotConfig CaseRobot(const Campaign& campaign, const CaseSpec& spec);
+// The stated tolerances the monitor may know (with the friction spread and ambient range).
+StatedTolerances StatedOf(const Campaign& campaign);
 
 // All cases in order. Memory: one small record per case.
 std::vector<CaseSpec> ExpandCases(const Campaign& campaign);

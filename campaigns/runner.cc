@@ -6,8 +6,10 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 
 #include "core/power_monitor.h"
+#include "core/rng.h"
 #include "core/run_config.h"
 #include "faults/fault.h"
 
@@ -17,20 +19,80 @@ namespace {
 
 namespace fs = std::filesystem;
 
-RobotConfig VariedRobot(const Campaign& c, const CaseSpec& cs) {
-  RobotConfig r = c.robot;
-  r.payload_kg += cs.extra_payload_kg;
-  for (size_t j = 0; j < r.modules.size(); ++j) {
-    if (cs.torque_noise_Nm >= 0) r.modules[j].torque_sensor.noise_Nm = cs.torque_noise_Nm;
-    const double f = j < cs.friction_factors.size() ? cs.friction_factors[j] : 1.0;
-    r.modules[j].friction.viscous_Nm_s_per_rad *= f;
-    r.modules[j].friction.coulomb_Nm *= f;
-    r.modules[j].friction.static_Nm *= f;
-  }
-  return r;
-}
+// Commissioning: 16 s, enough for several reversals of the slowest joint.
+constexpr double kCommissioningDuration_s = 16.0;
 
 }  // namespace
+
+nlohmann::json CommissioningMotion(const RobotConfig& robot) {
+  nlohmann::json joints = nlohmann::json::object();
+  for (size_t j = 0; j < robot.modules.size(); ++j) {
+    const ModuleParams& m = robot.modules[j];
+    // A sine pair peaks at 1.3 A: keep it within 70 % of the half range, 30 deg at most, about
+    // the middle of the range; each joint at its own frequency so their accelerations differ.
+    const double half = 0.5 * (m.max_angle_deg - m.min_angle_deg);
+    const double amplitude = std::min(30.0, 0.7 * half / 1.3);
+    joints[std::to_string(j + 1)] = {{"type", "sine_pair"},
+                                     {"amplitude_deg", amplitude},
+                                     {"omega_rad_s", 0.9 + 0.35 * static_cast<double>(j)},
+                                     {"offset_deg", 0.5 * (m.max_angle_deg + m.min_angle_deg)}};
+  }
+  return joints;
+}
+
+UnitMonitor CommissionUnit(const Campaign& campaign, const CaseSpec& spec) {
+  UnitMonitor out;
+  try {
+    const RobotConfig robot = UnitRobot(campaign, spec);
+    const ArmModel model(robot);
+    InputContext context;
+    context.source = "<commissioning>";
+    RunSpec run;
+    run.duration_s = kCommissioningDuration_s;
+    // A fleet's unit has a seed of its own; a run that is its own unit derives one from its seed.
+    run.seed = spec.unit >= 0 ? MixSeed(campaign.seed, 0x636f6d6dULL + static_cast<uint64_t>(spec.unit))
+                              : MixSeed(spec.seed, 0x636f6d6dULL);
+    const StatedTolerances stated = StatedOf(campaign);
+    run.ambient_C = 0.5 * (stated.ambient_min_C + stated.ambient_max_C);
+    run.joints.resize(robot.modules.size());
+    for (const auto& [joint, trajectory] :
+         JointTrajectoriesFromJson(CommissioningMotion(robot), "/commissioning", robot, run.duration_s, context)) {
+      run.joints[joint - 1].trajectory = trajectory;
+    }
+    CommissioningData data;
+    data.control_dt_s = model.control_dt_s();
+    const RunResult result = Simulate(model, run, [&](const Tick& tick) {
+      data.t_s.push_back(tick.t_s);
+      std::vector<JointSignals> s;
+      s.reserve(tick.joints->size());
+      for (const JointTick& jt : *tick.joints) s.push_back(SignalsOf(jt));
+      data.signals.push_back(std::move(s));
+    });
+    data.ok = result.ok;
+    data.failure_reason = result.failure_reason;
+    if (!result.ok) {
+      out.failure = result.failure_reason;
+      return out;
+    }
+    out.model = std::make_shared<const PowerMonitorModel>(CommissionMonitorModel(campaign.monitor_model, data));
+  } catch (const std::exception& e) {
+    out.failure = e.what();
+  }
+  return out;
+}
+
+UnitMonitors::UnitMonitors(const Campaign& campaign)
+    : campaign_(campaign),
+      once_(new std::once_flag[static_cast<size_t>(std::max(0, campaign.variation.units))]),
+      units_(static_cast<size_t>(std::max(0, campaign.variation.units))) {}
+
+UnitMonitor UnitMonitors::For(const CaseSpec& spec) {
+  if (!campaign_.commissioning) return {std::shared_ptr<const PowerMonitorModel>(&campaign_.monitor_model, [](auto*) {}), ""};
+  if (spec.unit < 0 || static_cast<size_t>(spec.unit) >= units_.size()) return CommissionUnit(campaign_, spec);
+  const size_t u = static_cast<size_t>(spec.unit);
+  std::call_once(once_[u], [&] { units_[u] = CommissionUnit(campaign_, spec); });
+  return units_[u];
+}
 
 void WriteAtomically(const fs::path& path, const std::string& text) {
   const fs::path tmp = path.string() + ".tmp";
@@ -50,7 +112,7 @@ nlohmann::json CampaignFileJson(const Campaign& campaign, const ShardSpec& shard
           {"campaign", campaign.resolved}};
 }
 
-RunRecord RunCase(const Campaign& campaign, const CaseSpec& cs, const TickObserver& also) {
+RunRecord RunCase(const Campaign& campaign, const CaseSpec& cs, const TickObserver& also, UnitMonitors* units) {
   RunRecord r;
   r.case_index = cs.index;
   r.run_id = cs.run_id;
@@ -61,7 +123,18 @@ RunRecord RunCase(const Campaign& campaign, const CaseSpec& cs, const TickObserv
   r.repetition = cs.repetition;
   r.variation = cs.VariationJson();
   try {
-    const RobotConfig robot = VariedRobot(campaign, cs);
+    std::optional<UnitMonitors> own;
+    if (!units) units = &own.emplace(campaign);
+    const UnitMonitor unit = units->For(cs);
+    if (!unit.model) {
+      r.ok = false;
+      r.failure_reason = "the commissioning run of " +
+                         (cs.unit >= 0 ? "unit " + std::to_string(cs.unit) : std::string("this run's unit")) +
+                         " failed: " + unit.failure;
+      return r;
+    }
+    const PowerMonitorModel& monitor_model = *unit.model;
+    const RobotConfig robot = CaseRobot(campaign, cs);
     const ArmModel model(robot);
     std::vector<std::shared_ptr<const Fault>> faults;
     if (!cs.fault.is_null()) {
@@ -80,13 +153,15 @@ RunRecord RunCase(const Campaign& campaign, const CaseSpec& cs, const TickObserv
     RunSpec spec;
     spec.duration_s = campaign.duration_s;
     spec.seed = cs.seed;
+    spec.ambient_C = cs.ambient_C;
     spec.joints.resize(robot.modules.size());
     for (const auto& [joint, trajectory] : campaign.trajectories[cs.trajectory].parsed) {
       spec.joints[joint - 1].trajectory = trajectory;
     }
     if (!faults.empty()) spec.hardware = std::make_shared<FaultSchedule>(faults);
-    // The monitor knows the nominal robot (payload and friction as designed), not this run's.
-    PowerEfficiencyMonitor monitor(campaign.monitor_model);
+    // The monitor knows the nominal robot (payload and friction as designed) and what it learnt
+    // on this unit while commissioning, not this run's truth.
+    PowerEfficiencyMonitor monitor(monitor_model);
     EffectRecorder effects(model, faults);
     DecisionRecorder decisions(monitor.joint_count(), r.onset_s);
     const RunResult result = Simulate(model, spec, ObserveWith(&monitor, [&](const Tick& tick) {
@@ -103,8 +178,7 @@ RunRecord RunCase(const Campaign& campaign, const CaseSpec& cs, const TickObserv
     r.decision = ToJson(decisions.stats());
     // The decision rule `armfault tune` re-scores: alarms before the onset are false alarms;
     // detection is the first alarm from the onset on.
-    const DecisionOutcome d =
-        Decide(decisions.stats(), campaign.monitor_model.thresholds, campaign.monitor_model.config.significance);
+    const DecisionOutcome d = Decide(decisions.stats(), monitor_model.thresholds, monitor_model.config.significance);
     r.alarm_before_onset = d.alarm_before_onset;
     r.detected = d.detected;
     if (d.detected) {
@@ -178,6 +252,7 @@ RunnerResult RunCampaign(const Campaign& campaign, const RunnerOptions& o) {
   long done = out.resumed;
   if (o.progress) o.progress(done, out.total);
 
+  UnitMonitors units(campaign);
   const int threads = o.threads > 0 ? o.threads : tbb::this_task_arena::max_concurrency();
   tbb::task_arena arena(threads);
   arena.execute([&] {
@@ -195,7 +270,7 @@ RunnerResult RunCampaign(const Campaign& campaign, const RunnerOptions& o) {
             tbb::make_filter<size_t, std::pair<std::string, bool>>(
                 tbb::filter_mode::parallel,
                 [&](size_t k) {
-                  const RunRecord r = RunCase(campaign, *mine[k]);
+                  const RunRecord r = RunCase(campaign, *mine[k], nullptr, &units);
                   return std::make_pair(ToJson(r).dump() + "\n", r.ok);
                 }) &
             tbb::make_filter<std::pair<std::string, bool>, void>(

@@ -8,6 +8,8 @@
 
 #include <filesystem>
 #include <functional>
+#include <memory>
+#include <mutex>
 #include <string>
 
 #include "campaigns/campaign.h"
@@ -40,9 +42,38 @@ struct RunnerResult {
 
 RunnerResult RunCampaign(const Campaign& campaign, const RunnerOptions& options);
 
+// The monitor a unit's runs use: the campaign's (the datasheet, widened where tolerances are
+// stated) or, with commissioning, that model fitted on the unit's commissioning run.
+struct UnitMonitor {
+  std::shared_ptr<const PowerMonitorModel> model;
+  std::string failure;  // non-empty: the unit's commissioning run failed, and why
+};
+
+// The commissioning motion of a robot: every joint on a sine pair of its own frequency, both
+// ways through a good part of its range, for 16 s (docs/campaign-format.md, "Commissioning").
+nlohmann::json CommissioningMotion(const RobotConfig& robot);
+// Commissions the unit of `spec` (its robot, healthy, at the campaign's middle ambient, with a
+// seed of the unit's own) and fits the monitor on what it recorded.
+UnitMonitor CommissionUnit(const Campaign& campaign, const CaseSpec& spec);
+
+// Per-unit monitors, each computed once, by the first run of that unit that needs it, from any
+// thread. Runs that are their own unit are not cached.
+class UnitMonitors {
+ public:
+  explicit UnitMonitors(const Campaign& campaign);
+  UnitMonitor For(const CaseSpec& spec);
+
+ private:
+  const Campaign& campaign_;
+  std::unique_ptr<std::once_flag[]> once_;
+  std::vector<UnitMonitor> units_;
+};
+
 // One case, fully: builds the varied robot, the faults and the monitor, simulates, diagnoses.
-// Never throws for a failing run: the record says "failed" with the reason.
-RunRecord RunCase(const Campaign& campaign, const CaseSpec& spec, const TickObserver& also = nullptr);
+// Never throws for a failing run: the record says "failed" with the reason. `units` (may be
+// null) shares the commissioned monitors between the runs of one unit.
+RunRecord RunCase(const Campaign& campaign, const CaseSpec& spec, const TickObserver& also = nullptr,
+                  UnitMonitors* units = nullptr);
 
 // The JSON written to campaign.json (the summary embeds `resolved` only, so shards merge to
 // the same bytes).

@@ -14,6 +14,7 @@ JointSignals SignalsOf(const JointTick& tick) {
   s.i_cmd_A = tick.i_cmd_A;
   s.i_supply_meas_A = tick.i_supply_meas_A;
   s.v_bus_meas_V = tick.v_bus_meas_V;
+  s.winding_temp_C = tick.winding_temp_meas_C;
   return s;
 }
 

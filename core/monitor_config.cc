@@ -51,6 +51,7 @@ const std::vector<NumberField>& NumberFields() {
       {"balance_filter_s", &MonitorConfig::balance_filter_s, 0.002, 10},
       {"balance_time_constant_s", &MonitorConfig::balance_time_constant_s, 0.01, 1e3},
       {"min_balance_moving_s", &MonitorConfig::min_balance_moving_s, 0, 1e3},
+      {"constant_power_uncertainty_W", &MonitorConfig::constant_power_uncertainty_W, 1e-3, 1e4},
   };
   return f;
 }
@@ -138,10 +139,9 @@ nlohmann::json MonitorConfigToJson(const MonitorConfig& c) {
 namespace armfault {
 
 namespace {
-// Scales at which a constant error shows in a statistic: rotor power of a typical motion, the
-// current at which copper loss is judged, a typical joint torque, the self-heating a winding
-// may add over ambient in a task (docs/monitor.md, "Without commissioning").
-constexpr double kTypicalRotorPower_W = 10.0;
+// Scales at which an error shows in a statistic: the current at which switching loss is
+// judged, a typical joint torque, the self-heating a winding may add over ambient in a task
+// (docs/monitor.md, "Without commissioning").
 constexpr double kTypicalCurrent_A = 2.0;
 constexpr double kTypicalTorque_Nm = 6.0;
 constexpr double kSelfHeatingMargin_K = 10.0;
@@ -164,10 +164,12 @@ MonitorConfig WidenedForTolerances(const MonitorConfig& config, const StatedTole
                               tol.switching_loss * sw * kTypicalCurrent_A;
     const double r = m.motor.phase_resistance_ohm;
     const double friction_Nm = m.drive.ratio * (m.friction.coulomb_Nm + m.friction.static_Nm);
-    dn = std::max(dn, tol.kt + tol.supply_current_gain + kMagnetPerK * dT + constant_W / kTypicalRotorPower_W);
+    // The electrical fit takes a constant power as a parameter of its own, pulled to the
+    // calibration within this uncertainty: a constant error no longer passes for n or rho.
+    c.constant_power_uncertainty_W = std::max(c.constant_power_uncertainty_W, constant_W);
+    dn = std::max(dn, tol.kt + tol.supply_current_gain + kMagnetPerK * dT);
     drho = std::max(drho, tol.winding_resistance + kCopperPerK * dT + tol.supply_current_gain +
-                              tol.switch_resistance * m.inverter.switch_resistance_ohm / r +
-                              constant_W / (2.0 * r * kTypicalCurrent_A * kTypicalCurrent_A));
+                              tol.switch_resistance * m.inverter.switch_resistance_ohm / r);
     dkappa = std::max(dkappa, tol.friction + kTorqueOverFriction * (tol.kt + tol.torque_sensor_gain + kMagnetPerK * dT) +
                                   kMeshOverFriction * tol.mesh_loss + 0.5 * tol.rotor_inertia +
                                   0.3 * tol.stribeck_velocity + tol.torque_sensor_offset_Nm / friction_Nm);

@@ -18,6 +18,10 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // Weak priors that keep the fits defined without excitation: each parameter is pulled to
 // its healthy value with the weight of a little evidence (units: the regressor squared).
 constexpr double kElectricalPrior_W2 = 50.0;  // per-tick fit, residuals ~ 1 W
+// The weight that holds a parameter at its prior.
+constexpr double kHeldPrior = 1e12;
+// Scatter of one tick's electrical residual (supply-sensor noise, period averaging) [W].
+constexpr double kElectricalTickSigma_W = 0.5;
 // Mechanical fit, in the units of its 1/sigma^2-weighted normal equations: the friction
 // factor has the weight of one window with 1 J of friction known to 1 J; the drift a
 // stronger pull to 0, so that where windows cannot tell friction from drift (all in one
@@ -64,38 +68,70 @@ bool Solve2(double a11, double a12, double a22, double b1, double b2, double* x1
   return true;
 }
 
-// The electrical balance y = U_d I_d - fixed losses = n P_r + rho P_copper, weighted least
-// squares with forgetting, weak priors n = rho = 1 so it is defined at rest.
+// Solves the symmetric 3x3 system m θ = r (m: 00 01 02 11 12 22) by cofactors; `inv_diag`
+// gets the inverse's diagonal. Returns false if singular.
+bool Solve3(const std::array<double, 6>& m, const std::array<double, 3>& r, std::array<double, 3>* t,
+            std::array<double, 3>* inv_diag) {
+  const double c00 = m[3] * m[5] - m[4] * m[4], c01 = m[2] * m[4] - m[1] * m[5], c02 = m[1] * m[4] - m[2] * m[3];
+  const double c11 = m[0] * m[5] - m[2] * m[2], c12 = m[1] * m[2] - m[0] * m[4], c22 = m[0] * m[3] - m[1] * m[1];
+  const double det = m[0] * c00 + m[1] * c01 + m[2] * c02;
+  if (!(det > 0) || !std::isfinite(det)) return false;
+  const double inv = 1.0 / det;
+  (*t)[0] = (c00 * r[0] + c01 * r[1] + c02 * r[2]) * inv;
+  (*t)[1] = (c01 * r[0] + c11 * r[1] + c12 * r[2]) * inv;
+  (*t)[2] = (c02 * r[0] + c12 * r[1] + c22 * r[2]) * inv;
+  *inv_diag = {c00 * inv, c11 * inv, c22 * inv};
+  return true;
+}
+
+// The electrical balance y = U_d I_d - fixed losses = n P_r + rho P_copper + q, weighted least
+// squares with forgetting. Weak priors n = rho = 1 keep it defined at rest; q, a constant
+// power the calibration does not hold (quiescent draw, the current sensor's offset, warm-up),
+// is pulled to 0 with the weight its stated uncertainty gives it, so that it cannot pass for
+// a K_T or resistance change.
 struct ElectricalFit {
   double forget = 1;
-  double a11 = 0, a12 = 0, a22 = 0, b1 = 0, b2 = 0, yy = 0, weight = 0;
-  double n = 1, n_se = 0, rho = 1, rho_se = 0;
+  double constant_prior = 0;  // weight of the pull of q to 0, in ticks
+  std::array<double, 6> a{};  // of (P_r, P_copper, 1): 00 01 02 11 12 22
+  std::array<double, 3> b{};
+  double yy = 0, weight = 0;
+  double n = 1, n_se = 0, rho = 1, rho_se = 0, constant_W = 0;
   void Add(double y, double p_rotor, double p_copper) {
-    a11 = forget * a11 + p_rotor * p_rotor;
-    a12 = forget * a12 + p_rotor * p_copper;
-    a22 = forget * a22 + p_copper * p_copper;
-    b1 = forget * b1 + p_rotor * y;
-    b2 = forget * b2 + p_copper * y;
+    const double x[3] = {p_rotor, p_copper, 1.0};
+    int k = 0;
+    for (int i = 0; i < 3; ++i) {
+      for (int j = i; j < 3; ++j, ++k) a[k] = forget * a[k] + x[i] * x[j];
+      b[i] = forget * b[i] + x[i] * y;
+    }
     yy = forget * yy + y * y;
     weight = forget * weight + 1.0;
-    double nn, r, inv11, inv22;
-    if (!Solve2(a11 + kElectricalPrior_W2, a12, a22 + kElectricalPrior_W2, b1 + kElectricalPrior_W2,
-                b2 + kElectricalPrior_W2, &nn, &r, &inv11, &inv22)) {
-      return;
+    if (!Fit(kElectricalPrior_W2)) return;
+    if (n > 1.0) {
+      // K_T cannot rise: supply power above the model is an extra loss. Refit with n = 1
+      // (rotor and copper power are nearly collinear in many motions).
+      const double se = n_se;
+      Fit(kHeldPrior);
+      n_se = se;
     }
-    const double sse = std::max(0.0, yy - 2 * (nn * b1 + r * b2) + nn * nn * a11 + 2 * nn * r * a12 + r * r * a22);
-    const double sigma2 = sse / std::max(1.0, weight - 2.0);
-    n = nn;
-    rho = r;
-    n_se = std::sqrt(sigma2 * inv11);
-    rho_se = std::sqrt(sigma2 * inv22);
-    if (nn > 1.0) {
-      // K_T cannot rise: supply power above the model is an extra loss. Refit rho with
-      // n = 1 (rotor and copper power are nearly collinear in many motions).
-      const double a22p = a22 + kElectricalPrior_W2;
-      rho = (b2 + kElectricalPrior_W2 - a12) / a22p;
-      rho_se = std::sqrt(sigma2 / a22p);
-    }
+  }
+  // Solves with prior weight `n_prior` on n = 1.
+  bool Fit(double n_prior) {
+    std::array<double, 6> m = a;
+    m[0] += n_prior;
+    m[3] += kElectricalPrior_W2;
+    m[5] += constant_prior;
+    const std::array<double, 3> r = {b[0] + n_prior, b[1] + kElectricalPrior_W2, b[2]};
+    std::array<double, 3> t, inv;
+    if (!Solve3(m, r, &t, &inv)) return false;
+    const double sse = yy - 2 * (t[0] * b[0] + t[1] * b[1] + t[2] * b[2]) + t[0] * t[0] * a[0] + 2 * t[0] * t[1] * a[1] +
+                       2 * t[0] * t[2] * a[2] + t[1] * t[1] * a[3] + 2 * t[1] * t[2] * a[4] + t[2] * t[2] * a[5];
+    const double sigma2 = std::max(0.0, sse) / std::max(1.0, weight - 3.0);
+    n = t[0];
+    rho = t[1];
+    constant_W = t[2];
+    n_se = std::sqrt(sigma2 * inv[0]);
+    rho_se = std::sqrt(sigma2 * inv[1]);
+    return true;
   }
 };
 
@@ -124,6 +160,10 @@ struct PowerEfficiencyMonitor::JointState {
         balance_since_alarm({false, true}, 0, dt, CorrelationTicks(c, dt), k.balance_sigma_Nm) {
     electrical.forget = std::exp(-dt / c.electrical_time_constant_s);
     electrical_fast.forget = std::exp(-dt / c.balance_time_constant_s);
+    // q's pull: as many ticks as make its standard error the stated uncertainty.
+    const double sd = std::max(1e-3, k.constant_power_sd_W);
+    electrical.constant_prior = electrical_fast.constant_prior =
+        kElectricalTickSigma_W * kElectricalTickSigma_W / (sd * sd);
     for (SlidingMin& h : held) h = SlidingMin(hold_span);
     for (SlidingMin& h : held_significance) h = SlidingMin(hold_span);
   }
@@ -211,6 +251,7 @@ PowerMonitorModel MakePowerMonitorModel(const RobotConfig& robot, const MonitorC
     mc.stribeck_s2 = p.friction.stribeck_s2_per_rad2;
     mc.mesh_loss_fraction = k.mesh_loss_fraction;
     k.balance_sigma_Nm = std::max(0.05, p.torque_sensor.noise_Nm);
+    k.constant_power_sd_W = config.constant_power_uncertainty_W;
     const std::array<double, 3> a = robot.links.at(i).joint_axis;
     const double na = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
     for (const auto& b : axes) {

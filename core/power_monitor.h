@@ -72,6 +72,8 @@ struct MonitorConfig {
   double balance_filter_s = 0.03;      // T_f of the low-pass every balance term passes
   double balance_time_constant_s = 0.5;  // forgetting of the fit the friction and drift detectors judge
   double min_balance_moving_s = 0.3;   // moving time in that fit needed to judge
+  // 1 sigma of the supply's constant draw about the calibration [W] (quiescent, sensor offset)
+  double constant_power_uncertainty_W = 0.1;
 };
 
 // Tolerances a datasheet states for a unit (relative half-widths unless named otherwise): what
@@ -135,6 +137,10 @@ struct JointKnowledge {
   ElectricalCalibration electrical;
   MechanicalCalibration mechanical;
   double balance_sigma_Nm = 0.05;      // healthy scatter of one tick's balance residual
+  // How far the supply power's constant part may lie from the calibration's [W] (1 sigma):
+  // the datasheet's spread of quiescent draw and current-sensor offset, or what is left of it
+  // after commissioning (warm-up of the electronics).
+  double constant_power_sd_W = 0.1;
 };
 
 // Immutable, shared by all runs of a robot.

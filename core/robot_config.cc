@@ -33,6 +33,8 @@ const Fields<MotorParams>& MotorFields() {
       {"phase_inductance_H", &MotorParams::phase_inductance_H, 0, 1, true, false},
       {"pole_pairs", &MotorParams::pole_pairs, 1, 50, false, true},
       {"rotor_inertia_kg_m2", &MotorParams::rotor_inertia_kg_m2, 0, 1, true, false},
+      {"thermal_resistance_K_per_W", &MotorParams::thermal_resistance_K_per_W, 0, 1000, false, false},
+      {"thermal_time_constant_s", &MotorParams::thermal_time_constant_s, 0, 1e6, true, false},
   };
   return f;
 }
@@ -49,6 +51,8 @@ const Fields<InverterParams>& InverterFields() {
       {"quiescent_power_W", &InverterParams::quiescent_power_W, 0, 1000, false, false},
       {"overcurrent_trip_A", &InverterParams::overcurrent_trip_A, 0, 1e4, true, false},
       {"supply_current_noise_A", &InverterParams::supply_current_noise_A, 0, 10, false, false},
+      {"supply_current_gain_error", &InverterParams::supply_current_gain_error, -0.5, 0.5, false, false},
+      {"supply_current_offset_error_A", &InverterParams::supply_current_offset_error_A, -10, 10, false, false},
   };
   return f;
 }
@@ -81,6 +85,8 @@ const Fields<TorqueSensorParams>& TorqueSensorFields() {
       {"adc_range_V", &TorqueSensorParams::adc_range_V, 0, 100, true, false},
       {"adc_bits", &TorqueSensorParams::adc_bits, 4, 24, false, true},
       {"noise_Nm", &TorqueSensorParams::noise_Nm, 0, 100, false, false},
+      {"gain_error", &TorqueSensorParams::gain_error, -0.5, 0.5, false, false},
+      {"offset_error_Nm", &TorqueSensorParams::offset_error_Nm, -1e3, 1e3, false, false},
   };
   return f;
 }
@@ -160,7 +166,7 @@ double Norm(const std::array<double, 3>& v) { return std::sqrt(v[0] * v[0] + v[1
 ModuleParams ModuleFromJson(const nlohmann::json& value, const std::string& pointer) {
   ObjectReader reader(value, pointer);
   reader.AllowOnly({"type", "min_angle_deg", "max_angle_deg", "motor", "inverter", "drive", "friction", "brake",
-                    "torque_sensor", "encoder", "controller"});
+                    "torque_sensor", "encoder", "controller", "winding_temperature_sensor"});
   std::string type = "MRR2";
   reader.OptionalString("type", &type);
   ModuleParams m = ModuleDefaults(type, reader.PointerTo("type"));
@@ -174,6 +180,12 @@ ModuleParams ModuleFromJson(const nlohmann::json& value, const std::string& poin
   ReadGroup(reader, "torque_sensor", TorqueSensorFields(), &m.torque_sensor);
   ReadGroup(reader, "encoder", EncoderFields(), &m.encoder);
   ReadGroup(reader, "controller", ControllerFields(), &m.controller);
+  if (const nlohmann::json* v = reader.Find("winding_temperature_sensor")) {
+    if (!v->is_boolean()) {
+      throw InputError("", reader.PointerTo("winding_temperature_sensor"), "expected true or false, got " + Describe(*v));
+    }
+    m.winding_temperature_sensor = v->get<bool>();
+  }
   reader.Finish();
   return m;
 }
@@ -396,6 +408,7 @@ nlohmann::json RobotToJson(const RobotConfig& r) {
     jm["torque_sensor"] = WriteFields(TorqueSensorFields(), m.torque_sensor);
     jm["encoder"] = WriteFields(EncoderFields(), m.encoder);
     jm["controller"] = WriteFields(ControllerFields(), m.controller);
+    jm["winding_temperature_sensor"] = m.winding_temperature_sensor;
     out["modules"].push_back(jm);
   }
   for (const LinkParams& l : r.links) {

@@ -22,6 +22,10 @@ struct MotorParams {
   double phase_inductance_H = 0.4e-3;   // per phase (assumption)
   double pole_pairs = 3;                // (assumption)
   double rotor_inertia_kg_m2 = 3.46e-5; // thesis table 5-2
+  // Winding temperature, first order (docs/assumptions.md): C dT/dt = P_copper - (T - T_amb)/R_th.
+  // Resistance rises 0.393 %/K and K_T falls 0.1 %/K from the 20 °C values above.
+  double thermal_resistance_K_per_W = 2.0;  // winding to ambient (assumption)
+  double thermal_time_constant_s = 600;     // R_th C (assumption)
 };
 
 // Inverter (driver power stage) fed from the DC bus, with its current loop.
@@ -37,6 +41,10 @@ struct InverterParams {
   double quiescent_power_W = 2.0;          // driver logic, DSP, sensors (assumption)
   double overcurrent_trip_A = 20.0;        // over-current protection threshold (assumption)
   double supply_current_noise_A = 0.005;   // supply-current sensor noise, 1 sigma (assumption)
+  // This unit's supply-current sensor errors (plant truth; the monitor is not told them):
+  // reading = (1 + gain_error) I + offset_error + noise.
+  double supply_current_gain_error = 0;
+  double supply_current_offset_error_A = 0;
 };
 
 // Harmonic drive: rigid ratio plus a load-dependent mesh loss (torque-proportional friction
@@ -71,6 +79,10 @@ struct TorqueSensorParams {
   double adc_range_V = 3.0;
   double adc_bits = 12;
   double noise_Nm = 0.03;   // 1 sigma at the amplifier output, in N m (assumption)
+  // This unit's gauge and amplifier errors (plant truth; the controller's mapping and the
+  // monitor keep the nominal one): the amplifier sees (1 + gain_error) tau + offset_error_Nm.
+  double gain_error = 0;
+  double offset_error_Nm = 0;
 };
 
 // Incremental encoder on the motor shaft.
@@ -108,6 +120,7 @@ struct ModuleParams {
   TorqueSensorParams torque_sensor;
   EncoderParams encoder;
   ControllerParams controller;
+  bool winding_temperature_sensor = false;  // a sensor the monitor may read (JointSignals::winding_temp_C)
 };
 
 // Link i follows joint i. It starts at the joint anchor and extends along `direction` by

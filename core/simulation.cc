@@ -19,6 +19,9 @@ namespace armfault {
 namespace {
 
 constexpr double kMaxLinkSpeed_rad_s = 100.0;  // far beyond any drive: the run has diverged
+// Copper resistance rises 0.393 %/K; an NdFeB magnet's flux (K_T) falls about 0.1 %/K.
+constexpr double kCopperPerK = 0.00393;
+constexpr double kMagnetLossPerK = 0.001;
 
 Eigen::Vector3d Vec(const std::array<double, 3>& a) { return Eigen::Vector3d(a[0], a[1], a[2]); }
 
@@ -164,6 +167,7 @@ struct JointRuntime {
   double viscous_torque = 0;   // viscous friction torque of the current physics step
   double axis_omega_before = 0;  // child angular velocity along the axis before the step
   double i_cmd = 0;
+  double winding_temp_C = 20;
   int last_adc_code = 0;
   bool brake_engaged = false;
   bool driver_enabled = true;
@@ -252,6 +256,7 @@ RunResult Simulate(const ArmModel& model, const RunSpec& spec, const TickObserve
     rt[j].qd = qd0[j];
     rt[j].rng = Rng(MixSeed(spec.seed, static_cast<uint64_t>(j)));
     rt[j].driver_enabled = o.powered;
+    rt[j].winding_temp_C = spec.ambient_C;
     rt[j].brake_engaged = !o.powered && !o.brake_held_released;
   }
 
@@ -269,6 +274,7 @@ RunResult Simulate(const ArmModel& model, const RunSpec& spec, const TickObserve
   const int steps = model.steps_per_tick();
   const int substeps = model.config().electrical_substeps;
   const long total_ticks = std::lround(spec.duration_s / tc);
+  const double ambient_C = spec.ambient_C;
 
   for (long k = 0;; ++k) {
     const double t = k * tc;
@@ -288,7 +294,10 @@ RunResult Simulate(const ArmModel& model, const RunSpec& spec, const TickObserve
       const double noise = r.rng.Normal();  // drawn every tick so streams stay aligned
       switch (cond.torque_sensor_lead) {
         case SensorLead::kHealthy:
-          r.last_adc_code = TorqueSensorAdcCode(ts, TorqueSensorVoltage(ts, r.tau_transmitted + cond.torque_sensor_drift_Nm, noise));
+          // The unit's gauge errors act on the torque; a drift fault adds to the reading.
+          r.last_adc_code = TorqueSensorAdcCode(
+              ts, TorqueSensorVoltage(ts, (1.0 + ts.gain_error) * r.tau_transmitted + ts.offset_error_Nm + cond.torque_sensor_drift_Nm,
+                                      noise));
           break;
         case SensorLead::kSupply:
         case SensorLead::kGround:
@@ -332,7 +341,11 @@ RunResult Simulate(const ArmModel& model, const RunSpec& spec, const TickObserve
       tick.p_emf_W = r.sum_emf * inv;
       tick.p_magnetic_W = r.sum_magnetic * inv;
       tick.i_supply_A = tick.p_supply_W / jm.params.inverter.bus_voltage_V;
-      tick.i_supply_meas_A = tick.i_supply_A + jm.params.inverter.supply_current_noise_A * supply_noise;
+      const InverterParams& inv_p = jm.params.inverter;
+      tick.i_supply_meas_A = (1.0 + inv_p.supply_current_gain_error) * tick.i_supply_A + inv_p.supply_current_offset_error_A +
+                             inv_p.supply_current_noise_A * supply_noise;
+      tick.winding_temp_C = r.winding_temp_C;
+      tick.winding_temp_meas_C = jm.params.winding_temperature_sensor ? r.winding_temp_C : std::nan("");
       tick.peak_phase_current_A = r.peak_current;
       tick.torque_motor_Nm = r.sum_torque * inv;
       tick.current_sq_A2 = r.sum_current_sq * inv;
@@ -379,7 +392,17 @@ RunResult Simulate(const ArmModel& model, const RunSpec& spec, const TickObserve
         di.motor_angle_rad = jm.ratio * r.q;
         di.motor_speed_rad_s = jm.ratio * r.qd;
         DriveOutputs dout;
-        StepDrive(jm.drive, cond, di, substeps, &r.drive, &dout);
+        // The winding's temperature scales its resistance and the magnet's flux (K_T).
+        HardwareCondition warm = cond;
+        const double above_20 = r.winding_temp_C - 20.0;
+        if (above_20 != 0.0) {
+          warm.resistance_factor *= 1.0 + kCopperPerK * above_20;
+          warm.kt_factor *= 1.0 - kMagnetLossPerK * above_20;
+        }
+        StepDrive(jm.drive, warm, di, substeps, &r.drive, &dout);
+        const MotorParams& motor = jm.params.motor;
+        r.winding_temp_C += dt / motor.thermal_time_constant_s *
+                            (ambient_C + motor.thermal_resistance_K_per_W * dout.p_copper_W - r.winding_temp_C);
         r.sum_supply += dout.p_supply_W;
         r.sum_copper += dout.p_copper_W;
         r.sum_inverter += dout.p_inverter_W;

@@ -79,6 +79,7 @@ struct JointRunOptions {
 struct RunSpec {
   double duration_s = 10.0;
   uint64_t seed = 1;
+  double ambient_C = 20.0;  // the windings start here and cool towards it
   std::vector<JointRunOptions> joints;  // one per joint, or empty for all defaults
   std::shared_ptr<const HardwareSchedule> hardware;  // null: healthy
 };
@@ -96,7 +97,9 @@ struct JointTick {
   double i_cmd_A = 0;           // commanded current (after the DAC)
   double i_supply_meas_A = 0;   // supply-current sensor, mean over the period, with noise
   double v_bus_meas_V = 0;
+  double winding_temp_meas_C = 0;  // NaN unless the module declares a winding temperature sensor
   // truth
+  double winding_temp_C = 20;   // winding temperature
   double q_rad = 0, qd_rad_s = 0;
   double tau_true_Nm = 0;       // torque the drivetrain transmits to the link
   double i_phase_a_A = 0;

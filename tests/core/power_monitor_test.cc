@@ -419,10 +419,14 @@ TEST(WidenedForTolerances, NoToleranceNoChangeAndEachToleranceWidensItsDetectors
   StatedTolerances offset;
   offset.torque_sensor_offset_Nm = 0.5;
   EXPECT_NEAR(WidenedForTolerances(base, offset, robot).sensor_drift_Nm.worn - same.sensor_drift_Nm.worn, 0.5, 1e-12);
+  // A constant-power error is a parameter of the electrical fit: it widens its uncertainty
+  // (0.3 x 2 W of quiescent draw), not the K_T or resistance limits.
   StatedTolerances quiescent;
   quiescent.quiescent_power = 0.3;
-  EXPECT_GT(WidenedForTolerances(base, quiescent, robot).resistance_factor.worn, same.resistance_factor.worn + 0.1);
-  Validate(WidenedForTolerances(base, quiescent, robot), "", "<test>");  // still a valid config
+  const MonitorConfig q = WidenedForTolerances(base, quiescent, robot);
+  EXPECT_NEAR(q.constant_power_uncertainty_W, 0.6, 1e-9);
+  EXPECT_EQ(q.resistance_factor.worn, same.resistance_factor.worn);
+  Validate(q, "", "<test>");  // still a valid config
 }
 
 TEST(Commissioning, AFailedRecordingLeavesTheDatasheet) {
