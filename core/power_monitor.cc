@@ -140,6 +140,7 @@ PowerMonitorModel MakePowerMonitorModel(const RobotConfig& robot, const MonitorC
     k.friction = p.friction;
     k.brake_holding_Nm = p.brake.holding_torque_Nm;
     k.rotor_inertia_link_kg_m2 = p.motor.rotor_inertia_kg_m2 * p.drive.ratio * p.drive.ratio;
+    k.rotor_coupling_kg_m2 = p.motor.rotor_inertia_kg_m2 * p.drive.ratio;
     const std::array<double, 3> a = robot.links.at(i).joint_axis;
     const double na = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
     for (const auto& b : axes) {
@@ -233,14 +234,15 @@ void PowerEfficiencyMonitor::Observe(double t_s, const std::vector<JointSignals>
     const double p_copper = CopperW(k, i);
     const double p_fixed = InverterW(k, i) + k.quiescent_W;
 
-    // Coupling correction (eq 4-15, 5-6): the rotor, lumped with the link, also turns with
-    // the parallel lower joints; its inertial torque from their acceleration is output too.
+    // Coupling correction (eq 4-14, 4-15, 5-6): the rotor, carried by the parent, also turns
+    // with the parallel lower joints; its inertial torque I_m gamma (a_j . a_l) q_ddot_l
+    // from their acceleration is output too.
     double coupling_torque = 0;
     for (int l = 0; l < j; ++l) {
       const double cl = k.coupling[l];
       if (cl == 0) continue;
       const double acc = (signals[l].qd_est_rad_s - previous_[l].qd_est_rad_s) / dt;
-      coupling_torque += cl * k.rotor_inertia_link_kg_m2 * acc;
+      coupling_torque += cl * k.rotor_coupling_kg_m2 * acc;
     }
 
     // --- electrical fit, every tick ---
