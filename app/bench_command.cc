@@ -35,7 +35,7 @@ int BenchCommand(int repeats) {
   const double bare_rows = SecondsPer(repeats, [&] { StepBareOde(model, campaign.duration_s, true); });
   const CaseSpec& healthy = cases.back();
   const double full = SecondsPer(repeats, [&] { RunCase(campaign, healthy); });
-  std::printf("one %.0f-s run of %s (monitor in the loop): %.2f ms; bare ODE bodies and hinges: %.2f ms; "
+  std::printf("one %.0f-s run of %s (monitor in the loop): %.2f ms; bare ODE bodies, hinges and gears: %.2f ms; "
               "with the friction rows: %.2f ms\n",
               campaign.duration_s, campaign.robot.name.c_str(), 1e3 * full, 1e3 * bare, 1e3 * bare_rows);
   std::printf("ratio: %.2f\n", full / bare);

@@ -12,14 +12,14 @@
 namespace armfault {
 namespace {
 
-// Bodies and hinges only.
+// Bodies (links and rotors), hinges and the rotors' gears only.
 void BM_BareOdeStepping10s(benchmark::State& state) {
   const ArmModel model(RobotPreset("mrr-config1"));
   for (auto _ : state) benchmark::DoNotOptimize(StepBareOde(model, 10.0, false));
 }
 BENCHMARK(BM_BareOdeStepping10s)->Unit(benchmark::kMillisecond);
 
-// Bodies and hinges with the dry-friction rows a run adds (a bounded LCP).
+// The same with the rotors' dry-friction rows a run adds (a bounded LCP).
 void BM_BareOdeSteppingWithFrictionRows10s(benchmark::State& state) {
   const ArmModel model(RobotPreset("mrr-config1"));
   for (auto _ : state) benchmark::DoNotOptimize(StepBareOde(model, 10.0, true));

@@ -129,7 +129,7 @@ struct JointKnowledge {
   double mesh_loss_fraction = 0;
   FrictionParams friction;             // nominal
   double brake_holding_Nm = 0;         // motor side
-  double rotor_inertia_link_kg_m2 = 0; // I_m ratio^2: coupling correction
+  double rotor_inertia_link_kg_m2 = 0; // I_m ratio^2: the rotor reflected to the link
   std::vector<double> coupling;        // per lower joint: a_i . a_j at the zero pose
   double sensor_min_Nm = 0, sensor_max_Nm = 0;  // readings at the ADC rails
   // The unit as the monitor believes it: the datasheet's values until commissioning fits them.

@@ -50,7 +50,26 @@ Eigen::Matrix3d PointInertia(double mass, const Eigen::Vector3d& r) {
 
 Eigen::Vector3d ToEigen(const dReal* v) { return Eigen::Vector3d(v[0], v[1], v[2]); }
 
-// The ODE side of one run: its own world and threading implementation, bodies and hinges.
+// Rotor body geometry (see core/simulation.h): the planet's axis is this far from the joint
+// axis; only the ratio of the wheel radii matters to the dynamics, the offset just has to
+// keep the gear row well scaled. The token mass (ODE needs one) and the offset move the
+// link's inertia by m e^2 = 2.5e-6 kg m^2 and its gravity moment by 5e-4 N m: negligible.
+constexpr double kRotorOffset_m = 0.05;
+constexpr double kRotorMass_kg = 0.001;
+
+void SetBodyPose(dBodyID b, const Eigen::Vector3d& pos, const Eigen::Matrix3d& rot) {
+  dBodySetPosition(b, pos.x(), pos.y(), pos.z());
+  dMatrix3 R;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) R[4 * r + c] = rot(r, c);
+    R[4 * r + 3] = 0;
+  }
+  dBodySetRotation(b, R);
+}
+
+// The ODE side of one run: its own world and threading implementation; per joint a link
+// body with its hinge to the parent, and a rotor body with its hinge to the link, its gear
+// (transmission) to the parent and its dry-friction row (AMotor) against the parent.
 class OdeWorld {
  public:
   OdeWorld(const ArmModel& model, const std::vector<double>& q0, const std::vector<double>& qd0) {
@@ -60,11 +79,18 @@ class OdeWorld {
     dWorldSetGravity(world_, 0, 0, -g);
     threading_ = dThreadingAllocateSelfThreadedImplementation();
     dWorldSetStepThreadingImplementation(world_, dThreadingImplementationGetFunctions(threading_), threading_);
+    // Joint 1's stator and sun wheel: the world, as a body the transmission can attach to.
+    ground_ = dBodyCreate(world_);
+    dBodySetKinematic(ground_);
 
     const int n = model.joint_count();
     bodies_.resize(n);
+    rotors_.resize(n);
     joints_.resize(n);
-    feedback_.resize(n);
+    rotor_hinges_.resize(n);
+    drags_.resize(n);
+    rotor_feedback_.resize(n);
+    drag_feedback_.resize(n);
     // Forward kinematics at the initial angles: X_i = X_{i-1} o (rotation about joint i).
     Eigen::Matrix3d rot = Eigen::Matrix3d::Identity();
     Eigen::Vector3d trans = Eigen::Vector3d::Zero();
@@ -78,6 +104,12 @@ class OdeWorld {
       trans = rot * (jm.anchor_m - q_rot * jm.anchor_m) + trans;
       rot = rot * q_rot;
       omega += qd0[i] * axes[i];
+      auto velocity_at = [&](const Eigen::Vector3d& p) {
+        Eigen::Vector3d v = Eigen::Vector3d::Zero();
+        for (int k = 0; k <= i; ++k) v += qd0[k] * axes[k].cross(p - anchors[k]);
+        return v;
+      };
+      dBodyID parent = i == 0 ? ground_ : bodies_[i - 1];
 
       dBodyID b = dBodyCreate(world_);
       dMass mass;
@@ -85,27 +117,61 @@ class OdeWorld {
       dMassSetParameters(&mass, jm.mass_kg, 0, 0, 0, I(0, 0), I(1, 1), I(2, 2), I(0, 1), I(0, 2), I(1, 2));
       dBodySetMass(b, &mass);
       const Eigen::Vector3d com = rot * jm.com_m + trans;
-      dBodySetPosition(b, com.x(), com.y(), com.z());
-      dMatrix3 R;
-      for (int r = 0; r < 3; ++r) {
-        for (int c = 0; c < 3; ++c) R[4 * r + c] = rot(r, c);
-        R[4 * r + 3] = 0;
-      }
-      dBodySetRotation(b, R);
-      Eigen::Vector3d v = Eigen::Vector3d::Zero();
-      for (int k = 0; k <= i; ++k) v += qd0[k] * axes[k].cross(com - anchors[k]);
+      SetBodyPose(b, com, rot);
+      const Eigen::Vector3d v = velocity_at(com);
       dBodySetLinearVel(b, v.x(), v.y(), v.z());
       dBodySetAngularVel(b, omega.x(), omega.y(), omega.z());
       bodies_[i] = b;
 
       dJointID j = dJointCreateHinge(world_, nullptr);
-      // Child first: the hinge rate is then (omega_child - omega_parent) . axis and the
-      // hinge torque acts positively on the child.
+      // Child first: the hinge rate is then (omega_child - omega_parent) . axis.
       dJointAttach(j, b, i == 0 ? nullptr : bodies_[i - 1]);
       dJointSetHingeAnchor(j, anchors[i].x(), anchors[i].y(), anchors[i].z());
       dJointSetHingeAxis(j, axes[i].x(), axes[i].y(), axes[i].z());
-      dJointSetFeedback(j, &feedback_[i]);
       joints_[i] = j;
+
+      // Rotor: isotropic I_m (no gyroscopic torque), spinning gamma q_dot relative to the
+      // parent, i.e. (gamma - 1) q_dot relative to the link that carries it.
+      dBodyID r = dBodyCreate(world_);
+      dMass rm;
+      const double im = jm.rotor_inertia_kg_m2;
+      dMassSetParameters(&rm, kRotorMass_kg, 0, 0, 0, im, im, im, 0, 0, 0);
+      dBodySetMass(r, &rm);
+      const Eigen::Vector3d centre = rot * jm.rotor_centre_m + trans;
+      SetBodyPose(r, centre, rot);
+      const Eigen::Vector3d vr = velocity_at(centre);
+      const Eigen::Vector3d wr = omega + (jm.ratio - 1.0) * qd0[i] * axes[i];
+      dBodySetLinearVel(r, vr.x(), vr.y(), vr.z());
+      dBodySetAngularVel(r, wr.x(), wr.y(), wr.z());
+      rotors_[i] = r;
+
+      dJointID rh = dJointCreateHinge(world_, nullptr);
+      dJointAttach(rh, r, b);  // rotor first: feedback f2/t2 is the rotor's wrench on the link
+      dJointSetHingeAnchor(rh, centre.x(), centre.y(), centre.z());
+      dJointSetHingeAxis(rh, axes[i].x(), axes[i].y(), axes[i].z());
+      dJointSetFeedback(rh, &rotor_feedback_[i]);
+      rotor_hinges_[i] = rh;
+
+      // Planet (rotor, radius e/gamma) on a sun wheel fixed to the parent (radius
+      // e (gamma-1)/gamma) centred on the joint axis.
+      dJointID gear = dJointCreateTransmission(world_, nullptr);
+      dJointAttach(gear, r, parent);
+      dJointSetTransmissionMode(gear, dTransmissionParallelAxes);
+      dJointSetTransmissionRatio(gear, 1.0 / (jm.ratio - 1.0));
+      dJointSetTransmissionAxis(gear, axes[i].x(), axes[i].y(), axes[i].z());
+      dJointSetTransmissionAnchor1(gear, centre.x(), centre.y(), centre.z());
+      dJointSetTransmissionAnchor2(gear, anchors[i].x(), anchors[i].y(), anchors[i].z());
+
+      // Dry friction on the rotor shaft: rate (omega_rotor - omega_parent) . z, target 0.
+      dJointID drag = dJointCreateAMotor(world_, nullptr);
+      dJointAttach(drag, r, parent);
+      dJointSetAMotorMode(drag, dAMotorUser);
+      dJointSetAMotorNumAxes(drag, 1);
+      dJointSetAMotorAxis(drag, 0, 2, axes[i].x(), axes[i].y(), axes[i].z());  // fixed in the parent
+      dJointSetAMotorParam(drag, dParamVel, 0.0);
+      dJointSetAMotorParam(drag, dParamFMax, 0.0);
+      dJointSetFeedback(drag, &drag_feedback_[i]);
+      drags_[i] = drag;
     }
   }
   ~OdeWorld() {
@@ -117,12 +183,27 @@ class OdeWorld {
 
   dWorldID world() const { return world_; }
   dBodyID body(int i) const { return bodies_[i]; }
+  dBodyID rotor(int i) const { return rotors_[i]; }
+  dBodyID parent(int i) const { return i == 0 ? nullptr : bodies_[i - 1]; }  // null: the world
   dJointID joint(int i) const { return joints_[i]; }
-  const dJointFeedback& feedback(int i) const { return feedback_[i]; }
+  dJointID drag(int i) const { return drags_[i]; }
+  const dJointFeedback& rotor_feedback(int i) const { return rotor_feedback_[i]; }
+  const dJointFeedback& drag_feedback(int i) const { return drag_feedback_[i]; }
 
-  double KineticEnergy() const {
+  // Rotor speed relative to its stator (the parent) about the joint axis [rad/s].
+  double RotorRate(int i, const Eigen::Vector3d& axis) const {
+    double w = axis.dot(ToEigen(dBodyGetAngularVel(rotors_[i])));
+    if (i > 0) w -= axis.dot(ToEigen(dBodyGetAngularVel(bodies_[i - 1])));
+    return w;
+  }
+
+  double KineticEnergy() const { return KineticEnergyOf(bodies_) + KineticEnergyOf(rotors_); }
+  double PotentialEnergy(double g) const { return PotentialEnergyOf(bodies_, g) + PotentialEnergyOf(rotors_, g); }
+
+ private:
+  static double KineticEnergyOf(const std::vector<dBodyID>& bodies) {
     double e = 0;
-    for (dBodyID b : bodies_) {
+    for (dBodyID b : bodies) {
       dMass m;
       dBodyGetMass(b, &m);
       const Eigen::Vector3d v = ToEigen(dBodyGetLinearVel(b));
@@ -137,9 +218,9 @@ class OdeWorld {
     }
     return e;
   }
-  double PotentialEnergy(double g) const {
+  static double PotentialEnergyOf(const std::vector<dBodyID>& bodies, double g) {
     double e = 0;
-    for (dBodyID b : bodies_) {
+    for (dBodyID b : bodies) {
       dMass m;
       dBodyGetMass(b, &m);
       e += m.mass * g * dBodyGetPosition(b)[2];
@@ -147,12 +228,12 @@ class OdeWorld {
     return e;
   }
 
- private:
   dWorldID world_ = nullptr;
   dThreadingImplementationID threading_ = nullptr;
-  std::vector<dBodyID> bodies_;
-  std::vector<dJointID> joints_;
-  std::vector<dJointFeedback> feedback_;
+  dBodyID ground_ = nullptr;
+  std::vector<dBodyID> bodies_, rotors_;
+  std::vector<dJointID> joints_, rotor_hinges_, drags_;
+  std::vector<dJointFeedback> rotor_feedback_, drag_feedback_;
 };
 
 // Per-joint data of one run.
@@ -162,10 +243,9 @@ struct JointRuntime {
   Rng rng{0};
   double q_initial = 0;
   double q = 0, qd = 0;
-  double tau_transmitted = 0;  // latest true transmitted torque
-  double drive_torque = 0;     // ratio x motor torque applied in the current physics step
-  double viscous_torque = 0;   // viscous friction torque of the current physics step
-  double axis_omega_before = 0;  // child angular velocity along the axis before the step
+  double rotor_rate = 0;       // rotor speed relative to the stator [rad/s], after the last step
+  double tau_transmitted = 0;  // latest true transmitted torque (link side)
+  double viscous_torque = 0;   // viscous friction torque of the current physics step (motor side)
   double i_cmd = 0;
   double winding_temp_C = 20;
   int last_adc_code = 0;
@@ -177,6 +257,7 @@ struct JointRuntime {
   double sum_mech = 0, sum_emf = 0, sum_magnetic = 0, peak_current = 0;
   double sum_torque = 0, sum_current_sq = 0, sum_brake = 0;
   double brake_share = 0;  // brake's part of the dry-friction bound in the current step
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();  // joint axis (world) in the current step
   std::array<double, 3> phase_current{};
 };
 
@@ -213,8 +294,9 @@ ArmModel::ArmModel(RobotConfig config) : config_(std::move(config)) {
     jm.drive = MakeDriveConstants(m, substep);
     jm.controller = MakeControllerConstants(m);
     jm.ratio = m.drive.ratio;
-    jm.reflected_rotor_inertia_kg_m2 = m.motor.rotor_inertia_kg_m2 * m.drive.ratio * m.drive.ratio;
+    jm.rotor_inertia_kg_m2 = m.motor.rotor_inertia_kg_m2;
     jm.axis = Vec(l.joint_axis).normalized();
+    jm.rotor_centre_m = anchor + kRotorOffset_m * jm.axis.unitOrthogonal();
     const Eigen::Vector3d dir = Vec(l.direction).normalized();
     jm.anchor_m = anchor;
     const Eigen::Vector3d end = anchor + l.length_m * dir;
@@ -228,8 +310,6 @@ ArmModel::ArmModel(RobotConfig config) : config_(std::move(config)) {
       mass += mp;
       com = c;
     }
-    // The rotor spins ratio times faster than the link: it adds I_m ratio^2 about the axis.
-    inertia += jm.reflected_rotor_inertia_kg_m2 * jm.axis * jm.axis.transpose();
     jm.mass_kg = mass;
     jm.com_m = com;
     jm.inertia_kg_m2 = inertia;
@@ -254,6 +334,7 @@ RunResult Simulate(const ArmModel& model, const RunSpec& spec, const TickObserve
     qd0[j] = o.initial_velocity_rad_s;
     rt[j].q_initial = rt[j].q = q0[j];
     rt[j].qd = qd0[j];
+    rt[j].rotor_rate = model.joint(j).ratio * qd0[j];
     rt[j].rng = Rng(MixSeed(spec.seed, static_cast<uint64_t>(j)));
     rt[j].driver_enabled = o.powered;
     rt[j].winding_temp_C = spec.ambient_C;
@@ -390,7 +471,7 @@ RunResult Simulate(const ArmModel& model, const RunSpec& spec, const TickObserve
         di.current_command_A = r.i_cmd;
         di.enabled = r.driver_enabled;
         di.motor_angle_rad = jm.ratio * r.q;
-        di.motor_speed_rad_s = jm.ratio * r.qd;
+        di.motor_speed_rad_s = r.rotor_rate;
         DriveOutputs dout;
         // The winding's temperature scales its resistance and the magnet's flux (K_T).
         HardwareCondition warm = cond;
@@ -414,21 +495,22 @@ RunResult Simulate(const ArmModel& model, const RunSpec& spec, const TickObserve
         r.sum_current_sq += dout.current_sq_A2;
         r.phase_current = dout.phase_current_A;
 
-        // Dry friction (Coulomb + Stribeck, mesh loss, brake) as a bounded hinge-motor
-        // constraint with target velocity 0; viscous friction and motor torque as applied torque.
+        // Motor-side dry friction (Coulomb + Stribeck, brake, and the mesh loss referred to the
+        // rotor) as the rotor's bounded velocity row with target 0; motor torque less viscous
+        // friction as a couple between rotor and stator.
         const FrictionParams& fp = jm.params.friction;
-        const double brake = jm.ratio * BrakeTorqueLimitNm(jm.params.brake, cond, r.brake_engaged);
-        const double dry = jm.ratio * BreakawayFrictionNm(fp, cond.friction_factor, r.qd) +
-                           jm.params.drive.mesh_loss_fraction * std::fabs(r.tau_transmitted) + brake;
+        const double brake = BrakeTorqueLimitNm(jm.params.brake, cond, r.brake_engaged);
+        const double dry = BreakawayFrictionNm(fp, cond.friction_factor, r.qd) +
+                           jm.params.drive.mesh_loss_fraction * std::fabs(r.tau_transmitted) / jm.ratio + brake;
         r.brake_share = dry > 0 ? brake / dry : 0.0;
-        r.viscous_torque = jm.ratio * ViscousFrictionNm(fp, cond.friction_factor, r.qd);
-        r.drive_torque = jm.ratio * dout.torque_Nm;
-        dJointSetHingeParam(ode.joint(j), dParamVel, 0.0);
-        dJointSetHingeParam(ode.joint(j), dParamFMax, dry);
-        dJointAddHingeTorque(ode.joint(j), r.drive_torque - r.viscous_torque);
+        r.viscous_torque = ViscousFrictionNm(fp, cond.friction_factor, r.qd);
+        dJointSetAMotorParam(ode.drag(j), dParamFMax, dry);
         dVector3 axis;
         dJointGetHingeAxis(ode.joint(j), axis);
-        r.axis_omega_before = ToEigen(axis).dot(ToEigen(dBodyGetAngularVel(ode.body(j))));
+        r.axis = ToEigen(axis);
+        const Eigen::Vector3d couple = (dout.torque_Nm - r.viscous_torque) * r.axis;
+        dBodyAddTorque(ode.rotor(j), couple.x(), couple.y(), couple.z());
+        if (dBodyID stator = ode.parent(j)) dBodyAddTorque(stator, -couple.x(), -couple.y(), -couple.z());
       }
       dWorldStep(ode.world(), dt);
       for (int j = 0; j < n; ++j) {
@@ -439,25 +521,23 @@ RunResult Simulate(const ArmModel& model, const RunSpec& spec, const TickObserve
         dJointGetHingeAxis(hinge, axis_v);
         dJointGetHingeAnchor(hinge, anchor_v);
         const Eigen::Vector3d axis = ToEigen(axis_v);
-        const dJointFeedback& fb = ode.feedback(j);
-        const Eigen::Vector3d com = ToEigen(dBodyGetPosition(ode.body(j)));
-        // Constraint torque along the axis about the anchor: the hinge rows act at the
-        // anchor or perpendicular to the axis, so this is the friction/brake row alone.
-        const double dry_torque = (ToEigen(fb.t1) + (com - ToEigen(anchor_v)).cross(ToEigen(fb.f1))).dot(axis);
         const double qd_new = dJointGetHingeAngleRate(hinge);
         const double raw = dJointGetHingeAngle(hinge);
         r.q += WrapPi(raw - WrapPi(r.q - r.q_initial));
         r.qd = qd_new;
-        // What the harmonic drive passes on to the link: the drive torque less friction,
-        // less the torque that accelerates the rotor (lumped into the link body in ODE).
-        const double omega_after = axis.dot(ToEigen(dBodyGetAngularVel(ode.body(j))));
-        const double rotor_torque = jm.reflected_rotor_inertia_kg_m2 * (omega_after - r.axis_omega_before) / dt;
-        r.tau_transmitted = r.drive_torque - r.viscous_torque + dry_torque - rotor_torque;
+        r.rotor_rate = ode.RotorRate(j, axis);
+        // What the harmonic drive passes on to the link: the moment about the joint axis of the
+        // rotor hinge's wrench on the link (the gear reaction through the planet's carrier).
+        const dJointFeedback& rf = ode.rotor_feedback(j);
+        const Eigen::Vector3d com = ToEigen(dBodyGetPosition(ode.body(j)));
+        r.tau_transmitted = (ToEigen(rf.t2) + (com - ToEigen(anchor_v)).cross(ToEigen(rf.f2))).dot(axis);
+        // The AMotor row is a pure torque on the rotor: the dry friction (motor side).
+        const double dry_torque = ToEigen(ode.drag_feedback(j).t1).dot(r.axis);
         r.sum_mech += r.tau_transmitted * qd_new;
-        r.sum_friction += (r.viscous_torque - dry_torque) * qd_new;
+        r.sum_friction += (r.viscous_torque - dry_torque) * r.rotor_rate;
         // The dry elements share the constraint torque in proportion to their bounds (exact
-        // while slipping, when each is at its bound).
-        r.sum_brake += std::fabs(dry_torque) * r.brake_share;
+        // while slipping, when each is at its bound); the brake is reported link side.
+        r.sum_brake += jm.ratio * std::fabs(dry_torque) * r.brake_share;
         const ModuleParams& m = jm.params;
         if (!r.limit_stop && (r.q < m.min_angle_deg * M_PI / 180 || r.q > m.max_angle_deg * M_PI / 180)) {
           // Limit switch: the joint controller disables the drive and engages the brake.
@@ -478,8 +558,7 @@ double StepBareOde(const ArmModel& model, double duration_s, bool friction_rows)
   OdeWorld ode(model, std::vector<double>(n, 0.0), std::vector<double>(n, 0.0));
   for (int j = 0; friction_rows && j < n; ++j) {
     const JointModel& jm = model.joint(j);
-    dJointSetHingeParam(ode.joint(j), dParamVel, 0.0);
-    dJointSetHingeParam(ode.joint(j), dParamFMax, jm.ratio * BreakawayFrictionNm(jm.params.friction, 1.0, 1.0));
+    dJointSetAMotorParam(ode.drag(j), dParamFMax, BreakawayFrictionNm(jm.params.friction, 1.0, 1.0));
   }
   const long steps = std::lround(duration_s / model.physics_dt_s());
   for (long s = 0; s < steps; ++s) dWorldStep(ode.world(), model.physics_dt_s());
