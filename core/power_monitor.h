@@ -53,7 +53,7 @@ struct MonitorConfig {
   // decision
   double significance = 3.0;           // (|deviation| - worn margin) / std error must exceed this
   double debounce_s = 0.3;             // a candidate verdict must hold this long to alarm
-  StateLimits kt_factor{0.93, 0.75};          // below
+  StateLimits kt_factor{0.95, 0.75};          // below
   StateLimits friction_factor{1.30, 1.80};    // above
   StateLimits resistance_factor{1.40, 2.00};  // above
   StateLimits sensor_drift_Nm{1.0, 3.0};      // |d| above

@@ -175,11 +175,11 @@ TEST(FitPod, CompleteSeparationStillGivesAFiniteCurve) {
 TEST(SweepGrid, SpecsEditAxesAndTheMonitorsLimitsAreAlwaysIncluded) {
   const MonitorConfig base;
   const SweepGrid g = MakeSweepGrid(base, "kt_factor.worn=0.9:0.98:5,friction_factor.worn=1.5,significance=4:5:2");
-  EXPECT_THAT(g.axes[0].worn_values, testing::ElementsAre(0.9, 0.92, 0.93, 0.94, 0.96, 0.98));
+  EXPECT_THAT(g.axes[0].worn_values, testing::ElementsAre(0.9, 0.92, 0.94, 0.95, 0.96, 0.98));
   EXPECT_THAT(g.axes[2].worn_values, testing::ElementsAre(1.3, 1.5));
   EXPECT_THAT(g.significance, testing::ElementsAre(3, 4, 5));
   EXPECT_EQ(SettingCount(g), 6L * 6 * 2 * 7 * 3);
-  // kt 0.900..0.995 by 0.005 (20, 0.93 among them); resistance 1.0..3.0 by 0.5 plus 1.4;
+  // kt 0.900..0.995 by 0.005 (20, 0.95 among them); resistance 1.0..3.0 by 0.5 plus 1.4;
   // friction 1.0..1.9 by 0.1 (1.3 among them); drift 0.1..3.1 by 0.6 plus 1.0;
   // significance 1..5 by 0.5 (3 among them).
   EXPECT_EQ(SettingCount(MakeSweepGrid(base, "")), 20L * 6 * 10 * 7 * 9);
@@ -200,7 +200,7 @@ TEST(SweepGrid, SpecsEditAxesAndTheMonitorsLimitsAreAlwaysIncluded) {
   EXPECT_THAT(error("significance=0"), HasSubstr("significance: 0.000000 is not in (0, 100]"));
 }
 
-// A small campaign the default K_T limit (0.93) half misses: K_T 0.95 and 0.9 faults.
+// A small campaign the default K_T limit (0.95) partly misses: K_T 0.95 and 0.9 faults.
 json KtCampaign(const json& monitor) {
   json j = json::parse(R"({
     "name": "kt-tune", "seed": 11, "duration_s": 6,
