@@ -1,0 +1,24 @@
+# The armfault image the Kubernetes recipe runs (deploy/k8s/):
+#   docker build -t registry.example.com/armfault:0.1.0 . && docker push registry.example.com/armfault:0.1.0
+# Stage 1 builds with tools/bootstrap.sh's packages minus the test-only ones (GoogleTest,
+# Google Benchmark, Chromium, Slurm, munge, python3-yaml); stage 2 holds the binary, the shipped
+# campaigns and the runtime libraries only. tests/deploy/deploy_test.sh keeps both lists honest.
+FROM debian:bookworm-slim AS build
+RUN apt-get update \
+ && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends \
+      build-essential cmake pkg-config libode-dev libeigen3-dev libtbb-dev nlohmann-json3-dev libcli11-dev \
+ && rm -rf /var/lib/apt/lists/*
+WORKDIR /src
+COPY . .
+RUN cmake -S . -B /build -DCMAKE_BUILD_TYPE=Release -DBUILD_TESTING=OFF -DARMFAULT_BUILD_BENCH=OFF \
+ && cmake --build /build -j "$(nproc)" --target armfault \
+ && cmake --install /build --prefix /usr/local
+
+FROM debian:bookworm-slim
+RUN apt-get update \
+ && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends libode8 libtbb12 \
+ && rm -rf /var/lib/apt/lists/*
+COPY --from=build /usr/local/bin/armfault /usr/local/bin/armfault
+COPY --from=build /usr/local/share/armfault /usr/local/share/armfault
+ENTRYPOINT ["armfault"]
+CMD ["--version"]
