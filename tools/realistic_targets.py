@@ -1,15 +1,19 @@
 #!/usr/bin/env python3
 """Prints issue 12's targets for a campaign output directory (armfault run ... -o DIR).
 
-Usage: tools/realistic_targets.py DIR [--by-joint]
+Usage: tools/realistic_targets.py DIR [--check-a90-95 FAMILY:BOUND:min|max ...]
 
 Per family and joint: detection, family+joint isolation and median latency; overall false
 alarms over the healthy runs; friction factor >= 1.5 per joint (rate, median latency); K_T
 factor 0.9 detection; median relative magnitude error for K_T and friction; runs not ok.
-Reads only DIR/results.jsonl (standard library only).
+With DIR/tuning.json (from `armfault tune DIR`): each family's a90/95, the magnitude detected
+90 % of the time at 95 % confidence. --check-a90-95 FAMILY:BOUND:min|max exits 1 unless that
+family's a90/95 magnitude is at least (min) or at most (max) BOUND.
+Reads only DIR/results.jsonl and DIR/tuning.json (standard library only).
 """
 import collections
 import json
+import os
 import statistics
 import sys
 
@@ -73,7 +77,25 @@ def main():
                 and r.get("magnitude_name") == name]
         if errs:
             print(f"{fam}: median relative magnitude error {median(errs):.3f} over {len(errs)} isolated runs")
-    return 0
+
+    status = 0
+    tuning_path = sys.argv[1] + "/tuning.json"
+    a90_95 = {}
+    if os.path.exists(tuning_path):
+        tuning = json.load(open(tuning_path))
+        for fam, pod in sorted(tuning["detection_probability"].items()):
+            fit = pod.get("fit") or {}
+            value = fit.get("a90_95") if fit.get("ok") else None
+            a90_95[fam] = value["magnitude"] if value else None
+            print(f"a90/95 {fam}: {pod['magnitude_key']} = {a90_95[fam] if value else 'not reached in the tested range'}")
+    checks = sys.argv[sys.argv.index("--check-a90-95") + 1:] if "--check-a90-95" in sys.argv else []
+    for check in checks:
+        fam, bound, kind = check.split(":")
+        value = a90_95.get(fam)
+        ok = value is not None and (value >= float(bound) if kind == "min" else value <= float(bound))
+        print(f"check a90/95 {fam} {'>=' if kind == 'min' else '<='} {bound}: {'met' if ok else 'MISSED'} ({value})")
+        status = status if ok else 1
+    return status
 
 
 if __name__ == "__main__":
