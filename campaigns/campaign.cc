@@ -273,16 +273,16 @@ const std::vector<ToleranceKey>& ToleranceKeys() {
 StatedTolerances DatasheetTolerances() {
   // Sources and reasoning: docs/assumptions.md, "Unit tolerances".
   StatedTolerances t;
-  t.kt = 0.05;
+  t.kt = 0.10;
   t.winding_resistance = 0.10;
-  t.switch_resistance = 0.25;
-  t.switching_loss = 0.25;
-  t.quiescent_power = 0.25;
-  t.mesh_loss = 0.25;
+  t.switch_resistance = 0.20;
+  t.switching_loss = 0.30;
+  t.quiescent_power = 0.30;
+  t.mesh_loss = 0.20;
   t.rotor_inertia = 0.05;
-  t.stribeck_velocity = 0.25;
+  t.stribeck_velocity = 0.20;
   t.torque_sensor_gain = 0.02;
-  t.torque_sensor_offset_Nm = 0.3;
+  t.torque_sensor_offset_Nm = 0.28;
   t.supply_current_gain = 0.014;
   t.supply_current_offset_A = 0.007;
   t.bus_voltage = 0.02;

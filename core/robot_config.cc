@@ -298,6 +298,8 @@ ModuleParams ModuleDefaults(const std::string& type, const std::string& pointer)
     m.motor.phase_resistance_ohm = 0.15;
     m.motor.phase_inductance_H = 0.2e-3;
     m.motor.pole_pairs = 4;
+    m.motor.thermal_resistance_K_per_W = 3.1;  // rated 42 W of copper loss heats it by 130 K
+    m.motor.thermal_time_constant_s = 1200;
     m.motor.rotor_inertia_kg_m2 = 1.5e-4;
     m.inverter.command_limit_A = 6.0;
     m.friction = {0.0025, 0.05, 0.054, 15.0};

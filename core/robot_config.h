@@ -24,8 +24,8 @@ struct MotorParams {
   double rotor_inertia_kg_m2 = 3.46e-5; // thesis table 5-2
   // Winding temperature, first order (docs/assumptions.md): C dT/dt = P_copper - (T - T_amb)/R_th.
   // Resistance rises 0.393 %/K and K_T falls 0.1 %/K from the 20 °C values above.
-  double thermal_resistance_K_per_W = 2.0;  // winding to ambient (assumption)
-  double thermal_time_constant_s = 600;     // R_th C (assumption)
+  double thermal_resistance_K_per_W = 11.0;  // winding to ambient (assumption, docs/assumptions.md)
+  double thermal_time_constant_s = 900;      // R_th C (assumption)
 };
 
 // Inverter (driver power stage) fed from the DC bus, with its current loop.

@@ -3,7 +3,10 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
+#include <map>
+#include <set>
 #include <fstream>
 #include <sstream>
 
@@ -90,6 +93,19 @@ TEST(CampaignParse, ErrorsPointAtTheOffendingValue) {
        "unknown fault family"},
       {R"([{"op": "add", "path": "/variation/friction_sprd", "value": 0.1}])", "/variation/friction_sprd", "unknown key"},
       {R"([{"op": "add", "path": "/monitor", "value": {"kt_factor": {"worn": 2}}}])", "/monitor/kt_factor/worn", "2"},
+      {R"([{"op": "add", "path": "/variation/tolerances", "value": {"kt": -0.1}}])", "/variation/tolerances/kt", "-0.1"},
+      {R"([{"op": "add", "path": "/variation/tolerances", "value": {"kt": 2}}])", "/variation/tolerances/kt", "2"},
+      {R"([{"op": "add", "path": "/variation/tolerances", "value": {"kt_spread": 0.1}}])", "/variation/tolerances/kt_spread",
+       "unknown key"},
+      {R"([{"op": "add", "path": "/variation/tolerances", "value": "catalog"}])", "/variation/tolerances",
+       "unknown tolerance preset"},
+      {R"([{"op": "add", "path": "/variation/tolerances", "value": {"preset": "datasheet", "bus_voltage": 0.9}}])",
+       "/variation/tolerances/bus_voltage", "0.9"},
+      {R"([{"op": "add", "path": "/variation/ambient_C", "value": {"uniform": [40, 15]}}])", "/variation/ambient_C/uniform/0",
+       "greater than"},
+      {R"([{"op": "add", "path": "/variation/ambient_C", "value": 300}])", "/variation/ambient_C", "300"},
+      {R"([{"op": "add", "path": "/variation/units", "value": 0}])", "/variation/units", "0"},
+      {R"([{"op": "add", "path": "/commissioning", "value": "yes"}])", "/commissioning", "true or false"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.patch);
@@ -145,6 +161,91 @@ TEST(CampaignRunner, ResultsAreIdenticalForAnyThreadCount) {
   const std::string a = ReadAll(dir.path() / "j1" / "results.jsonl");
   EXPECT_EQ(a, ReadAll(dir.path() / "j2" / "results.jsonl"));
   EXPECT_EQ(std::count(a.begin(), a.end(), '\n'), 16);
+}
+
+// A fleet: datasheet tolerances, 4 units, 15-40 °C, commissioning.
+json Fleet() {
+  json j = Small();
+  j["variation"] = json::parse(R"({"tolerances": "datasheet", "ambient_C": {"uniform": [15, 40]}, "units": 4,
+                                   "friction_spread": 0.15})");
+  j["duration_s"] = 2;
+  return j;
+}
+
+TEST(CampaignFleet, RunsOfOneUnitShareItsDrawsAndUnitsDiffer) {
+  const Campaign c = Parse(Fleet());
+  EXPECT_TRUE(c.commissioning);  // on by default with tolerances
+  std::map<int, json> by_unit;
+  std::set<double> ambients;
+  for (const CaseSpec& cs : ExpandCases(c)) {
+    ASSERT_GE(cs.unit, 0);
+    ASSERT_LT(cs.unit, 4);
+    ASSERT_EQ(cs.tolerance_draws.size(), 3u);
+    const json drawn = {{"tolerances", cs.VariationJson()["tolerances"]}, {"friction", cs.friction_factors}};
+    auto [it, inserted] = by_unit.emplace(cs.unit, drawn);
+    if (!inserted) EXPECT_EQ(it->second, drawn) << "unit " << cs.unit;  // one unit, one draw
+    ambients.insert(cs.ambient_C);  // ambient is the run's
+  }
+  EXPECT_GE(by_unit.size(), 2u);
+  EXPECT_NE(by_unit.begin()->second, by_unit.rbegin()->second);
+  EXPECT_GT(ambients.size(), 4u);
+  for (double a : ambients) EXPECT_TRUE(a >= 15 && a < 40) << a;
+  // Each draw within its stated half-width about the datasheet value.
+  for (const CaseSpec& cs : ExpandCases(c)) {
+    for (const auto& joint : cs.tolerance_draws) {
+      for (size_t k = 0; k < ToleranceKeys().size(); ++k) {
+        const double s = DatasheetTolerances().*ToleranceKeys()[k].member;
+        EXPECT_LE(std::fabs(joint[k] - (ToleranceKeys()[k].absolute ? 0.0 : 1.0)), s + 1e-12) << ToleranceKeys()[k].name;
+      }
+    }
+  }
+}
+
+TEST(CampaignFleet, ResultsAreIdenticalForAnyThreadCountAndRecordTheUnit) {
+  ScratchDir dir("fleet");
+  json j = Fleet();
+  j["healthy"] = 2;
+  j["faults"] = json::array({j["faults"][0]});
+  j["repetitions"] = 1;
+  const Campaign c = Parse(j);
+  RunnerOptions one;
+  one.output_dir = (dir.path() / "j1").string();
+  one.threads = 1;
+  RunnerOptions two = one;
+  two.output_dir = (dir.path() / "j2").string();
+  two.threads = 2;
+  RunCampaign(c, one);
+  RunCampaign(c, two);
+  const std::string a = ReadAll(dir.path() / "j1" / "results.jsonl");
+  EXPECT_EQ(a, ReadAll(dir.path() / "j2" / "results.jsonl"));
+  std::istringstream lines(a);
+  std::string line;
+  int n = 0;
+  while (std::getline(lines, line)) {
+    const json r = json::parse(line);
+    EXPECT_EQ(r["status"], "ok") << r["reason"];
+    EXPECT_TRUE(r["variation"].contains("unit"));
+    EXPECT_TRUE(r["variation"].contains("ambient_C"));
+    EXPECT_EQ(r["variation"]["tolerances"]["kt"].size(), 3u);
+    ++n;
+  }
+  EXPECT_EQ(n, 6);
+  // A run alone gives its line again: the unit is commissioned the same way.
+  const std::vector<CaseSpec> cases = ExpandCases(c);
+  std::getline(std::istringstream(a), line);
+  EXPECT_EQ(ToJson(RunCase(c, cases[0])).dump(), line);
+}
+
+TEST(CampaignFleet, WithoutCommissioningTheLimitsWidenFromTheStatedTolerances) {
+  json j = Fleet();
+  j["commissioning"] = false;
+  const Campaign c = Parse(j);
+  const Campaign plain = Parse(Small());
+  EXPECT_LT(c.monitor_model.config.kt_factor.worn, plain.monitor_model.config.kt_factor.worn - 0.05);
+  EXPECT_GT(c.monitor_model.config.friction_factor.worn, plain.monitor_model.config.friction_factor.worn + 0.1);
+  // campaign.json keeps the limits as given: reading it again widens them the same way.
+  EXPECT_EQ(c.resolved["monitor"], plain.resolved["monitor"]);
+  EXPECT_EQ(Parse(c.resolved).monitor_model.config.kt_factor.worn, c.monitor_model.config.kt_factor.worn);
 }
 
 TEST(CampaignRunner, ShardsPartitionTheCases) {
