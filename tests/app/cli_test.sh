@@ -430,6 +430,25 @@ run trace_diverged_case "$armfault" trace "$tmp/diverge.json" --run 'swing/frict
 expect_status 3
 expect_stdout_contains "result: failed: simulation diverged at t="
 
+# ------------------------------------------------------------------ a unit whose commissioning fails
+# A joint so viscous that the commissioning motion diverges, while the campaign only holds it:
+# every run of that unit is a failed record saying why, and the command exits 3.
+commfail='{"name": "commfail", "seed": 1, "duration_s": 1,
+ "robot": {"modules": [{"friction": {"viscous_Nm_s_per_rad": 10}}], "links": [{}]},
+ "trajectories": [{"name": "still", "joints": {"1": {"type": "hold", "angle_deg": 0}}}],
+ "healthy": 2, "commissioning": COMMISSIONING, "variation": {"units": 1}}'
+echo "${commfail/COMMISSIONING/true}" >"$tmp/commfail.json"
+echo "${commfail/COMMISSIONING/false}" >"$tmp/commok.json"
+run commissioning_fails "$armfault" run "$tmp/commfail.json" -o "$tmp/cf" -q
+expect_status 3
+if [[ $(grep -c '"reason":"the commissioning run of unit 0 failed: simulation diverged at t=' "$tmp/cf/results.jsonl") -eq 2 ]]; then
+  pass
+else
+  fail "results.jsonl lacks two runs failed by their unit's commissioning: $(cut -c 1-300 "$tmp/cf/results.jsonl")"
+fi
+run commissioning_off_runs "$armfault" run "$tmp/commok.json" -o "$tmp/cok" -q
+expect_status 0
+
 # ------------------------------------------------------------------ habits of the command line
 run usage_names_the_program "$armfault" --help
 expect_status 0
