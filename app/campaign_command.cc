@@ -15,6 +15,7 @@
 #include "campaigns/runner.h"
 #include "core/json_input.h"
 #include "campaigns/campaign_summary.h"
+#include "reports/results_csv.h"
 
 namespace armfault {
 
@@ -115,16 +116,26 @@ int FinishCampaignOutputs(const std::string& dir_name, const Campaign& campaign)
   SummaryBuilder builder;
   {
     std::ifstream in(dir / "results.jsonl", std::ios::binary);
+    // results.csv streams beside the summary (one row at a time: flat in campaign size), into a
+    // temporary file renamed at the end, so a crash never leaves half of one.
+    const fs::path csv_tmp = dir / "results.csv.tmp";
+    std::ofstream csv(csv_tmp, std::ios::binary | std::ios::trunc);
+    csv << ResultsCsvHeader();
     std::string line;
     long n = 0;
     while (std::getline(in, line)) {
       ++n;
       try {
-        builder.Add(RunRecordFromJson(nlohmann::json::parse(line)));
+        const RunRecord record = RunRecordFromJson(nlohmann::json::parse(line));
+        builder.Add(record);
+        csv << ResultsCsvRow(record);
       } catch (const std::exception& e) {
         throw InputError((dir / "results.jsonl").string(), "", "line " + std::to_string(n) + ": " + e.what());
       }
     }
+    csv.close();
+    if (!csv) throw InputError(csv_tmp.string(), "", "cannot write the file");
+    fs::rename(csv_tmp, dir / "results.csv");
   }
   const std::vector<FloorVerdict> verdicts = builder.Verdicts(campaign.floors);
   WriteAtomically(dir / "summary.json", builder.Build(campaign.floors, campaign.resolved, ARMFAULT_VERSION).dump(2) + "\n");
@@ -161,7 +172,7 @@ int RunCampaignCommand(const CampaignRunOptions& o) {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::printf("ran %ld runs in %.1f s (%ld resumed, %ld failed)\n", r.ran, seconds, r.resumed, r.failed);
   const int status = FinishCampaignOutputs(o.output_dir, campaign);
-  std::printf("wrote %s/results.jsonl, summary.json, junit.xml\n", o.output_dir.c_str());
+  std::printf("wrote %s/results.jsonl, results.csv, summary.json, junit.xml\n", o.output_dir.c_str());
   if (!o.quiet) {
     std::printf("next: armfault report %s  (the results as one page)\n"
                 "      armfault tune %s    (thresholds re-scored from these runs)\n",

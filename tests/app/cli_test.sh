@@ -274,7 +274,7 @@ printf '{"trajectories": [{"name": "a", "joints": {"3": {"type": "hold"}}}], "he
 run campaign_floor_missed "$armfault" run "$tmp/healthy_only.json" -o "$tmp/ho" -q
 expect_status 1
 expect_stdout_contains "MISSED  detection_rate: no faulty runs"
-if [[ -s "$tmp/ho/summary.json" && -s "$tmp/ho/junit.xml" && $(wc -l <"$tmp/ho/results.jsonl") -eq 2 ]]; then pass; else fail "campaign outputs missing"; fi
+if [[ -s "$tmp/ho/summary.json" && -s "$tmp/ho/junit.xml" && $(wc -l <"$tmp/ho/results.jsonl") -eq 2 && $(wc -l <"$tmp/ho/results.csv") -eq 3 ]]; then pass; else fail "campaign outputs missing"; fi
 run campaign_bad_shard "$armfault" run "$tmp/healthy_only.json" -o "$tmp/ho" -q --shard 3/3
 expect_input_error "shard 3 of 3 does not exist"
 run bench "$armfault" bench --repeats 1
@@ -333,7 +333,7 @@ ci="$src/campaigns/files/ci.json"
 same_outputs() {
   current=$1
   local f
-  for f in campaign.json results.jsonl summary.json junit.xml; do
+  for f in campaign.json results.jsonl results.csv summary.json junit.xml; do
     if cmp -s "$2/$f" "$3/$f"; then pass; else fail "$2/$f and $3/$f differ"; fi
   done
 }

@@ -1,0 +1,60 @@
+// results.csv: one flat row per run, quoted where a field holds a comma or a quote, empty where
+// results.jsonl has null.
+#include "reports/results_csv.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+namespace armfault {
+namespace {
+
+size_t Commas(const std::string& s) {
+  size_t n = 0;
+  bool quoted = false;
+  for (char c : s) {
+    if (c == '"') quoted = !quoted;
+    n += c == ',' && !quoted;
+  }
+  return n;
+}
+
+TEST(ResultsCsv, QuotesRunIdsWithCommasAndLeavesNullsEmpty) {
+  RunRecord r;
+  r.case_index = 7;
+  r.run_id = "p2p/friction_increase#1/friction_factor=1.5,onset_s=U[1,3]/j2/r0";
+  r.trajectory = "p2p";
+  r.group = "friction_increase friction_factor=1.5 joint=2";
+  r.family = "friction_increase";
+  r.joint = 2;
+  r.onset_s = 1.25;
+  r.magnitude_key = "friction_factor";
+  r.magnitude = 1.5;
+  r.seed = 42;
+  r.variation = {{"unit", 3}, {"ambient_C", 31.5}};
+  r.effect = {{"took_effect", true}};
+  r.detected = true;
+  r.detection_time_s = 2.0;
+  r.latency_s = 0.75;
+  r.isolated_family = "friction_increase";
+  r.isolated_joint = 2;
+  r.magnitude_name = "friction_factor";
+  r.magnitude_estimate = 1.48;
+  r.confidence = 0.99;
+  r.failure_reason = "said \"no\"";
+  const std::string row = ResultsCsvRow(r);
+  EXPECT_EQ(row,
+            "7,\"p2p/friction_increase#1/friction_factor=1.5,onset_s=U[1,3]/j2/r0\",p2p,"
+            "friction_increase friction_factor=1.5 joint=2,friction_increase,2,1.25,friction_factor,1.5,42,0,3,31.5,ok,"
+            "\"said \"\"no\"\"\",true,true,false,2,0.75,friction_increase,2,true,friction_factor,1.48,0.99\n");
+  EXPECT_EQ(Commas(row), Commas(ResultsCsvHeader()));
+
+  RunRecord healthy;
+  healthy.run_id = "exp1/healthy/0";
+  healthy.trajectory = "exp1";
+  const std::string h = ResultsCsvRow(healthy);
+  EXPECT_EQ(Commas(h), Commas(ResultsCsvHeader()));
+  EXPECT_EQ(h, "0,exp1/healthy/0,exp1,,,,,,,0,0,,,ok,,,false,false,,,,,,,,\n");
+}
+
+}  // namespace
+}  // namespace armfault
