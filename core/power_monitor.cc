@@ -6,7 +6,6 @@
 #include <deque>
 #include <limits>
 
-#include "core/friction.h"
 #include "core/torque_sensor.h"
 
 namespace armfault {
