@@ -111,9 +111,19 @@ ShardSpec ResolveShard(const CampaignRunOptions& o) {
 
 }  // namespace
 
+namespace {
+
+void PrintWarnings(const std::string& campaign_file, const Campaign& campaign) {
+  for (const std::string& w : CampaignWarnings(campaign)) {
+    std::fprintf(stderr, "armfault: warning: %s: %s\n", campaign_file.c_str(), w.c_str());
+  }
+}
+
+}  // namespace
+
 int FinishCampaignOutputs(const std::string& dir_name, const Campaign& campaign) {
   const fs::path dir(dir_name);
-  SummaryBuilder builder;
+  SummaryBuilder builder(campaign.include_not_excited);
   {
     std::ifstream in(dir / "results.jsonl", std::ios::binary);
     // results.csv streams beside the summary (one row at a time: flat in campaign size), into a
@@ -138,6 +148,11 @@ int FinishCampaignOutputs(const std::string& dir_name, const Campaign& campaign)
     fs::rename(csv_tmp, dir / "results.csv");
   }
   const std::vector<FloorVerdict> verdicts = builder.Verdicts(campaign.floors);
+  if (builder.not_excited_runs() > 0) {
+    std::printf("%ld runs not excited (their fault could not act; %s): see not_excited_runs in %s\n",
+                builder.not_excited_runs(), campaign.include_not_excited ? "scored, as the campaign asks" : "left out of the rates",
+                (dir / "summary.json").string().c_str());
+  }
   WriteAtomically(dir / "summary.json", builder.Build(campaign.floors, campaign.resolved, ARMFAULT_VERSION).dump(2) + "\n");
   WriteAtomically(dir / "junit.xml", JUnitXml(campaign.name, builder, campaign.floors, "campaign.json"));
   bool all_met = true;
@@ -163,6 +178,7 @@ int RunCampaignCommand(const CampaignRunOptions& o) {
   ro.resume = o.resume;
   Progress progress(!o.quiet);
   ro.progress = [&](long done, long total) { progress.Update(done, total); };
+  if (!o.campaign_file.empty()) PrintWarnings(o.campaign_file, campaign);
   const long total = CaseCount(campaign);
   std::printf("campaign %s: %ld runs%s -> %s\n", campaign.name.c_str(), total,
               ro.shard.count > 1 ? (", shard " + std::to_string(ro.shard.index) + "/" + std::to_string(ro.shard.count)).c_str() : "",
@@ -183,6 +199,7 @@ int RunCampaignCommand(const CampaignRunOptions& o) {
 
 int ValidateCommand(const std::string& campaign_file) {
   const Campaign campaign = ReadCampaignFile(campaign_file);
+  PrintWarnings(campaign_file, campaign);
   std::printf("%s: valid campaign \"%s\": %ld runs (%zu trajectories, %zu fault entries, %d healthy per trajectory, %d repetitions)\n",
               campaign_file.c_str(), campaign.name.c_str(), CaseCount(campaign), campaign.trajectories.size(),
               campaign.faults.size(), campaign.healthy, campaign.repetitions);

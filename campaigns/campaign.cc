@@ -365,7 +365,7 @@ Campaign CampaignFromJson(const nlohmann::json& value, const std::string& source
     if (!value.is_object()) throw InputError("", "", "expected a JSON object describing a campaign, got " + Describe(value));
     ObjectReader reader(value, "");
     reader.AllowOnly({"name", "seed", "robot", "duration_s", "trajectories", "faults", "healthy", "repetitions",
-                      "variation", "commissioning", "monitor", "floors"});
+                      "variation", "commissioning", "include_not_excited", "monitor", "floors"});
     c.name = std::filesystem::path(source).stem().string();
     reader.OptionalString("name", &c.name);
     if (const auto* seed = reader.Find("seed")) {
@@ -433,6 +433,12 @@ Campaign CampaignFromJson(const nlohmann::json& value, const std::string& source
       if (!v->is_boolean()) throw InputError("", reader.PointerTo("commissioning"), "expected true or false, got " + Describe(*v));
       c.commissioning = v->get<bool>();
     }
+    if (const auto* v = reader.Find("include_not_excited")) {
+      if (!v->is_boolean()) {
+        throw InputError("", reader.PointerTo("include_not_excited"), "expected true or false, got " + Describe(*v));
+      }
+      c.include_not_excited = v->get<bool>();
+    }
     if (const auto* m = reader.Find("monitor")) c.monitor = MonitorConfigFromJsonOrFile(*m, reader.PointerTo("monitor"), context);
     if (const auto* f = reader.Find("floors")) c.floors = ParseFloors(*f, reader.PointerTo("floors"));
     reader.Finish();
@@ -462,6 +468,7 @@ Campaign CampaignFromJson(const nlohmann::json& value, const std::string& source
   c.resolved["repetitions"] = c.repetitions;
   c.resolved["monitor"] = MonitorConfigToJson(c.monitor);  // as given: the widening is derived again on reading
   if (c.variation.has_tolerances || value.contains("commissioning")) c.resolved["commissioning"] = c.commissioning;
+  if (value.contains("include_not_excited")) c.resolved["include_not_excited"] = c.include_not_excited;
   if (!c.resolved.contains("faults")) c.resolved["faults"] = nlohmann::json::array();
   if (!c.resolved.contains("variation")) c.resolved["variation"] = nlohmann::json::object();
   if (!c.resolved.contains("floors")) c.resolved["floors"] = nlohmann::json::object();
@@ -596,6 +603,34 @@ std::vector<CaseSpec> ExpandCases(const Campaign& c) {
     }
   }
   return cases;
+}
+
+std::vector<std::string> CampaignWarnings(const Campaign& c) {
+  std::vector<std::string> out;
+  for (const CampaignTrajectory& t : c.trajectories) {
+    // Joints a trajectory does not name hold their start; named ones may still not move.
+    std::set<int> still;
+    for (int j = 1; j <= static_cast<int>(c.robot.modules.size()); ++j) {
+      const auto it = t.parsed.find(j);
+      if (it == t.parsed.end()) {
+        still.insert(j);
+        continue;
+      }
+      const AngleRange range = SampleRange(*it->second, c.duration_s);
+      if (range.max_rad - range.min_rad < kMinTravelToExcite_rad) still.insert(j);
+    }
+    for (const FaultEntry& e : c.faults) {
+      for (int j : e.joints) {
+        if (still.count(j) == 0) continue;
+        out.push_back(e.pointer + " (" + e.family + ") targets joint " + std::to_string(j) + ", which trajectory \"" +
+                      t.name + "\" leaves still: " +
+                      (FaultNeedsMotion(e.family) ? "its runs there will be not excited (" + e.family +
+                                                        " shows only in motion) and left out of the rates"
+                                                  : "the fault can act at rest, but no motion of its joint helps see it"));
+      }
+    }
+  }
+  return out;
 }
 
 }  // namespace armfault

@@ -85,6 +85,9 @@ struct Campaign {
   // One healthy commissioning run per unit teaches the monitor that unit (docs/monitor.md);
   // default: on when the campaign states tolerances.
   bool commissioning = false;
+  // Score runs whose fault could not act (RunRecord::not_excited_reason) like any other; by
+  // default they are listed apart and left out of every rate.
+  bool include_not_excited = false;
   MonitorConfig monitor;
   PowerMonitorModel monitor_model;  // built once: what the monitor knows (the nominal robot)
   Floors floors;
@@ -128,5 +131,10 @@ StatedTolerances StatedOf(const Campaign& campaign);
 std::vector<CaseSpec> ExpandCases(const Campaign& campaign);
 // The number of cases, without expanding.
 long CaseCount(const Campaign& campaign);
+
+// What `validate` (and `run`) warn about in a valid campaign, one line each, naming the JSON
+// pointer: a fault entry that targets a joint one of the trajectories leaves still (its runs
+// there will be not excited when the family shows only in motion).
+std::vector<std::string> CampaignWarnings(const Campaign& campaign);
 
 }  // namespace armfault

@@ -33,6 +33,7 @@ void MergeInto(const SummaryTally& from, SummaryTally* into) {
   into->before_onset += from.before_onset;
   into->healthy += from.healthy;
   into->healthy_alarms += from.healthy_alarms;
+  into->not_excited += from.not_excited;
   into->latencies_s.insert(into->latencies_s.end(), from.latencies_s.begin(), from.latencies_s.end());
   into->magnitude_errors.insert(into->magnitude_errors.end(), from.magnitude_errors.begin(),
                                 from.magnitude_errors.end());
@@ -75,6 +76,7 @@ nlohmann::json MetricsJson(const SummaryTally& t, bool with_healthy) {
   nlohmann::json j;
   j["runs"] = t.faulty + t.healthy;
   j["faulty_runs"] = t.faulty;
+  j["not_excited"] = t.not_excited;
   j["detection"] = RateJson(t.detected, t.faulty);
   j["isolation"] = RateJson(t.isolated, t.detected);
   j["alarm_before_onset_rate"] = RateJson(t.before_onset, t.faulty);
@@ -183,6 +185,23 @@ void SummaryBuilder::Add(const RunRecord& r) {
     return;
   }
   ++ok_runs_;
+  if (!r.family.empty() && !r.excited()) {
+    ++not_excited_runs_;
+    not_excited_listed_.emplace(r.run_id, r.not_excited_reason);
+    if (not_excited_listed_.size() > kMaxListedFailures) not_excited_listed_.erase(std::prev(not_excited_listed_.end()));
+    TrajectoryCell& cell = by_trajectory_[{r.family, r.trajectory, r.group}];
+    ++cell.tally.not_excited;
+    if (cell.not_excited_reason.empty()) cell.not_excited_reason = r.not_excited_reason;
+    SummaryTally& t = cells_[{r.group, r.family}];
+    ++t.not_excited;
+    if (!t.has_descriptor || std::tie(r.joint, r.magnitude_key, r.magnitude) < std::tie(t.joint, t.magnitude_key, t.magnitude)) {
+      t.has_descriptor = true;
+      t.joint = r.joint;
+      t.magnitude_key = r.magnitude_key;
+      t.magnitude = r.magnitude;
+    }
+    if (!include_not_excited_) return;
+  }
   {
     TrajectoryCell& cell = by_trajectory_[{r.family, r.trajectory, r.group}];
     SummaryTally& tt = cell.tally;
@@ -291,7 +310,8 @@ nlohmann::json SummaryBuilder::Build(const Floors& floors, const nlohmann::json&
                {"ok", ok_runs_},
                {"failed", failed_runs_},
                {"faulty", overall.faulty},
-               {"healthy", overall.healthy}};
+               {"healthy", overall.healthy},
+               {"not_excited", not_excited_runs_}};
   j["overall"] = MetricsJson(overall, true);
   j["per_family"] = nlohmann::json::object();
   for (const auto& [family, t] : families) j["per_family"][family] = MetricsJson(t, false);
@@ -343,6 +363,12 @@ nlohmann::json SummaryBuilder::Build(const Floors& floors, const nlohmann::json&
   j["failed_runs"] = {{"count", failed_runs_},
                       {"truncated", failed_runs_ > static_cast<long>(failed_listed_.size())},
                       {"runs", std::move(listed)}};
+  nlohmann::json not_excited = nlohmann::json::array();
+  for (const auto& [run_id, reason] : not_excited_listed_) not_excited.push_back({{"run_id", run_id}, {"reason", reason}});
+  j["not_excited_runs"] = {{"count", not_excited_runs_},
+                           {"included", include_not_excited_},
+                           {"truncated", not_excited_runs_ > static_cast<long>(not_excited_listed_.size())},
+                           {"runs", std::move(not_excited)}};
   return j;
 }
 
@@ -389,7 +415,7 @@ std::string JUnitXml(const std::string& campaign_name, const SummaryBuilder& bui
     auto floors_it = floors.per_family.find(family);
     const FloorSet& set = family.empty() || floors_it == floors.per_family.end() ? floors.overall : floors_it->second;
     std::string cases;
-    long suite_failures = 0;
+    long suite_failures = 0, suite_skipped = 0;
     for (const auto* item : it->second) {
       const auto& [key, cell] = *item;
       const SummaryTally& t = cell.tally;
@@ -408,7 +434,16 @@ std::string JUnitXml(const std::string& campaign_name, const SummaryBuilder& bui
                                : std::to_string(t.faulty) + " runs, " + std::to_string(t.detected) + " detected, " +
                                      std::to_string(t.isolated) + " isolated (family and joint), " +
                                      std::to_string(t.before_onset) + " alarmed before the onset";
+      if (t.not_excited > 0) {
+        counts += "; " + std::to_string(t.not_excited) + " not excited" +
+                  (builder.includes_not_excited() ? " (scored)" : " (left out)") + ", e.g. " + cell.not_excited_reason;
+      }
       cases += "    <testcase classname=\"" + XmlEscape(suite) + "\" name=\"" + XmlEscape(name) + "\">\n";
+      if (!family.empty() && t.faulty == 0 && t.not_excited > 0) {
+        // Nothing here could be seen: skipped, not passed and not failed.
+        ++suite_skipped;
+        cases += "      <skipped message=\"" + XmlEscape("not excited: " + cell.not_excited_reason) + "\"/>\n";
+      }
       cases += "      <system-out>" + XmlEscape(counts) + "</system-out>\n";
       for (const FloorVerdict& v : checks) {
         if (v.met || !v.measured) continue;  // a floor with nothing to measure here is not this case's
@@ -425,7 +460,8 @@ std::string JUnitXml(const std::string& campaign_name, const SummaryBuilder& bui
     tests += static_cast<long>(it->second.size());
     failures += suite_failures;
     body += "  <testsuite name=\"" + XmlEscape(suite) + "\" tests=\"" + std::to_string(it->second.size()) +
-            "\" failures=\"" + std::to_string(suite_failures) + "\">\n" + cases + "  </testsuite>\n";
+            "\" failures=\"" + std::to_string(suite_failures) + "\"" +
+            (suite_skipped > 0 ? " skipped=\"" + std::to_string(suite_skipped) + "\"" : std::string()) + ">\n" + cases + "  </testsuite>\n";
   };
   for (const auto& [family, cells] : suites) {
     if (!family.empty()) emit_suite(family);

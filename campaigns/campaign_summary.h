@@ -4,6 +4,10 @@
 // Definitions (all rates are fractions in [0, 1]):
 //   - A record with ok == false counts only as a failed run: it is listed in "failed_runs"
 //     and excluded from every rate, group, family and the confusion matrix.
+//   - An ok faulty record that was not excited (its fault took no effect, or its joint stayed
+//     still although the family shows only in motion) is listed in "not_excited_runs" and
+//     counted in its scopes' "not_excited", outside every rate, unless the campaign sets
+//     "include_not_excited": then it is scored like any other run.
 //   - Faulty run: ok record with a non-empty `family`. Healthy run: ok record with family "".
 //   - detection rate = detected faulty runs / faulty runs (`detected` already means "alarm at
 //     or after the onset").
@@ -41,8 +45,12 @@
 //    "floors": [{"name", "kind", "bound", "measured" (null if nothing to measure), "met",
 //                "message"}],
 //    "floors_met": all floors met (true if there are none),
-//    "failed_runs": {"count", "truncated", "runs": [{"run_id", "reason"}]}}
+//    "failed_runs": {"count", "truncated", "runs": [{"run_id", "reason"}]},
 //                   (the 100 smallest run_ids, sorted, so the list is independent of order)
+//    "not_excited_runs": {"count", "included", "truncated", "runs": [{"run_id", "reason"}]}}
+//                   (likewise; faulty runs whose fault could not act on anything a monitor
+//                    sees: left out of every rate unless "included")
+//   Every scope also reports "not_excited": its faulty runs that could not act.
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -88,6 +96,7 @@ namespace internal {
 struct SummaryTally {
   long faulty = 0, detected = 0, isolated = 0, before_onset = 0;
   long healthy = 0, healthy_alarms = 0;
+  long not_excited = 0;  // faulty runs whose fault could not act, left out of the counts above
   std::vector<double> latencies_s;       // detected faulty runs, in arrival order
   std::vector<double> magnitude_errors;  // relative, in arrival order
   // Descriptors of a group cell: the smallest (joint, magnitude_key, magnitude) seen, so
@@ -108,6 +117,9 @@ void MergeTally(const SummaryTally& from, SummaryTally* into);
 // run ids, not with the number of records. The result does not depend on the order of Add().
 class SummaryBuilder {
  public:
+  // include_not_excited: score runs whose fault could not act like any other (the campaign's
+  // "include_not_excited"); by default they are counted and listed apart, outside every rate.
+  explicit SummaryBuilder(bool include_not_excited = false) : include_not_excited_(include_not_excited) {}
   void Add(const RunRecord& r);
 
   // The summary.json content (see above). `campaign` is the resolved campaign JSON, embedded
@@ -118,6 +130,8 @@ class SummaryBuilder {
   std::vector<FloorVerdict> Verdicts(const Floors& floors) const;
 
   long runs() const { return ok_runs_ + failed_runs_; }  // every record added
+  long not_excited_runs() const { return not_excited_runs_; }
+  bool includes_not_excited() const { return include_not_excited_; }  // ok faulty runs that could not act
   long failed_runs() const { return failed_runs_; }
   // The tally of every (group, family) cell, sorted: for tools that compare or re-pool
   // campaigns (armfault diff) with exactly the definitions above.
@@ -128,6 +142,7 @@ class SummaryBuilder {
   // alarmed.
   struct TrajectoryCell {
     internal::SummaryTally tally;
+    std::string not_excited_reason;  // of the first run left out as not excited
     long first_wrong_case = -1;
     std::string first_wrong_run_id;
   };
@@ -140,6 +155,9 @@ class SummaryBuilder {
   std::map<std::string, std::map<std::string, long>> confusion_;  // true -> predicted -> count
   std::map<TrajectoryKey, TrajectoryCell> by_trajectory_;
   std::multiset<std::pair<std::string, std::string>> failed_listed_;  // (run_id, reason)
+  std::multiset<std::pair<std::string, std::string>> not_excited_listed_;  // (run_id, reason)
+  bool include_not_excited_ = false;
+  long not_excited_runs_ = 0;
   long ok_runs_ = 0;
   long failed_runs_ = 0;
 };

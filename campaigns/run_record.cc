@@ -52,6 +52,8 @@ nlohmann::json ToJson(const RunRecord& r) {
   j["status"] = r.ok ? "ok" : "failed";
   j["reason"] = StrOrNull(r.failure_reason);
   j["effect"] = r.effect;
+  j["excited"] = r.family.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.excited());
+  j["not_excited_reason"] = StrOrNull(r.not_excited_reason);
   j["detected"] = r.detected;
   j["detection_time_s"] = Opt(r.detection_time_s);
   j["latency_s"] = Opt(r.latency_s);
@@ -61,6 +63,7 @@ nlohmann::json ToJson(const RunRecord& r) {
   j["magnitude_estimate"] = Opt(r.magnitude_estimate);
   j["confidence"] = r.confidence;
   j["alarm_before_onset"] = r.alarm_before_onset;
+  j["miss_reason"] = StrOrNull(r.miss_reason);
   j["decision"] = r.decision;
   return j;
 }
@@ -86,6 +89,10 @@ RunRecord RunRecordFromJson(const nlohmann::json& j) {
   r.ok = status == "ok";
   r.failure_reason = StrOrEmpty(j, "reason");
   r.effect = Get(j, "effect");
+  // Optional: records written before observability was scored count as excited.
+  if (const auto it = j.find("not_excited_reason"); it != j.end() && !it->is_null()) {
+    r.not_excited_reason = As<std::string>(j, "not_excited_reason");
+  }
   r.detected = As<bool>(j, "detected");
   r.detection_time_s = OptDouble(j, "detection_time_s");
   r.latency_s = OptDouble(j, "latency_s");
@@ -95,6 +102,7 @@ RunRecord RunRecordFromJson(const nlohmann::json& j) {
   r.magnitude_estimate = OptDouble(j, "magnitude_estimate");
   r.confidence = As<double>(j, "confidence");
   r.alarm_before_onset = As<bool>(j, "alarm_before_onset");
+  if (const auto it = j.find("miss_reason"); it != j.end() && !it->is_null()) r.miss_reason = As<std::string>(j, "miss_reason");
   if (const auto it = j.find("decision"); it != j.end()) r.decision = *it;
   return r;
 }

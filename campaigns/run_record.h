@@ -26,8 +26,12 @@ struct RunRecord {
   int repetition = 0;
   nlohmann::json variation;   // what this run drew: payload, noise, friction factors
   bool ok = true;             // status "ok" / "failed"
+  bool excited() const { return not_excited_reason.empty(); }
   std::string failure_reason;
   nlohmann::json effect;      // the fault's took-effect measure (FaultEffect::ToJson), null if healthy
+  // Non-empty: the fault could not act on anything a monitor sees (NotExcitedReason); such a
+  // run is listed apart and left out of the rates unless the campaign includes it.
+  std::string not_excited_reason;
   // Monitor diagnosis (alarms from the fault's onset on; for healthy runs from t = 0).
   bool detected = false;
   std::optional<double> detection_time_s;
@@ -38,6 +42,10 @@ struct RunRecord {
   std::optional<double> magnitude_estimate;
   double confidence = 0;
   bool alarm_before_onset = false;       // any alarm before the fault's onset (a false alarm)
+  // Why a faulty run was missed or named the wrong family or joint, or why a healthy run
+  // alarmed: the strongest statistic against its threshold, the gate that never opened, or
+  // what won instead. "" for a run scored right.
+  std::string miss_reason;
   // The monitor's decision statistics (DecisionStats JSON, core/detector_statistics.h): what
   // `armfault tune` re-scores thresholds from. Null for a run that could not be set up.
   nlohmann::json decision;

@@ -174,13 +174,21 @@ RunRecord RunCase(const Campaign& campaign, const CaseSpec& cs, const TickObserv
     monitor.Finish(result.end_time_s);
     r.ok = result.ok;
     r.failure_reason = result.failure_reason;
-    if (!faults.empty()) r.effect = effects.Results()[0].ToJson();
+    if (!faults.empty()) {
+      const FaultEffect effect = effects.Results()[0];
+      r.effect = effect.ToJson();
+      r.not_excited_reason = NotExcitedReason(*faults[0], effect);
+    }
     r.decision = ToJson(decisions.stats());
     // The decision rule `armfault tune` re-scores: alarms before the onset are false alarms;
     // detection is the first alarm from the onset on.
     const DecisionOutcome d = Decide(decisions.stats(), monitor_model.thresholds, monitor_model.config.significance);
     r.alarm_before_onset = d.alarm_before_onset;
     r.detected = d.detected;
+    if (result.ok) {
+      r.miss_reason = ExplainOutcome(decisions.stats(), monitor_model.thresholds, monitor_model.config.significance, d,
+                                     r.family, r.joint, monitor_model.config);
+    }
     if (d.detected) {
       r.detection_time_s = d.detection_time_s;
       if (!r.family.empty()) r.latency_s = d.detection_time_s - r.onset_s;

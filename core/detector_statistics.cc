@@ -1,6 +1,7 @@
 #include "core/detector_statistics.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <stdexcept>
 #include <tuple>
@@ -211,6 +212,99 @@ DecisionOutcome Decide(const DecisionStats& s, const DetectorThresholds& h, doub
     if (const DecisionStats::Rise* r = FirstAlarm(t, h[d], significance)) {
       consider(r->t_s, d, t.joint, r->family.empty() ? Detectors()[d].family : r->family);
     }
+  }
+  return out;
+}
+
+namespace {
+
+std::string Fmt(double x, int significant = 3) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*g", significant, x);
+  return buf;
+}
+
+// What must happen before detector d may judge (the monitor's excitation gates).
+std::string GateOf(Detector d, const MonitorConfig& c) {
+  switch (d) {
+    case Detector::kKtFactor:
+      return "output energy below min_rotor_energy_J = " + Fmt(c.min_rotor_energy_J) + " J";
+    case Detector::kResistanceFactor:
+      return "copper-loss energy below min_copper_energy_J = " + Fmt(c.min_copper_energy_J) + " J";
+    case Detector::kFrictionFactor:
+      return "moving time in the torque-balance fit below min_balance_moving_s = " + Fmt(c.min_balance_moving_s) + " s";
+    case Detector::kSensorDrift:
+      return "less than 1 s of motion each way";
+  }
+  return "";
+}
+
+// The detector whose statistic names `family` (brake drag shows as friction); -1 for the
+// families only tick-level detectors see.
+int DetectorOfFamily(const std::string& family) {
+  if (family == "brake_lock") return static_cast<int>(Detector::kFrictionFactor);
+  for (const DetectorInfo& info : Detectors()) {
+    if (family == info.family) return static_cast<int>(info.detector);
+  }
+  return -1;
+}
+
+// The rise of `joint` after the onset that came closest to alarming: the largest
+// min(deviation / threshold, significance / z) over every detector.
+std::string Closest(const DecisionStats& s, const DetectorThresholds& h, double z, int joint) {
+  double best = -1;
+  std::string text;
+  for (const DecisionStats::Trace& t : s.traces) {
+    if (t.joint != joint) continue;
+    const int d = static_cast<int>(t.detector);
+    for (const DecisionStats::Rise& r : t.rise) {
+      const double dev = r.held.quanta * kStatisticQuantum, sig = r.held.significance_quanta * kSignificanceQuantum;
+      const double score = std::min(h[d] > 0 ? dev / h[d] : 0.0, z > 0 ? sig / z : 1.0);
+      if (score <= best) continue;
+      best = score;
+      text = std::string(Detectors()[d].parameter) + " deviated " + Fmt(dev) + " (threshold " + Fmt(h[d]) + ", " +
+             Fmt(100 * std::max(0.0, dev / h[d]), 2) + " %) with significance " + Fmt(sig) + " (needs " + Fmt(z) + ")";
+    }
+  }
+  return text;
+}
+
+bool JudgedAfterOnset(const DecisionStats& s, int joint, int detector) {
+  for (const DecisionStats::Trace& t : s.traces) {
+    if (t.joint == joint && static_cast<int>(t.detector) == detector && !t.rise.empty()) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+std::string ExplainOutcome(const DecisionStats& s, const DetectorThresholds& h, double z, const DecisionOutcome& d,
+                           const std::string& family, int joint, const MonitorConfig& config) {
+  const std::string at = d.detected ? " at " + Fmt(d.detection_time_s, 6) + " s" : "";
+  if (family.empty()) {
+    return d.detected ? "alarm: " + d.family + " on joint " + std::to_string(d.joint) + at : "";
+  }
+  if (d.detected && d.family == family && d.joint == joint) return "";
+  std::string out;
+  if (d.detected) {
+    out = "named " + (d.family.empty() ? std::string("an unknown fault") : d.family) + " on joint " +
+          std::to_string(d.joint) + at + " instead of " + family + " on joint " + std::to_string(joint);
+  } else {
+    out = "no alarm";
+  }
+  const std::string j = " on joint " + std::to_string(joint);
+  const int own = DetectorOfFamily(family);
+  if (own < 0) {
+    out += "; the tick-level " + family + " detector never latched" + j;
+  } else if (!JudgedAfterOnset(s, joint, own)) {
+    out += "; " + std::string(Detectors()[own].parameter) + j + " was never judged after the onset (" +
+           GateOf(static_cast<Detector>(own), config) + ")";
+  }
+  const std::string closest = Closest(s, h, z, joint);
+  if (!closest.empty()) {
+    out += "; closest" + j + ": " + closest;
+  } else if (own >= 0) {
+    out += "; no statistic" + j + " was judged after the onset";
   }
   return out;
 }

@@ -136,6 +136,15 @@ struct DecisionOutcome {
 };
 DecisionOutcome Decide(const DecisionStats& stats, const DetectorThresholds& thresholds, double significance);
 
+// Why a run was scored wrong, in one line for its record and the report ("" when it was
+// scored right): for a missed fault, the statistic of the faulted joint that came closest to
+// alarming and how far it stayed below its threshold, or the gate that never let a detector
+// judge; for a wrong family or joint, what was named instead; for a healthy run that alarmed,
+// what alarmed and when. `family` "" and `joint` 0 for a healthy run.
+std::string ExplainOutcome(const DecisionStats& stats, const DetectorThresholds& thresholds, double significance,
+                           const DecisionOutcome& outcome, const std::string& family, int joint,
+                           const MonitorConfig& config);
+
 // One detector trace against (h, z): whether it alarmed before the onset, and its first
 // alarm from the onset on (nullptr if none).
 bool AlarmedBefore(const DecisionStats::Trace& trace, double threshold, double significance);

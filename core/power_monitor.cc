@@ -187,7 +187,7 @@ struct PowerEfficiencyMonitor::JointState {
   // tick-level detectors
   double overpower_s = 0;
   double dead_s = 0;
-  double flat_s = 0, flat_dq = 0, flat_cmd_min = 0, flat_cmd_max = 0;
+  double flat_s = 0, flat_dq = 0, flat_cmd_min = 0, flat_cmd_max = 0, flat_ref_min = 0, flat_ref_max = 0;
   double rail_s = 0;
   double blocked_s = 0;
   // decision
@@ -458,16 +458,25 @@ void PowerEfficiencyMonitor::Observe(double t_s, const std::vector<JointSignals>
     const bool on_rail = now.tau_sensor_Nm >= k.sensor_max_Nm - 1e-9 || now.tau_sensor_Nm <= k.sensor_min_Nm + 1e-9;
     s.rail_s = on_rail ? s.rail_s + dt : 0.0;
     if (now.tau_sensor_Nm == prev.tau_sensor_Nm) {
-      if (s.flat_s == 0) s.flat_cmd_min = s.flat_cmd_max = rotor_torque, s.flat_dq = 0;
+      if (s.flat_s == 0) {
+        s.flat_cmd_min = s.flat_cmd_max = rotor_torque, s.flat_dq = 0;
+        s.flat_ref_min = s.flat_ref_max = now.q_ref_rad;
+      }
       s.flat_s += dt;
       s.flat_dq += std::fabs(dq);
+      s.flat_ref_min = std::min(s.flat_ref_min, now.q_ref_rad);
+      s.flat_ref_max = std::max(s.flat_ref_max, now.q_ref_rad);
       s.flat_cmd_min = std::min(s.flat_cmd_min, rotor_torque);
       s.flat_cmd_max = std::max(s.flat_cmd_max, rotor_torque);
     } else {
       s.flat_s = 0;
     }
+    // The joint moved, or was meant to stay put: a command swinging against a still reference
+    // is the load (the other joints) changing, which a live sensor follows; a brake fighting a
+    // moving reference is not that.
     const bool flat_stuck = s.flat_s >= c.stuck_time_s && s.flat_cmd_max - s.flat_cmd_min >= c.stuck_torque_span_Nm &&
-                            s.flat_dq >= 10 * c.rest_velocity_rad_s * c.stuck_time_s;
+                            (s.flat_dq >= 10 * c.rest_velocity_rad_s * c.stuck_time_s ||
+                             s.flat_ref_max - s.flat_ref_min < c.blocked_error_rad);
     // Locked: at rest, far from a moving reference, with high current.
     const bool blocked = dir == 0 && std::fabs(now.i_cmd_A) >= c.blocked_current_A &&
                          std::fabs(now.q_ref_rad - now.q_meas_rad) >= c.blocked_error_rad;

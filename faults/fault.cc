@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
 #include "faults/family_support.h"
@@ -185,6 +186,7 @@ double FaultTiming::Severity(double t) const {
 nlohmann::json FaultEffect::ToJson() const {
   nlohmann::json j = {{"measure", measure}, {"healthy", healthy}, {"faulty", faulty}, {"took_effect", took_effect}};
   if (!took_effect) j["verdict"] = "no effect: " + note;
+  j["joint_travel_rad"] = std::round(joint_travel_rad * 1e6) / 1e6;
   return j;
 }
 
@@ -213,18 +215,40 @@ void FaultSchedule::Apply(double t_s, std::vector<HardwareCondition>* conditions
 EffectRecorder::EffectRecorder(const ArmModel& model, const std::vector<std::shared_ptr<const Fault>>& faults) {
   for (const auto& fault : faults) {
     joints_.push_back(fault->joint_index());
+    onsets_s_.push_back(fault->timing().onset_s);
+    travel_rad_.push_back(0.0);
     meters_.push_back(fault->MakeEffectMeter(model.joint(fault->joint_index())));
   }
 }
 
 void EffectRecorder::Observe(const Tick& tick) {
-  for (size_t k = 0; k < meters_.size(); ++k) meters_[k]->Observe(tick.t_s, (*tick.joints)[joints_[k]]);
+  const double dt_s = last_t_s_ < 0 ? 0.0 : tick.t_s - last_t_s_;
+  last_t_s_ = tick.t_s;
+  for (size_t k = 0; k < meters_.size(); ++k) {
+    const JointTick& joint = (*tick.joints)[joints_[k]];
+    meters_[k]->Observe(tick.t_s, joint);
+    if (tick.t_s >= onsets_s_[k]) travel_rad_[k] += std::fabs(joint.qd_ref_rad_s) * dt_s;
+  }
 }
 
 std::vector<FaultEffect> EffectRecorder::Results() const {
   std::vector<FaultEffect> out;
-  for (const auto& m : meters_) out.push_back(m->Result());
+  for (size_t k = 0; k < meters_.size(); ++k) {
+    out.push_back(meters_[k]->Result());
+    out.back().joint_travel_rad = travel_rad_[k];
+  }
   return out;
+}
+
+std::string NotExcitedReason(const Fault& fault, const FaultEffect& effect) {
+  if (!effect.took_effect) return "the fault took no effect: " + effect.note;
+  if (FaultNeedsMotion(fault.family()) && effect.joint_travel_rad < kMinTravelToExcite_rad) {
+    char travel[32];
+    std::snprintf(travel, sizeof travel, "%.3g", effect.joint_travel_rad);
+    return "joint " + std::to_string(fault.joint_index() + 1) + " was asked to move " + travel + " rad after the onset (less than " +
+           FormatNumber(kMinTravelToExcite_rad) + " rad), and " + fault.family() + " shows only in motion";
+  }
+  return "";
 }
 
 FaultCommon ReadFaultCommon(ObjectReader& reader, const RobotConfig& robot, std::initializer_list<const char*> own_keys) {

@@ -46,8 +46,14 @@ struct FaultEffect {
   double faulty = 0.0;        // after onset
   bool took_effect = false;   // false: reported as "no effect", never silently counted
   std::string note;           // why not, when there was no effect
+  // How far the faulted joint's reference moved from the onset on: the motion asked of it (a
+  // locked brake stops the joint itself).
+  double joint_travel_rad = 0.0;
   nlohmann::json ToJson() const;
 };
+
+// A faulted joint whose reference moved less than this from the onset on counts as still.
+constexpr double kMinTravelToExcite_rad = 0.05;  // about 3 degrees
 
 // Watches the ticks of the faulted joint during a run and judges the effect at the end.
 class EffectMeter {
@@ -91,6 +97,14 @@ std::vector<std::unique_ptr<Fault>> MakeFaults(const nlohmann::json& specs, cons
 std::vector<std::string> FaultFamilyNames();
 // The parameter that sizes a fault of `family` ("kt_factor" ...), "" if none or unknown.
 std::string FaultMagnitudeKey(const std::string& family);
+// True when the family's signature needs its joint to move: friction and brake drag act only
+// in motion, and on a still joint a K_T loss shows only as another holding current, which an
+// unknown payload explains as well. A stuck sensor, a short, a drift show at rest.
+bool FaultNeedsMotion(const std::string& family);
+
+// Why a run's fault could not be seen by any monitor ("" when it could): it took no effect on
+// the hardware, or its joint stayed still although its signature needs motion.
+std::string NotExcitedReason(const Fault& fault, const FaultEffect& effect);
 
 // All faults of a run as the plant's hardware schedule.
 class FaultSchedule : public HardwareSchedule {
@@ -112,6 +126,9 @@ class EffectRecorder {
 
  private:
   std::vector<int> joints_;
+  std::vector<double> onsets_s_;
+  std::vector<double> travel_rad_;  // per fault: its joint's travel from the onset on
+  double last_t_s_ = -1;
   std::vector<std::unique_ptr<EffectMeter>> meters_;
 };
 

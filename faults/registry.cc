@@ -9,16 +9,17 @@ struct Family {
   const char* name;
   FaultFactory make;
   const char* magnitude_key;  // the parameter that sizes a fault of this family
+  bool needs_motion;          // its signature shows only while the joint moves (fault.h)
 };
 
 const Family kFamilies[] = {
-    {"kt_degradation", &MakeKtDegradation, "kt_factor"},
-    {"friction_increase", &MakeFrictionIncrease, "friction_factor"},
-    {"brake_lock", &MakeBrakeLock, "drag_fraction"},
-    {"torque_sensor_stuck", &MakeTorqueSensorStuck, ""},
-    {"inverter_short", &MakeInverterShort, "resistance_ohm"},
-    {"winding_resistance", &MakeWindingResistance, "resistance_factor"},
-    {"torque_sensor_drift", &MakeTorqueSensorDrift, "drift_Nm_per_s"},
+    {"kt_degradation", &MakeKtDegradation, "kt_factor", true},
+    {"friction_increase", &MakeFrictionIncrease, "friction_factor", true},
+    {"brake_lock", &MakeBrakeLock, "drag_fraction", true},
+    {"torque_sensor_stuck", &MakeTorqueSensorStuck, "", false},
+    {"inverter_short", &MakeInverterShort, "resistance_ohm", false},
+    {"winding_resistance", &MakeWindingResistance, "resistance_factor", false},
+    {"torque_sensor_drift", &MakeTorqueSensorDrift, "drift_Nm_per_s", false},
 };
 
 }  // namespace
@@ -34,6 +35,13 @@ std::string FaultMagnitudeKey(const std::string& family) {
     if (family == f.name) return f.magnitude_key;
   }
   return "";
+}
+
+bool FaultNeedsMotion(const std::string& family) {
+  for (const Family& f : kFamilies) {
+    if (family == f.name) return f.needs_motion;
+  }
+  return false;
 }
 
 std::unique_ptr<Fault> MakeFault(const nlohmann::json& spec, const std::string& pointer, const RobotConfig& robot) {
