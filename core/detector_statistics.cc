@@ -224,6 +224,12 @@ std::string Fmt(double x, int significant = 3) {
   return buf;
 }
 
+std::string Percent(double fraction) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.0f", 100 * std::max(0.0, fraction));
+  return buf;
+}
+
 // What must happen before detector d may judge (the monitor's excitation gates).
 std::string GateOf(Detector d, const MonitorConfig& c) {
   switch (d) {
@@ -263,7 +269,7 @@ std::string Closest(const DecisionStats& s, const DetectorThresholds& h, double 
       if (score <= best) continue;
       best = score;
       text = std::string(Detectors()[d].parameter) + " deviated " + Fmt(dev) + " (threshold " + Fmt(h[d]) + ", " +
-             Fmt(100 * std::max(0.0, dev / h[d]), 2) + " %) with significance " + Fmt(sig) + " (needs " + Fmt(z) + ")";
+             Percent(dev / h[d]) + " %) with significance " + Fmt(sig) + " (needs " + Fmt(z) + ")";
     }
   }
   return text;

@@ -125,6 +125,57 @@ TEST(CampaignSummaryWilsonTest, EdgesAreExact) {
   EXPECT_THROW(Wilson(-1, 2), std::invalid_argument);
 }
 
+// Two runs whose fault could not act, one of them "missed": by default they are listed apart
+// and change no rate; with include_not_excited they are scored like any other run.
+TEST(CampaignSummaryTest, NotExcitedRunsAreListedApartAndLeftOutOfTheRates) {
+  std::vector<RunRecord> records = MixedRecords();
+  RunRecord still = Faulty("kt/still1", kKt, 2, kKtGroup);
+  still.not_excited_reason = "joint 2 was asked to move 0 rad after the onset";
+  RunRecord still2 = Detect(Faulty("kt/still0", kKt, 2, kKtGroup), kKt, 2, 0.4);
+  still2.not_excited_reason = "the fault took no effect: x";
+  records.push_back(still);
+  records.push_back(still2);
+  const nlohmann::json plain = BuilderOf(MixedRecords()).Build(Floors{}, nullptr, "v");
+  const nlohmann::json left_out = BuilderOf(records).Build(Floors{}, nullptr, "v");
+  EXPECT_EQ(left_out.at("overall").at("detection"), plain.at("overall").at("detection"));
+  EXPECT_EQ(left_out.at("per_family").at(kKt).at("isolation"), plain.at("per_family").at(kKt).at("isolation"));
+  EXPECT_EQ(left_out.at("runs").at("faulty"), 6);
+  EXPECT_EQ(left_out.at("runs").at("not_excited"), 2);
+  EXPECT_EQ(left_out.at("overall").at("not_excited"), 2);
+  EXPECT_EQ(left_out.at("per_family").at(kKt).at("not_excited"), 2);
+  const nlohmann::json& listed = left_out.at("not_excited_runs");
+  EXPECT_EQ(listed.at("count"), 2);
+  EXPECT_EQ(listed.at("included"), false);
+  ASSERT_EQ(listed.at("runs").size(), 2u);
+  EXPECT_EQ(listed.at("runs")[0].at("run_id"), "kt/still0");  // sorted by run_id
+  EXPECT_EQ(listed.at("runs")[1].at("reason"), still.not_excited_reason);
+
+  SummaryBuilder included(true);
+  for (const RunRecord& r : records) included.Add(r);
+  const nlohmann::json in = included.Build(Floors{}, nullptr, "v");
+  ExpectRate(in.at("overall").at("detection"), 6, 8);  // 5 of 6, plus one of the two
+  EXPECT_EQ(in.at("not_excited_runs").at("included"), true);
+  EXPECT_EQ(in.at("runs").at("faulty"), 8);
+}
+
+TEST(CampaignSummaryTest, JUnitSkipsACaseWhoseRunsWereAllNotExcited) {
+  SummaryBuilder b;
+  RunRecord still = Faulty("exp1/kt/still", kKt, 2, kKtGroup);
+  still.trajectory = "exp1";
+  still.not_excited_reason = "joint 2 was asked to move 0 rad after the onset";
+  b.Add(still);
+  RunRecord seen = Detect(Faulty("p2p/kt/seen", kKt, 2, kKtGroup), kKt, 2, 0.2);
+  seen.trajectory = "p2p";
+  b.Add(seen);
+  Floors floors;
+  floors.overall.detection_rate = 0.9;
+  const std::string xml = JUnitXml("c", b, floors, "campaign.json");
+  EXPECT_THAT(xml, HasSubstr("<skipped message=\"not excited: joint 2 was asked to move 0 rad after the onset\"/>"));
+  EXPECT_THAT(xml, HasSubstr("skipped=\"1\""));
+  EXPECT_THAT(xml, HasSubstr("1 not excited (left out), e.g. joint 2"));
+  EXPECT_THAT(xml, ::testing::Not(HasSubstr("<failure")));
+}
+
 TEST(CampaignSummaryTest, CountsRunsAndExcludesFailedOnes) {
   const SummaryBuilder b = BuilderOf(MixedRecords());
   EXPECT_EQ(b.runs(), 11);
@@ -132,7 +183,7 @@ TEST(CampaignSummaryTest, CountsRunsAndExcludesFailedOnes) {
   const nlohmann::json s = b.Build(Floors{}, nlohmann::json{{"name", "mixed"}}, "9.9.9");
   EXPECT_EQ(s.at("armfault_version"), "9.9.9");
   EXPECT_EQ(s.at("campaign"), (nlohmann::json{{"name", "mixed"}}));
-  EXPECT_EQ(s.at("runs"), (nlohmann::json{{"total", 11}, {"ok", 10}, {"failed", 1}, {"faulty", 6}, {"healthy", 4}}));
+  EXPECT_EQ(s.at("runs"), (nlohmann::json{{"total", 11}, {"ok", 10}, {"failed", 1}, {"faulty", 6}, {"healthy", 4}, {"not_excited", 0}}));
   EXPECT_EQ(s.at("failed_runs").at("count"), 1);
   EXPECT_EQ(s.at("failed_runs").at("truncated"), false);
   EXPECT_EQ(s.at("failed_runs").at("runs"),

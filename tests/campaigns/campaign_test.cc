@@ -299,5 +299,39 @@ TEST(CampaignRunner, AFailingRunIsRecordedAndTheCampaignGoesOn) {
   EXPECT_THAT(r.failure_reason, HasSubstr("kt_factor"));
 }
 
+TEST(CampaignWarnings, AFaultOnAJointATrajectoryLeavesStillIsNamed) {
+  const std::vector<std::string> w = CampaignWarnings(Parse(Small()));
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_EQ(w[0], "/faults/0 (kt_degradation) targets joint 2, which trajectory \"exp1\" leaves still: its runs there "
+                  "will be not excited (kt_degradation shows only in motion) and left out of the rates");
+  json moving = Small();
+  moving["trajectories"][0]["joints"]["2"] = {{"type", "sine_pair"}, {"amplitude_deg", 10}, {"omega_rad_s", 1.0}};
+  EXPECT_TRUE(CampaignWarnings(Parse(moving)).empty());
+}
+
+TEST(CampaignRunner, RecordsSayWhetherTheFaultCouldActAndWhyARunWasWrong) {
+  const Campaign c = Parse(Small());
+  bool saw_still = false, saw_moving = false;
+  for (const CaseSpec& cs : ExpandCases(c)) {
+    if (cs.fault.is_null() || cs.fault["family"] != "kt_degradation" || cs.repetition != 0 || cs.fault["kt_factor"] != 0.6) continue;
+    const RunRecord r = RunCase(c, cs);
+    ASSERT_TRUE(r.ok) << r.failure_reason;
+    if (r.joint == 2) {
+      saw_still = true;
+      EXPECT_FALSE(r.excited());
+      EXPECT_THAT(r.not_excited_reason, HasSubstr("joint 2 was asked to move 0 rad"));
+      EXPECT_EQ(ToJson(r).at("excited"), false);
+    } else {
+      saw_moving = true;
+      EXPECT_TRUE(r.excited());
+      EXPECT_EQ(ToJson(r).at("not_excited_reason"), nullptr);
+      // Scored right, so nothing to explain; a wrong run always says why.
+      EXPECT_EQ(r.miss_reason.empty(), r.detected && r.isolated_family == r.family && r.isolated_joint == r.joint);
+    }
+    EXPECT_EQ(RunRecordFromJson(ToJson(r)).not_excited_reason, r.not_excited_reason);
+  }
+  EXPECT_TRUE(saw_still && saw_moving);
+}
+
 }  // namespace
 }  // namespace armfault

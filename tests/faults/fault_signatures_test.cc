@@ -326,5 +326,40 @@ TEST(FaultJsonTest, ToJsonRoundTripsThroughMakeFault) {
   EXPECT_EQ(MakeFault(fault->ToJson(), "", robot)->ToJson(), spec);
 }
 
+// Observability: a K_T loss on joint 2, which experiment 1 holds still, cannot be seen (its
+// signature needs motion) although it changes the hardware; on joint 3, which moves, it can.
+// A stuck sensor on the held joint still counts: it shows at rest.
+TEST(NotExcitedTest, AStillJointHidesOnlyTheFamiliesThatNeedMotion) {
+  const json kt2 = {{"family", "kt_degradation"}, {"joint", 2}, {"kt_factor", 0.6}, {"onset_s", kOnset}};
+  const FaultyRun still = RunWithFaults(json::array({kt2}));
+  const auto faults = MakeFaults(json::array({kt2}), "/faults", ThesisExperiment1().robot);
+  ASSERT_TRUE(still.effects[0].took_effect);  // the hardware did change
+  EXPECT_LT(still.effects[0].joint_travel_rad, 1e-9);
+  EXPECT_THAT(NotExcitedReason(*faults[0], still.effects[0]),
+              HasSubstr("joint 2 was asked to move 0 rad after the onset (less than 0.05 rad), and kt_degradation "
+                        "shows only in motion"));
+
+  json kt3 = kt2;
+  kt3["joint"] = 3;
+  const FaultyRun moving = RunWithFaults(json::array({kt3}));
+  EXPECT_GT(moving.effects[0].joint_travel_rad, 0.5);
+  EXPECT_EQ(NotExcitedReason(*MakeFault(kt3, "/f", ThesisExperiment1().robot), moving.effects[0]), "");
+
+  const json stuck2 = {{"family", "torque_sensor_stuck"}, {"joint", 2}, {"lead", "supply"}, {"onset_s", kOnset}};
+  const FaultyRun stuck = RunWithFaults(json::array({stuck2}));
+  EXPECT_EQ(NotExcitedReason(*MakeFault(stuck2, "/f", ThesisExperiment1().robot), stuck.effects[0]), "");
+  EXPECT_TRUE(FaultNeedsMotion("friction_increase"));
+  EXPECT_FALSE(FaultNeedsMotion("inverter_short"));
+}
+
+TEST(NotExcitedTest, AFaultThatTookNoEffectIsNotExcited) {
+  // An onset after the end of the run: nothing to measure, so nothing a monitor could see.
+  const json late = {{"family", "friction_increase"}, {"joint", 3}, {"friction_factor", 2.0}, {"onset_s", 1e3}};
+  const FaultyRun run = RunWithFaults(json::array({late}));
+  EXPECT_FALSE(run.effects[0].took_effect);
+  EXPECT_THAT(NotExcitedReason(*MakeFault(late, "/f", ThesisExperiment1().robot), run.effects[0]),
+              HasSubstr("the fault took no effect: "));
+}
+
 }  // namespace
 }  // namespace armfault
