@@ -2,6 +2,8 @@
 #include <sys/ioctl.h>
 #include <unistd.h>
 
+#include <atomic>
+#include <csignal>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -168,6 +170,26 @@ int FinishCampaignOutputs(const std::string& dir_name, const Campaign& campaign)
   return all_met ? 0 : 1;
 }
 
+namespace {
+
+std::atomic<bool> g_stop{false};
+
+// The first Ctrl-C asks the runner to stop after the runs in flight; a second one kills.
+extern "C" void OnInterrupt(int) {
+  g_stop.store(true);
+  std::signal(SIGINT, SIG_DFL);
+  std::signal(SIGTERM, SIG_DFL);
+}
+
+std::string ShellQuote(const std::string& s) {
+  if (s.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789/._-=:") == std::string::npos) return s;
+  std::string out = "'";
+  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+}  // namespace
+
 int RunCampaignCommand(const CampaignRunOptions& o) {
   const Campaign campaign = o.campaign_file.empty() ? DefaultCampaign() : ReadCampaignFile(o.campaign_file);
   if (o.threads < 0) throw InputError("-j", "", "expected a thread count >= 1 (0: all cores), got " + std::to_string(o.threads));
@@ -184,8 +206,25 @@ int RunCampaignCommand(const CampaignRunOptions& o) {
               ro.shard.count > 1 ? (", shard " + std::to_string(ro.shard.index) + "/" + std::to_string(ro.shard.count)).c_str() : "",
               o.output_dir.c_str());
   const auto start = std::chrono::steady_clock::now();
+  g_stop.store(false);
+  ro.stop = &g_stop;
+  std::signal(SIGINT, OnInterrupt);
+  std::signal(SIGTERM, OnInterrupt);
   const RunnerResult r = RunCampaign(campaign, ro);
+  std::signal(SIGINT, SIG_DFL);
+  std::signal(SIGTERM, SIG_DFL);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (r.interrupted) {
+    // Everything written so far is complete lines: --resume picks up from there.
+    std::string resume = "armfault run";
+    if (!o.campaign_file.empty()) resume += " " + ShellQuote(o.campaign_file);
+    resume += " -o " + ShellQuote(o.output_dir) + " --resume";
+    if (o.threads > 0) resume += " -j " + std::to_string(o.threads);
+    if (ro.shard.count > 1) resume += " --shard " + std::to_string(ro.shard.index) + "/" + std::to_string(ro.shard.count);
+    std::fprintf(stderr, "\ninterrupted: kept %ld of %ld runs in %s/results.jsonl (no summary written)\nresume with: %s\n",
+                 r.resumed + r.ran, r.total, o.output_dir.c_str(), resume.c_str());
+    return 130;
+  }
   std::printf("ran %ld runs in %.1f s (%ld resumed, %ld failed)\n", r.ran, seconds, r.resumed, r.failed);
   const int status = FinishCampaignOutputs(o.output_dir, campaign);
   std::printf("wrote %s/results.jsonl, results.csv, summary.json, junit.xml\n", o.output_dir.c_str());

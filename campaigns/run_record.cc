@@ -2,10 +2,15 @@
 
 #include <stdexcept>
 
+#include "core/json_input.h"
+
 namespace armfault {
 
 namespace {
 
+nlohmann::json OptTime(const std::optional<double>& x) {
+  return x ? nlohmann::json(RoundToMicroseconds(*x)) : nlohmann::json(nullptr);
+}
 nlohmann::json Opt(const std::optional<double>& x) { return x ? nlohmann::json(*x) : nlohmann::json(nullptr); }
 nlohmann::json StrOrNull(const std::string& s) { return s.empty() ? nlohmann::json(nullptr) : nlohmann::json(s); }
 
@@ -42,7 +47,7 @@ nlohmann::json ToJson(const RunRecord& r) {
   j["fault"] = r.fault;
   j["family"] = StrOrNull(r.family);
   j["joint"] = r.joint == 0 ? nlohmann::json(nullptr) : nlohmann::json(r.joint);
-  j["onset_s"] = r.family.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.onset_s);
+  j["onset_s"] = r.family.empty() ? nlohmann::json(nullptr) : nlohmann::json(RoundToMicroseconds(r.onset_s));
   j["magnitude_key"] = StrOrNull(r.magnitude_key);
   j["magnitude"] = r.magnitude_key.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.magnitude);
   j["group"] = r.group;
@@ -55,8 +60,8 @@ nlohmann::json ToJson(const RunRecord& r) {
   j["excited"] = r.family.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.excited());
   j["not_excited_reason"] = StrOrNull(r.not_excited_reason);
   j["detected"] = r.detected;
-  j["detection_time_s"] = Opt(r.detection_time_s);
-  j["latency_s"] = Opt(r.latency_s);
+  j["detection_time_s"] = OptTime(r.detection_time_s);
+  j["latency_s"] = OptTime(r.latency_s);
   j["isolated_family"] = StrOrNull(r.isolated_family);
   j["isolated_joint"] = r.isolated_joint == 0 ? nlohmann::json(nullptr) : nlohmann::json(r.isolated_joint);
   j["magnitude_name"] = StrOrNull(r.magnitude_name);

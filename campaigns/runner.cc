@@ -273,6 +273,11 @@ RunnerResult RunCampaign(const Campaign& campaign, const RunnerOptions& o) {
                                            fc.stop();
                                            return 0;
                                          }
+                                         if (o.stop && o.stop->load()) {
+                                           out.interrupted = true;
+                                           fc.stop();
+                                           return 0;
+                                         }
                                          return cursor++;
                                        }) &
             tbb::make_filter<size_t, std::pair<std::string, bool>>(

@@ -6,6 +6,7 @@
 // The summary and junit.xml are written by the caller from results.jsonl (reports/).
 #pragma once
 
+#include <atomic>
 #include <filesystem>
 #include <functional>
 #include <memory>
@@ -31,6 +32,9 @@ struct RunnerOptions {
   bool resume = false;
   // Called after each run is written, with runs done (including resumed ones) and the total.
   std::function<void(long done, long total)> progress;
+  // Set (from a signal handler, say) to stop: no run starts after it, the runs in flight
+  // finish and are written, and the result says `interrupted`. May be null.
+  const std::atomic<bool>* stop = nullptr;
 };
 
 struct RunnerResult {
@@ -38,6 +42,7 @@ struct RunnerResult {
   long resumed = 0;  // found complete in results.jsonl and not run again
   long ran = 0;
   long failed = 0;   // in the whole results file
+  bool interrupted = false;  // stopped before every case ran (RunnerOptions::stop)
 };
 
 RunnerResult RunCampaign(const Campaign& campaign, const RunnerOptions& options);

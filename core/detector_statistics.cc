@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <tuple>
 
+#include "core/json_input.h"
 #include "core/power_monitor.h"
 
 namespace armfault {
@@ -68,7 +69,7 @@ nlohmann::json ToJson(const DecisionStats& s) {
   for (const DecisionStats::Trace& t : s.traces) {
     nlohmann::json rise = nlohmann::json::array(), pre = nlohmann::json::array();
     for (const DecisionStats::Rise& r : t.rise) {
-      nlohmann::json item = {r.t_s, r.held.quanta, r.held.significance_quanta};
+      nlohmann::json item = {RoundToMicroseconds(r.t_s), r.held.quanta, r.held.significance_quanta};
       if (!r.family.empty()) item.push_back(r.family);
       rise.push_back(std::move(item));
     }
@@ -79,11 +80,11 @@ nlohmann::json ToJson(const DecisionStats& s) {
                       {"rise", std::move(rise)}});
   }
   nlohmann::json events = nlohmann::json::array();
-  for (const DecisionStats::Event& e : s.events) events.push_back({{"joint", e.joint}, {"family", e.family}, {"t_s", e.t_s}});
+  for (const DecisionStats::Event& e : s.events) events.push_back({{"joint", e.joint}, {"family", e.family}, {"t_s", RoundToMicroseconds(e.t_s)}});
   return {{"quantum", kStatisticQuantum},
           {"significance_quantum", kSignificanceQuantum},
           {"onset_s", s.onset_s},
-          {"first_tick_s", s.first_tick_s},
+          {"first_tick_s", s.first_tick_s < 0 ? s.first_tick_s : RoundToMicroseconds(s.first_tick_s)},
           {"traces", std::move(traces)},
           {"events", std::move(events)}};
 }

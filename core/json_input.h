@@ -7,6 +7,7 @@
 #include <set>
 #include <stdexcept>
 #include <initializer_list>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,9 @@ class InputError : public std::runtime_error {
 
 // A number for messages: up to 12 significant digits, no trailing zeros ("0.5", "1e-07").
 std::string FormatNumber(double x);
+// A time rounded to the microsecond, the precision armfault's clocks have: written files say
+// 3.788, not 3.7880000000000003. Idempotent, so a value read back rounds to itself.
+inline double RoundToMicroseconds(double t_s) { return std::round(t_s * 1e6) / 1e6; }
 
 // Compact rendering of a JSON value for error messages (long values are cut).
 std::string Describe(const nlohmann::json& value);

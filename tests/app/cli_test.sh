@@ -384,6 +384,31 @@ for at in 3 14 27; do
   same_outputs "resume_after_kill_at_$at" "$tmp/ci_full" "$dir"
 done
 
+# Ctrl-C: the runs in flight finish and are kept, no summary is written, the resume command is
+# printed, and running it gives the same bytes as the uninterrupted run.
+current=ctrl_c
+dir="$tmp/ci_int"
+"$armfault" run "$ci" -o "$dir" -q -j 2 >"$tmp/int_out" 2>"$tmp/int_err" &
+pid=$!
+for ((i = 0; i < 1000; i++)); do
+  [[ -f "$dir/results.jsonl" && $(wc -l <"$dir/results.jsonl") -ge 5 ]] && break
+  sleep 0.01
+done
+kill -INT "$pid"
+wait "$pid"
+status=$?
+lines=$(wc -l <"$dir/results.jsonl")
+if [[ $status -eq 130 ]]; then pass; else fail "exit status $status after SIGINT, expected 130"; fi
+if [[ $lines -ge 5 && $lines -lt 52 ]]; then pass; else fail "stopped with $lines of 52 lines, wanted 5..51"; fi
+if grep -qF "interrupted: kept $lines of 52 runs in $dir/results.jsonl (no summary written)" "$tmp/int_err"; then pass; else fail "stderr: $(cat "$tmp/int_err")"; fi
+if grep -qF "resume with: armfault run $ci -o $dir --resume -j 2" "$tmp/int_err"; then pass; else fail "no resume command: $(cat "$tmp/int_err")"; fi
+if [[ ! -e "$dir/summary.json" ]]; then pass; else fail "an interrupted run wrote summary.json"; fi
+if [[ $(tail -c 1 "$dir/results.jsonl" | od -An -c | tr -d ' ') == '\n' ]]; then pass; else fail "the last line is cut"; fi
+run resume_after_ctrl_c "$armfault" run "$ci" -o "$dir" -q -j 2 --resume
+expect_status 0
+expect_stdout_contains "($lines resumed, 0 failed)"
+same_outputs resume_after_ctrl_c "$tmp/ci_full" "$dir"
+
 # One case of the campaign re-run alone: its record is its results.jsonl line, byte for byte.
 id='p2p/friction_increase#1/friction_factor=3,onset_s=U[1,3]/j3/r1'
 run trace_campaign_case "$armfault" trace "$ci" --run "$id" -o "$tmp/case.csv" --monitor-out "$tmp/case.json"
