@@ -65,11 +65,24 @@ int TuneCommand(const TuneCommandOptions& o) {
                 RateText(sel["held_out"]["detection_rate"]).c_str(), RateText(sel["held_out"]["false_alarm_rate"]).c_str());
   }
   for (const auto& w : r.report["warnings"]) std::printf("warning: %s\n", w.get<std::string>().c_str());
-  std::printf("ROC AUC: overall %.3f", r.report["roc"]["overall"]["auc"].get<double>());
-  for (const auto& [family, roc] : r.report["roc"].items()) {
-    if (family != "overall") std::printf(", %s %.3f", family.c_str(), roc["auc"].get<double>());
+  // AUCs cover only the measured false-alarm range (nothing extrapolated); curves that were
+  // not swept have none.
+  std::string aucs, unswept;
+  for (const auto& [name, roc] : r.report["roc"].items()) {
+    if (!roc.value("swept", false)) {
+      unswept += (unswept.empty() ? "" : ", ") + name;
+    } else if (roc["auc"].is_number()) {
+      char buf[160];
+      std::snprintf(buf, sizeof buf, "%s%s %.3f over false alarms %.3g-%.3g", aucs.empty() ? "" : ", ", name.c_str(),
+                    roc["auc"].get<double>(), roc["auc_false_alarm_range"][0].get<double>(),
+                    roc["auc_false_alarm_range"][1].get<double>());
+      aucs += buf;
+    } else {
+      aucs += (aucs.empty() ? "" : ", ") + name + " (no AUC: one false-alarm rate)";
+    }
   }
-  std::printf("\n");
+  std::printf("ROC AUC (measured range only): %s\n", aucs.empty() ? "none" : aucs.c_str());
+  if (!unswept.empty()) std::printf("not swept (no threshold of their own, or one point): %s\n", unswept.c_str());
   for (const auto& [family, pod] : r.report["detection_probability"].items()) {
     const nlohmann::json& fit = pod["fit"];
     if (fit.is_null()) continue;
@@ -84,6 +97,7 @@ int TuneCommand(const TuneCommandOptions& o) {
     }
     std::printf("90 %% detection at 95 %% confidence, %s: %s\n", family.c_str(), a90_95.c_str());
   }
+  std::printf("campaign %s\n", r.report["campaign_hash"].get<std::string>().c_str());
   std::printf("wrote %s and %s\n", (dir / "tuning.json").string().c_str(), monitor_path.c_str());
   return 0;
 }

@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <tuple>
 
+#include "campaigns/provenance.h"
+
 namespace armfault {
 
 namespace {
@@ -278,6 +280,8 @@ nlohmann::json SummaryBuilder::Build(const Floors& floors, const nlohmann::json&
   nlohmann::json j;
   j["armfault_version"] = version;
   j["campaign"] = campaign;
+  // Which campaign these numbers are of: the report and the tuner refuse to mix campaigns.
+  j["campaign_hash"] = campaign.is_null() ? nlohmann::json(nullptr) : nlohmann::json(CampaignHash(campaign));
 
   SummaryTally overall;
   std::map<std::string, SummaryTally> families;

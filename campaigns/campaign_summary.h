@@ -31,6 +31,7 @@
 //
 // summary.json:
 //   {"armfault_version", "campaign": <resolved campaign, as given>,
+//    "campaign_hash": CampaignHash(campaign) (campaigns/provenance.h; null without a campaign),
 //    "runs": {"total", "ok", "failed", "faulty", "healthy"},   (faulty/healthy: ok runs)
 //    "overall": {"runs", "faulty_runs", "healthy_runs", "detection", "isolation",
 //                "false_alarm", "alarm_before_onset_rate",

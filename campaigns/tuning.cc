@@ -14,6 +14,7 @@
 
 #include "campaigns/campaign.h"
 #include "campaigns/campaign_summary.h"
+#include "campaigns/provenance.h"
 #include "campaigns/run_record.h"
 #include "core/json_input.h"
 
@@ -224,28 +225,84 @@ std::pair<nlohmann::json, nlohmann::json> MedianP95(std::vector<double> v) {
   return {n % 2 == 1 ? v[n / 2] : (v[n / 2 - 1] + v[n / 2]) / 2, v[(95 * n + 99) / 100 - 1]};
 }
 
-// Severity: the distance from healthy, > 0, in which detection should rise.
-double Severity(const std::string& key, double m) {
+// A ROC curve of tuning.json: its points, whether it was swept, and its AUC over the measured
+// points only, by trapezoids from the smallest to the largest false-alarm rate reached. Nothing
+// is extrapolated to (0, 0) or (1, 1): the rates there were not measured. A curve without a
+// threshold of its own, or with fewer than two distinct points, is not swept and has no AUC;
+// nor has one whose points all share one false-alarm rate (no range to integrate over).
+nlohmann::json RocCurve(const nlohmann::json& parameter, bool own_threshold, const nlohmann::json& points,
+                        std::vector<std::pair<double, double>> pts) {
+  std::sort(pts.begin(), pts.end());
+  pts.erase(std::unique(pts.begin(), pts.end()), pts.end());
+  const bool swept = own_threshold && pts.size() >= 2;
+  nlohmann::json auc = nullptr, range = nullptr;
+  if (swept && pts.back().first > pts.front().first) {
+    double area = 0;
+    for (size_t i = 1; i < pts.size(); ++i) {
+      area += (pts[i].first - pts[i - 1].first) * (pts[i].second + pts[i - 1].second) / 2;
+    }
+    auc = area;
+    range = {pts.front().first, pts.back().first};
+  }
+  return {{"parameter", parameter}, {"swept", swept}, {"auc", auc}, {"auc_false_alarm_range", range}, {"points", points}};
+}
+
+}  // namespace
+
+double PodSeverity(const std::string& key, double m) {
   if (key == "kt_factor") return 1 - m;
   if (key == "friction_factor" || key == "resistance_factor") return m - 1;
   if (key == "resistance_ohm") return 1 / m;  // a short's conductance
   return m;                                   // drag_fraction, drift_Nm_per_s
 }
-double MagnitudeOf(const std::string& key, double s) {
+
+double PodMagnitude(const std::string& key, double s) {
   if (key == "kt_factor") return 1 - s;
   if (key == "friction_factor" || key == "resistance_factor") return 1 + s;
   if (key == "resistance_ohm") return 1 / s;
   return s;
 }
 
-std::string CategoryOf(const nlohmann::json& fault) {
+std::string PodCategory(const nlohmann::json& fault) {
   for (const char* key : {"lead", "kind"}) {
     if (fault.is_object() && fault.contains(key) && fault[key].is_string()) return fault[key].get<std::string>();
   }
   return "";
 }
 
-}  // namespace
+nlohmann::json PodFitJson(const std::string& key, const std::vector<double>& severities, const std::vector<bool>& hits) {
+  const PodFit pf = FitPod(severities, hits);
+  nlohmann::json fit = {{"model", "logistic in log(severity), Firth"}, {"ok", pf.ok}};
+  if (!pf.ok) {
+    fit["reason"] = pf.reason;
+    return fit;
+  }
+  const double lo = *std::min_element(severities.begin(), severities.end());
+  const double hi = *std::max_element(severities.begin(), severities.end());
+  nlohmann::json curve = nlohmann::json::array();
+  const int n = 60;
+  for (int i = 0; i <= n; ++i) {
+    const double s = std::exp(std::log(lo) + (std::log(hi) - std::log(lo)) * i / n);
+    curve.push_back({{"severity", s}, {"magnitude", PodMagnitude(key, s)}, {"pod", pf.Probability(s)},
+                     {"low", pf.Bound(s, -kZ95Two)}, {"high", pf.Bound(s, kZ95Two)}});
+  }
+  fit["intercept"] = pf.intercept;
+  fit["slope_per_log_severity"] = pf.slope;
+  fit["curve"] = curve;
+  // a90: where the fit reaches 0.9; a90/95: where its one-sided 95 % lower bound does.
+  // Only within the tested severities: no extrapolation.
+  auto first_at = [&](auto&& value) -> nlohmann::json {
+    const int m = 2000;
+    for (int i = 0; i <= m; ++i) {
+      const double s = std::exp(std::log(lo) + (std::log(hi) - std::log(lo)) * i / m);
+      if (value(s) >= 0.9) return {{"severity", s}, {"magnitude", PodMagnitude(key, s)}};
+    }
+    return nullptr;
+  };
+  fit["a90"] = pf.slope > 0 ? first_at([&](double s) { return pf.Probability(s); }) : nlohmann::json(nullptr);
+  fit["a90_95"] = pf.slope > 0 ? first_at([&](double s) { return pf.Bound(s, -kZ95One); }) : nlohmann::json(nullptr);
+  return fit;
+}
 
 double PodFit::Probability(double severity) const {
   return 1 / (1 + std::exp(-(intercept + slope * std::log(severity))));
@@ -391,6 +448,15 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
     throw InputError(campaign_path.string(), "/campaign", "missing: not a campaign output directory");
   }
   const Campaign campaign = CampaignFromJson(campaign_file["campaign"], campaign_path.string(), dir.string());
+  // Nothing of another campaign is tuned on: summary.json, when there, must be of this
+  // campaign.json, and every line of results.jsonl one of its cases (same run_id and seed).
+  const std::string campaign_hash = CampaignHash(campaign_file["campaign"]);
+  if (const fs::path summary_path = dir / "summary.json"; fs::exists(summary_path)) {
+    RequireOneCampaign({{campaign_path.string(), campaign_hash, ""},
+                        {summary_path.string(), ClaimedCampaignHash(ReadJsonFile(summary_path.string()), summary_path.string()),
+                         "run the campaign into " + dir_name + " again (or merge its shards there), or remove the stale summary.json"}});
+  }
+  const CaseMatcher matcher(campaign);
   const MonitorConfig& base = campaign.monitor_model.config;
   const SweepGrid grid = MakeSweepGrid(base, options.sweep);
   const DetectorThresholds as_run = campaign.monitor_model.thresholds;
@@ -412,6 +478,11 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
       DecisionStats stats;
       try {
         rec = RunRecordFromJson(nlohmann::json::parse(line));
+        if (const std::string why = matcher.Mismatch(rec); !why.empty()) {
+          throw std::runtime_error(why + ": this results.jsonl is not a run of " + campaign_path.string() +
+                                   " (files of different campaigns are not read together); run the campaign into " +
+                                   dir_name + " again");
+        }
         if (!rec.ok) {
           ++failed;
           continue;
@@ -435,7 +506,7 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
       r.joint = rec.joint;
       r.magnitude_key = rec.magnitude_key;
       r.magnitude = rec.magnitude;
-      r.category = CategoryOf(rec.fault);
+      r.category = PodCategory(rec.fault);
       r.onset_s = rec.onset_s;
       r.event = EventHit(stats, &families);
       for (const SweepAxis& axis : grid.axes) {
@@ -586,6 +657,7 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
   nlohmann::json report;
   report["armfault_version"] = ARMFAULT_VERSION;
   report["campaign"] = campaign.name;
+  report["campaign_hash"] = campaign_hash;
   report["runs"] = {{"faulty", scorer.faulty}, {"healthy", scorer.healthy}, {"failed", failed}};
   nlohmann::json parameters = nlohmann::json::array();
   for (const SweepAxis& a : grid.axes) {
@@ -647,17 +719,6 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
   for (const auto& [count, s] : by_fa) {
     if (frontier.empty() || scores[s].detected > scores[frontier.back()].detected) frontier.push_back(s);
   }
-  // AUC by trapezoids from (0, 0) through the frontier to (1, 1): never alarming and always
-  // alarming are the curve's ends.
-  auto auc = [](std::vector<std::pair<double, double>> pts) {
-    pts.insert(pts.begin(), {0.0, 0.0});
-    pts.emplace_back(1.0, 1.0);
-    double area = 0;
-    for (size_t i = 1; i < pts.size(); ++i) {
-      area += (pts[i].first - pts[i - 1].first) * (pts[i].second + pts[i - 1].second) / 2;
-    }
-    return area;
-  };
   nlohmann::json roc;
   {
     nlohmann::json points = nlohmann::json::array();
@@ -666,7 +727,7 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
       pts.emplace_back(fa(scores[s]), dr(scores[s]));
       points.push_back({{"false_alarm_rate", fa(scores[s])}, {"detection_rate", dr(scores[s])}, {"setting", setting_json(indices(s))}});
     }
-    roc["overall"] = {{"auc", auc(pts)}, {"points", points}};
+    roc["overall"] = RocCurve(nullptr, true, points, pts);
   }
   // Per family: its own detector's limit swept with the others at the operating point;
   // families without a swept detector: their rates along the overall frontier.
@@ -694,7 +755,6 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
         lat_points.push_back({{"threshold", worn}, {"median_s", m}, {"p95_s", p}, {"detected", s.family_detected[f]},
                               {"detection_rate", y}});
       }
-      std::sort(pts.begin(), pts.end());
       latency[name] = {{"parameter", std::string(Detectors()[own].parameter) + ".worn"}, {"points", lat_points}};
     } else {
       for (long s : frontier) {
@@ -703,9 +763,10 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
         pts.emplace_back(x, y);
       }
     }
-    roc[name] = {{"parameter", own >= 0 ? nlohmann::json(std::string(Detectors()[own].parameter) + ".worn") : nlohmann::json(nullptr)},
-                 {"auc", auc(pts)},
-                 {"points", points}};
+    // A family without a threshold of its own (tick-level detectors) is not swept: its points
+    // only show where the overall frontier leaves it.
+    roc[name] = RocCurve(own >= 0 ? nlohmann::json(std::string(Detectors()[own].parameter) + ".worn") : nlohmann::json(nullptr),
+                         own >= 0, points, pts);
   }
   report["roc"] = roc;
 
@@ -726,7 +787,7 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
         auto& c = by_magnitude[r.magnitude];
         ++c.first;
         c.second += hit;
-        const double s = Severity(r.magnitude_key, r.magnitude);
+        const double s = PodSeverity(r.magnitude_key, r.magnitude);
         if (s > 0) {
           severities.push_back(s);
           hits.push_back(hit);
@@ -747,41 +808,12 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
     if (!key.empty()) {
       for (const auto& [m, c] : by_magnitude) {
         nlohmann::json p = point(m, c.first, c.second);
-        p["severity"] = Severity(key, m);
+        p["severity"] = PodSeverity(key, m);
         points.push_back(p);
       }
       std::sort(points.begin(), points.end(),
                 [](const nlohmann::json& a, const nlohmann::json& b) { return a["severity"].get<double>() < b["severity"].get<double>(); });
-      const PodFit pf = FitPod(severities, hits);
-      fit = {{"model", "logistic in log(severity), Firth"}, {"ok", pf.ok}};
-      if (!pf.ok) {
-        fit["reason"] = pf.reason;
-      } else {
-        const double lo = *std::min_element(severities.begin(), severities.end());
-        const double hi = *std::max_element(severities.begin(), severities.end());
-        nlohmann::json curve = nlohmann::json::array();
-        const int n = 60;
-        for (int i = 0; i <= n; ++i) {
-          const double s = std::exp(std::log(lo) + (std::log(hi) - std::log(lo)) * i / n);
-          curve.push_back({{"severity", s}, {"magnitude", MagnitudeOf(key, s)}, {"pod", pf.Probability(s)},
-                           {"low", pf.Bound(s, -kZ95Two)}, {"high", pf.Bound(s, kZ95Two)}});
-        }
-        fit["intercept"] = pf.intercept;
-        fit["slope_per_log_severity"] = pf.slope;
-        fit["curve"] = curve;
-        // a90: where the fit reaches 0.9; a90/95: where its one-sided 95 % lower bound does.
-        // Only within the tested severities: no extrapolation.
-        auto first_at = [&](auto&& value) -> nlohmann::json {
-          const int m = 2000;
-          for (int i = 0; i <= m; ++i) {
-            const double s = std::exp(std::log(lo) + (std::log(hi) - std::log(lo)) * i / m);
-            if (value(s) >= 0.9) return {{"severity", s}, {"magnitude", MagnitudeOf(key, s)}};
-          }
-          return nullptr;
-        };
-        fit["a90"] = pf.slope > 0 ? first_at([&](double s) { return pf.Probability(s); }) : nlohmann::json(nullptr);
-        fit["a90_95"] = pf.slope > 0 ? first_at([&](double s) { return pf.Bound(s, -kZ95One); }) : nlohmann::json(nullptr);
-      }
+      fit = PodFitJson(key, severities, hits);
     } else {
       for (const auto& [category, c] : by_category) points.push_back(point(category, c.first, c.second));
       key = runs.empty() ? "" : "category";

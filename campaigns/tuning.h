@@ -4,7 +4,8 @@
 // exact: the same decision rule the monitor ran, on the same numbers.
 //
 // Outputs (docs/tuning.md): the rates of every setting of a grid of worn limits, the ROC
-// frontier with its AUC overall and per family, detection probability against magnitude
+// frontier overall and per swept detector with its AUC over the measured points only (curves
+// that were not swept have none), the campaign hash, detection probability against magnitude
 // at the chosen operating point (a logistic hit/miss fit in log severity with a 95 % band,
 // a90 and a90/95 as in MIL-HDBK-1823A), latency against each detector's threshold, and a
 // tuned monitor JSON.
@@ -66,8 +67,11 @@ struct TuningResult {
 };
 
 // Reads DIR/campaign.json and DIR/results.jsonl. Throws InputError naming the file and line
-// on missing or malformed input, or when a run's stored decision does not reproduce its
-// recorded outcome (results of another monitor version).
+// on missing or malformed input, when a run's stored decision does not reproduce its
+// recorded outcome (results of another monitor version), or when the directory mixes
+// campaigns: a summary.json whose campaign hash is not campaign.json's, or a results.jsonl
+// line that is not a case of campaign.json (campaigns/provenance.h). The report carries
+// "campaign_hash".
 TuningResult TuneCampaignDir(const std::string& dir, const TuneOptions& options);
 
 // A hit/miss fit of detection probability against severity (> 0): logistic in log severity,
@@ -82,5 +86,19 @@ struct PodFit {
   double Bound(double severity, double z) const;
 };
 PodFit FitPod(const std::vector<double>& severity, const std::vector<bool>& detected);
+
+// Severity of a magnitude, the distance from healthy (> 0) in which detection should rise:
+// 1 - kt_factor, friction_factor - 1, resistance_factor - 1, 1 / resistance_ohm (a short's
+// conductance), drag_fraction, drift_Nm_per_s; and back.
+double PodSeverity(const std::string& magnitude_key, double magnitude);
+double PodMagnitude(const std::string& magnitude_key, double severity);
+// The named magnitude of a fault without a numeric one (a stuck sensor's "lead", a short's
+// "kind"); "" if none.
+std::string PodCategory(const nlohmann::json& fault);
+// The "fit" object of a detection-probability entry (docs/tuning.md): FitPod of the runs'
+// outcomes against severity, its curve with the two-sided 95 % band over the tested range,
+// a90 and a90_95 (never extrapolated), or {"ok": false, "reason"}.
+nlohmann::json PodFitJson(const std::string& magnitude_key, const std::vector<double>& severities,
+                          const std::vector<bool>& hits);
 
 }  // namespace armfault

@@ -3,10 +3,13 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <set>
 
+#include "campaigns/campaign_summary.h"
+#include "campaigns/provenance.h"
 #include "campaigns/runner.h"
 #include "campaigns/tuning.h"
 #include "core/json_input.h"
@@ -82,6 +85,13 @@ Rate TuningRate(const json* j) {
   return r;
 }
 
+// A fitted magnitude to 4 significant digits: the fit is not more precise than that.
+std::string Sig4(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4g", x);
+  return buf;
+}
+
 std::string Pct(double x, int decimals = 1) { return Fixed(100 * x, decimals) + " %"; }
 
 std::string RateText(const Rate& r) {
@@ -142,18 +152,6 @@ const json* UsableFit(const json& family) {
   return ok != nullptr && ok->is_boolean() && !ok->get<bool>() ? nullptr : fit;
 }
 
-// a90 or a90_95 of a family as text: the magnitude, "not reached" (inside the tested range)
-// or "no fit".
-std::string A90Text(const json& family, const char* key, bool with_severity) {
-  const json* fit = UsableFit(family);
-  if (fit == nullptr) return "no fit";
-  const json* v = Field(*fit, key);
-  if (v == nullptr || !Num(*v, "magnitude")) return "not reached";
-  std::string s = FormatNumber(*Num(*v, "magnitude"));
-  if (with_severity && Num(*v, "severity")) s += " (severity " + FormatNumber(*Num(*v, "severity")) + ")";
-  return s;
-}
-
 // ---------------------------------------------------------------------------------------
 // HTML and Markdown tables. HTML cells are given already escaped (they may hold markup).
 
@@ -194,9 +192,106 @@ std::string VerdictHtml(bool met) {
   return met ? "<span class=\"met\">met</span>" : "<span class=\"missed\">MISSED</span>";
 }
 
-std::string TuneFirst(const std::string& dir) {
-  return "<p class=\"missing\">No tuning results (<code>" + Escape((fs::path(dir) / "tuning.json").string()) +
-         "</code> is missing): run <code>armfault tune " + Escape(dir) + "</code> first.</p>";
+// Text with `commands` in backticks as HTML: escaped, the commands in <code>.
+std::string CodeSpans(const std::string& text) {
+  std::string o;
+  bool in_code = false;
+  size_t from = 0;
+  for (size_t at = text.find('`'); at != std::string::npos; at = text.find('`', from)) {
+    o += Escape(text.substr(from, at - from)) + (in_code ? "</code>" : "<code>");
+    in_code = !in_code;
+    from = at + 1;
+  }
+  o += Escape(text.substr(from));
+  return in_code ? o + "</code>" : o;
+}
+
+// A section that needs tuning results and has none: why, and what to run.
+std::string TuneFirst(const ReportData& d) {
+  return "<p class=\"missing\">No tuning results: " + CodeSpans(d.tuning_source) + ".</p>";
+}
+
+// The unit of a fault magnitude or a monitor threshold ("kt_factor", "kt_factor.worn"), for
+// axis labels (docs/faults.md, docs/monitor.md); "" when unknown.
+std::string UnitOf(std::string key) {
+  const std::string worn = ".worn";
+  if (key.size() > worn.size() && key.compare(key.size() - worn.size(), worn.size(), worn) == 0) {
+    key.resize(key.size() - worn.size());
+  }
+  static const std::map<std::string, std::string> units = {
+      {"kt_factor", "× nominal K_T"},
+      {"friction_factor", "× nominal friction"},
+      {"resistance_factor", "× nominal winding resistance"},
+      {"drag_fraction", "× brake holding torque"},
+      {"resistance_ohm", "Ω"},
+      {"drift_Nm_per_s", "N m/s"},
+      {"sensor_drift_Nm", "N m"},
+      {"significance", "standard errors"},
+      {"lead", "named"},
+      {"kind", "named"}};
+  auto it = units.find(key);
+  return it == units.end() ? "" : it->second;
+}
+
+std::string WithUnit(const std::string& key) {
+  const std::string unit = UnitOf(key);
+  return unit.empty() ? key : key + " (" + unit + ")";
+}
+
+// One sentence per metric, for the page, report.md and docs/campaign-format.md ("Metrics").
+const std::vector<std::pair<std::string, std::string>>& MetricDefinitions() {
+  static const std::vector<std::pair<std::string, std::string>> defs = {
+      {"detection rate",
+       "the fraction of faulty runs in which the monitor alarmed at or after the fault's onset, with its 95 % "
+       "Wilson score interval."},
+      {"false-alarm rate",
+       "the fraction of healthy (fault-free) runs in which the monitor alarmed at all, with its 95 % Wilson score "
+       "interval."},
+      {"alarm-before-onset rate",
+       "the fraction of faulty runs that alarmed before their fault began (a false alarm on a faulty run; a "
+       "family's false_alarm_rate floor measures it), with its 95 % Wilson score interval."},
+      {"isolation accuracy",
+       "the fraction of detected faulty runs whose diagnosis named both the right fault family and the right joint, "
+       "with its 95 % Wilson score interval."},
+      {"latency median / p95",
+       "the time from a fault's onset to its first alarm over the detected faulty runs (s), as the median (the mean "
+       "of the two middle values for an even count) and the 95th percentile (nearest rank); missed runs are counted "
+       "apart, not as long latencies, and there is no confidence interval."},
+      {"magnitude error",
+       "|estimate − true| / |true| of the fault's sizing parameter over detected, correctly isolated runs whose "
+       "monitor estimated that same parameter, as mean and maximum (no confidence interval)."},
+      {"95 % Wilson score interval",
+       "the [low, high] beside a rate: the true rates consistent with the observed successes out of trials at 95 % "
+       "confidence; it stays within [0, 1] and is wide for few runs (0 of 10 still allows up to 27.8 %)."}};
+  return defs;
+}
+
+// One faulty run's outcome into its family's detection as run.
+void AddPodRun(const RunRecord& r, PodAsRun* p) {
+  PodAsRun::Cell* cell = nullptr;
+  if (!r.magnitude_key.empty()) {
+    p->magnitude_key = r.magnitude_key;
+    cell = &p->by_magnitude[r.magnitude];
+    const double severity = PodSeverity(r.magnitude_key, r.magnitude);
+    if (severity > 0 && std::isfinite(severity)) {
+      p->severities.push_back(severity);
+      p->hits.push_back(r.detected);
+    }
+  } else {
+    if (p->name_key.empty() && r.fault.is_object()) {
+      for (const char* key : {"lead", "kind"}) {
+        if (r.fault.contains(key) && r.fault[key].is_string()) {
+          p->name_key = key;
+          break;
+        }
+      }
+    }
+    cell = &p->by_name[PodCategory(r.fault)];
+  }
+  ++cell->runs;
+  cell->detected += r.detected ? 1 : 0;
+  std::vector<std::string>& ids = r.detected ? cell->hit_ids : cell->miss_ids;
+  if (ids.size() < PodAsRun::kMaxListed) ids.push_back(r.run_id);
 }
 
 // ---------------------------------------------------------------------------------------
@@ -289,7 +384,7 @@ std::string SummarySection(const ReportData& d) {
   o += "<h3>Per family</h3>";
   const json* families = Field(s, "per_family");
   if (families == nullptr || !families->is_object() || families->empty()) {
-    o += "<p>No faulty runs.</p>";
+    o += "<p class=\"missing\">No per-family rates: summary.json counts no completed faulty runs.</p>";
   } else {
     std::vector<std::vector<std::string>> prows;
     for (const auto& [family, m] : families->items()) {
@@ -303,18 +398,24 @@ std::string SummarySection(const ReportData& d) {
     o += HtmlTable({"family", "runs", "detection", "isolation", "alarm before onset", "latency median", "latency p95"},
                    prows);
   }
-  return o + "</section>";
+  o += "<h3>What the numbers mean</h3><ul class=\"metrics\">";
+  for (const auto& [name, sentence] : MetricDefinitions()) o += "<li><b>" + Escape(name) + "</b>: " + Escape(sentence) + "</li>";
+  return o + "</ul></section>";
 }
 
 std::string OperatingPointSection(const ReportData& d) {
   std::string o = "<section id=\"operating-point\"><h2>Operating point</h2>";
-  if (!d.tuning) return o + TuneFirst(d.dir) + "</section>";
+  if (!d.tuning) return o + TuneFirst(d) + "</section>";
   const json& t = *d.tuning;
   const json empty = json::object();
   const json& op = Field(t, "operating_point") ? t["operating_point"] : empty;
   const json& def = Field(t, "default_point") ? t["default_point"] : empty;
+  const json& sel = Field(t, "selection") ? t["selection"] : empty;
+  const bool halves = Field(sel, "held_out") != nullptr;
   o += "<p>Chosen by the rule <b>" + Escape(RuleText(Field(t, "rule"))) + "</b> among " +
-       std::to_string(Count(t, "settings")) + " threshold settings scored on this campaign's runs.</p>";
+       std::to_string(Count(t, "settings")) + " threshold settings scored on this campaign's runs" +
+       (Str(sel, "split").empty() ? "" : " (" + Escape(Str(sel, "split")) + ")") + ". Tuning: " +
+       CodeSpans(d.tuning_source) + ".</p>";
   // Thresholds: operating beside the monitor's defaults.
   std::vector<std::vector<std::string>> rows;
   std::map<std::string, double> defaults;
@@ -331,18 +432,37 @@ std::string OperatingPointSection(const ReportData& d) {
     }
   }
   o += "<div class=\"tables\">";
-  if (!rows.empty()) o += "<div><h3>Thresholds</h3>" + HtmlTable({"threshold", "operating point", "default"}, rows) + "</div>";
+  if (!rows.empty()) o += "<div><h3>Thresholds</h3>" + HtmlTable({"threshold", "operating point", "as run"}, rows) + "</div>";
   auto lat = [](const json& p, const char* key) { return Escape(SecondsText(Num(p, key))); };
-  std::vector<std::vector<std::string>> rates = {
-      {"detection rate", Escape(RateText(TuningRate(Field(op, "detection_rate")))),
-       Escape(RateText(TuningRate(Field(def, "detection_rate"))))},
-      {"false-alarm rate", Escape(RateText(TuningRate(Field(op, "false_alarm_rate")))),
-       Escape(RateText(TuningRate(Field(def, "false_alarm_rate"))))},
-      {"isolation accuracy", Escape(RateText(TuningRate(Field(op, "isolation_accuracy")))),
-       Escape(RateText(TuningRate(Field(def, "isolation_accuracy"))))},
-      {"latency median", lat(op, "latency_median_s"), lat(def, "latency_median_s")},
-      {"latency p95", lat(op, "latency_p95_s"), lat(def, "latency_p95_s")}};
-  o += "<div><h3>Rates</h3>" + HtmlTable({"metric", "operating point", "default thresholds"}, rates) + "</div></div>";
+  // The operating point over every run, on the half it was chosen on and on the held-out
+  // half (its honest rates), beside the thresholds as run.
+  std::vector<const json*> cols = {&op};
+  std::vector<std::string> head = {"metric", "operating point (all runs)"};
+  if (halves) {
+    cols.push_back(Field(sel, "chosen_on"));
+    cols.push_back(Field(sel, "held_out"));
+    head.push_back("on the half it was chosen on");
+    head.push_back("on the held-out half");
+  }
+  cols.push_back(&def);
+  head.push_back("thresholds as run");
+  std::vector<std::vector<std::string>> rates;
+  for (const auto& [label, key] : std::vector<std::pair<std::string, std::string>>{
+           {"detection rate", "detection_rate"},
+           {"false-alarm rate", "false_alarm_rate"},
+           {"alarm-before-onset rate", "alarm_before_onset_rate"},
+           {"isolation accuracy", "isolation_accuracy"},
+           {"latency median", "latency_median_s"},
+           {"latency p95", "latency_p95_s"}}) {
+    std::vector<std::string> row = {label};
+    for (const json* c : cols) {
+      const json& p = c != nullptr ? *c : empty;
+      row.push_back(key.size() > 2 && key.compare(key.size() - 2, 2, "_s") == 0 ? lat(p, key.c_str())
+                                                                                 : Escape(RateText(TuningRate(Field(p, key)))));
+    }
+    rates.push_back(row);
+  }
+  o += "<div><h3>Rates</h3>" + HtmlTable(head, rates) + "</div></div>";
   o += "<div class=\"tables\">";
   if (const json* pf = Field(op, "per_family"); pf != nullptr && pf->is_object() && !pf->empty()) {
     std::vector<std::vector<std::string>> frows;
@@ -354,202 +474,408 @@ std::string OperatingPointSection(const ReportData& d) {
     o += "<div><h3>Per family at the operating point</h3>" +
          HtmlTable({"family", "detection", "isolation", "latency median", "latency p95"}, frows) + "</div>";
   }
-  // a90 and a90/95.
-  if (const json* pod = Field(t, "detection_probability"); pod != nullptr && pod->is_object() && !pod->empty()) {
-    std::vector<std::vector<std::string>> arows;
-    for (const auto& [family, f] : pod->items()) {
-      arows.push_back({Escape(family), Escape(Str(f, "magnitude_key")), Escape(A90Text(f, "a90", true)),
-                       Escape(A90Text(f, "a90_95", true))});
-    }
-    o += "<div><h3>Smallest reliably detected fault</h3>" + HtmlTable({"family", "magnitude", "a90", "a90/95"}, arows) +
-         "<p class=\"note\">a90: the magnitude detected with 90 % probability (fitted curve); a90/95: with 90 % "
-         "probability at 95 % confidence (lower band); \"not reached\": not within the tested magnitudes.</p></div>";
-  }
   return o + "</div></section>";
+}
+
+// One ROC curve of tuning.json as the report reads it.
+struct RocView {
+  std::string name;
+  bool overall = false;
+  std::string parameter;  // the family's own swept threshold; "" for none
+  std::vector<double> fa, det;
+  std::vector<std::string> tips;
+  bool swept = false;
+  std::string why_not;  // when not swept
+  std::optional<double> auc;
+  double auc_from = 0, auc_to = 0;
+};
+
+std::string PctRange(double lo, double hi) { return lo == hi ? Pct(lo) : Pct(lo) + " to " + Pct(hi); }
+
+// A curve is swept when it has a threshold of its own (the overall frontier: the whole grid)
+// and at least two distinct points. Its AUC is shown only as tuning.json measured it: over
+// the false-alarm range its points span, nothing extrapolated to (0, 0) or (1, 1).
+RocView ReadRocCurve(const std::string& name, const json& curve) {
+  RocView v;
+  v.name = name;
+  v.overall = name == "overall";
+  v.parameter = Str(curve, "parameter");
+  std::set<std::pair<double, double>> distinct;
+  if (const json* pts = Field(curve, "points"); pts != nullptr && pts->is_array()) {
+    for (const json& p : *pts) {
+      const auto fa = Num(p, "false_alarm_rate"), det = Num(p, "detection_rate");
+      if (!fa || !det) continue;
+      v.fa.push_back(*fa);
+      v.det.push_back(*det);
+      distinct.insert({*fa, *det});
+      std::string tip = name + ": false alarms " + Pct(*fa) + ", detection " + Pct(*det);
+      if (Num(p, "threshold")) tip += ", " + v.parameter + " = " + FormatNumber(*Num(p, "threshold"));
+      if (const std::string s = SettingText(Field(p, "setting")); !s.empty()) tip += "; " + s;
+      v.tips.push_back(tip);
+    }
+  }
+  const bool own = v.overall || !v.parameter.empty();
+  const json* flag = Field(curve, "swept");
+  const bool marked_unswept = flag != nullptr && flag->is_boolean() && !flag->get<bool>();
+  v.swept = own && distinct.size() >= 2 && !marked_unswept;
+  if (!own) {
+    v.why_not = "no threshold of its own is swept (its detectors are not on the grid)";
+    if (!v.det.empty()) {
+      v.why_not += "; along the overall frontier it is detected in " +
+                   PctRange(*std::min_element(v.det.begin(), v.det.end()), *std::max_element(v.det.begin(), v.det.end())) +
+                   " of its runs";
+    }
+  } else if (distinct.empty()) {
+    v.why_not = "no points";
+  } else if (distinct.size() == 1) {
+    v.why_not = "one operating point only (false alarms " + Pct(distinct.begin()->first) + ", detection " +
+                Pct(distinct.begin()->second) + "): " +
+                (v.overall ? std::string("every setting of the grid gave these rates")
+                           : "every " + v.parameter + " value swept gave these rates");
+  } else if (marked_unswept) {
+    v.why_not = "tuning.json marks it as not swept";
+  }
+  if (v.swept) {
+    const json* range = Field(curve, "auc_false_alarm_range");
+    const auto auc = Num(curve, "auc");
+    if (auc && range != nullptr && range->is_array() && range->size() == 2 && (*range)[0].is_number() &&
+        (*range)[1].is_number() && (*range)[1].get<double>() > (*range)[0].get<double>()) {
+      v.auc = *auc;
+      v.auc_from = (*range)[0].get<double>();
+      v.auc_to = (*range)[1].get<double>();
+    }
+  }
+  return v;
 }
 
 std::string RocSection(const ReportData& d) {
   std::string o = "<section id=\"roc\"><h2>ROC curves</h2>";
-  if (!d.tuning) return o + TuneFirst(d.dir) + "</section>";
+  if (!d.tuning) return o + TuneFirst(d) + "</section>";
   const json* roc = Field(*d.tuning, "roc");
-  if (roc == nullptr || !roc->is_object() || roc->empty()) return o + "<p>tuning.json has no ROC curves.</p></section>";
-  double fa_max = 0;
-  for (const auto& [name, curve] : roc->items()) {
-    if (const json* pts = Field(curve, "points"); pts != nullptr && pts->is_array()) {
-      for (const json& p : *pts) fa_max = std::max(fa_max, Num(p, "false_alarm_rate").value_or(0));
-    }
+  if (roc == nullptr || !roc->is_object() || roc->empty()) {
+    return o + "<p class=\"missing\">No ROC curves: tuning.json has no \"roc\" (it is not from `armfault tune`); run " +
+           CodeSpans("`armfault tune " + d.dir + "`") + ".</p></section>";
   }
-  svg::Plot plot("roc", "Detection against false alarms, per threshold setting", kFullWidth, 430);
-  const bool zoom = fa_max <= 0.5;
-  plot.set_caption(fa_max == 0 ? "No threshold setting raised a false alarm on this campaign's healthy runs: every "
-                                 "point sits at 0 (more healthy runs would separate them)."
-                   : zoom        ? "False-alarm axis zoomed to the measured range; each point is one threshold setting."
-                                 : "Each point is one threshold setting; dotted: chance.");
-  plot.x().label = "false-alarm rate (alarmed healthy runs / healthy runs)";
-  plot.x().min = 0;
-  plot.x().max = zoom ? std::optional<double>() : std::optional<double>(1.0);
-  if (zoom && fa_max == 0) plot.x().max = 0.05;
-  plot.y().label = "detection rate (detected / faulty runs)";
-  plot.y().min = 0;
-  plot.y().max = 1;
-  if (!zoom) plot.Line("", {0, 1}, {0, 1}, svg::Stroke{"#999", 1, "2 3", 1});
-  auto draw = [&](const std::string& name, const json& curve, bool overall) {
-    std::vector<double> xs, ys;
-    std::vector<std::string> tips;
-    if (const json* pts = Field(curve, "points"); pts != nullptr && pts->is_array()) {
-      for (const json& p : *pts) {
-        const auto fa = Num(p, "false_alarm_rate"), det = Num(p, "detection_rate");
-        if (!fa || !det) continue;
-        xs.push_back(*fa);
-        ys.push_back(*det);
-        std::string tip = name + ": false alarms " + Pct(*fa) + ", detection " + Pct(*det);
-        if (Num(p, "threshold")) tip += ", threshold " + FormatNumber(*Num(p, "threshold"));
-        if (const std::string s = SettingText(Field(p, "setting")); !s.empty()) tip += "; " + s;
-        tips.push_back(tip);
-      }
-    }
-    const std::string color = FamilyColor(overall ? "overall" : name);
-    const auto auc = Num(curve, "auc");
-    const std::string label = (overall ? "overall frontier" : name) + (auc ? " (AUC " + Fixed(*auc, 3) + ")" : "");
-    if (xs.size() > 1) {
-      plot.Line("", xs, ys, svg::Stroke{color, overall ? 2.6 : 1.6, overall ? "" : "", 0.9});
-    }
-    plot.Points(label, xs, ys, {}, {}, color, overall ? svg::Marker::kCircle : svg::Marker::kSquare, tips,
-                overall ? 3.2 : 2.8);
+  std::vector<RocView> swept, unswept;
+  if (const json* overall = Field(*roc, "overall")) {
+    RocView v = ReadRocCurve("overall", *overall);
+    (v.swept ? swept : unswept).push_back(v);
+  }
+  for (const auto& [name, curve] : roc->items()) {
+    if (name == "overall") continue;
+    RocView v = ReadRocCurve(name, curve);
+    (v.swept ? swept : unswept).push_back(v);
+  }
+
+  // The marked points: the thresholds as run, the operating point over every run and, when
+  // it was chosen on one half, on each half.
+  struct Mark {
+    std::string label, color;
+    svg::Marker marker;
+    double size;
+    const json* point;
   };
-  for (const auto& [name, curve] : roc->items()) {
-    if (name != "overall") draw(name, curve, false);
+  std::vector<Mark> marks = {{"thresholds as run", "#888888", svg::Marker::kTriangle, 5, Field(*d.tuning, "default_point")},
+                             {"operating point (all runs)", "#000000", svg::Marker::kDiamond, 6,
+                              Field(*d.tuning, "operating_point")}};
+  const json* selection = Field(*d.tuning, "selection");
+  if (selection != nullptr) {
+    marks.push_back({"operating point on the runs it was chosen on", "#1a7f37", svg::Marker::kDiamond, 4,
+                     Field(*selection, "chosen_on")});
+    marks.push_back({"operating point on the held-out runs", "#b00020", svg::Marker::kDiamond, 4,
+                     Field(*selection, "held_out")});
   }
-  if (const json* overall = Field(*roc, "overall")) draw("overall", *overall, true);
-  // The operating and default points.
-  for (const char* key : {"default_point", "operating_point"}) {
-    const json* p = Field(*d.tuning, key);
-    if (p == nullptr) continue;
-    const Rate fa = TuningRate(Field(*p, "false_alarm_rate")), det = TuningRate(Field(*p, "detection_rate"));
-    if (!fa.value || !det.value) continue;
-    const bool op = std::string(key) == "operating_point";
-    plot.Points(op ? "operating point" : "default thresholds", {*fa.value}, {*det.value}, {}, {},
-                op ? "#000000" : "#888888", op ? svg::Marker::kDiamond : svg::Marker::kTriangle,
-                {std::string(op ? "operating point" : "default thresholds") + ": false alarms " + Pct(*fa.value) +
-                 ", detection " + Pct(*det.value)},
-                6);
+  std::vector<std::pair<Mark, std::pair<double, double>>> placed;
+  for (const Mark& m : marks) {
+    if (m.point == nullptr) continue;
+    const Rate fa = TuningRate(Field(*m.point, "false_alarm_rate")), det = TuningRate(Field(*m.point, "detection_rate"));
+    if (fa.value && det.value) placed.push_back({m, {*fa.value, *det.value}});
   }
-  return o + "<div class=\"plots\">" + plot.Render() + "</div></section>";
+
+  std::string notes;
+  const std::string split = selection != nullptr ? Str(*selection, "split") : "";
+  notes += "<li>Operating point: chosen by the rule <b>" + Escape(RuleText(Field(*d.tuning, "rule"))) + "</b>" +
+           (split.empty() ? "" : " (" + Escape(split) + ")") + "; the black diamond gives its rates over every run" +
+           (placed.size() > 2 ? ", the green and red ones on the half it was chosen on and on the held-out half." : ".") +
+           "</li>";
+  for (const RocView& v : unswept) {
+    notes += "<li>Not drawn: <b>" + Escape(v.name == "overall" ? "overall frontier" : v.name) + "</b>: " +
+             Escape(v.why_not) + "; no AUC.</li>";
+  }
+  notes += "<li>AUC: the area under the measured points only, between the smallest and the largest false-alarm rate "
+           "they reach (a partial AUC, not comparable with one over 0 to 1); nothing is extrapolated to (0, 0) or "
+           "(1, 1), and a curve that was not swept has none.</li>";
+  if (swept.empty()) {
+    return o + "<p class=\"missing\">No ROC curve to draw: no threshold sweep changed the rates (every curve has at "
+               "most one distinct point, or no threshold of its own). Widen the sweep (" +
+           CodeSpans("`armfault tune " + d.dir + " --sweep ...`") + ", docs/tuning.md) or run more healthy runs.</p><ul class=\"note\">" +
+           notes + "</ul></section>";
+  }
+
+  // The false-alarm axis shows the range that matters: up to a little above the largest rate
+  // measured (at least 0 to 0.05), not 0 to 1.
+  auto axis_end = [](double largest) {
+    for (double c : {0.05, 0.1, 0.2, 0.3, 0.5, 0.75}) {
+      if (c >= 1.05 * largest && c > largest) return c;
+    }
+    return 1.0;
+  };
+  double fa_max = 0, marked_max = 0;
+  for (const RocView& v : swept) {
+    for (double x : v.fa) fa_max = std::max(fa_max, x);
+  }
+  for (const auto& [m, p] : placed) marked_max = std::max(marked_max, p.first);
+  fa_max = std::max(fa_max, marked_max);
+  const json* rule = Field(*d.tuning, "rule");
+  const double ceiling = rule != nullptr ? Num(*rule, "false_alarm_ceiling").value_or(0) : 0;
+  auto draw = [&](const std::string& id, const std::string& title, double x_max, const std::string& caption) {
+    svg::Plot plot(id, title, kFullWidth, 430);
+    plot.set_caption(caption);
+    plot.x().label = "false-alarm rate (fraction of healthy runs alarmed; axis 0 to " + FormatNumber(x_max) + ")";
+    plot.x().min = 0;
+    plot.x().max = x_max;
+    plot.y().label = "detection rate (fraction of faulty runs; a family: of its runs)";
+    plot.y().min = 0;
+    plot.y().max = 1;
+    for (size_t k = swept.size(); k-- > 0;) {  // the overall frontier last: on top
+      const RocView& v = swept[k];
+      const std::string color = FamilyColor(v.overall ? "overall" : v.name);
+      std::string label = v.overall ? "overall frontier" : v.name + " (" + v.parameter + " swept)";
+      label += v.auc ? ", AUC " + Fixed(*v.auc, 3) + " over false alarms " + FormatNumber(v.auc_from) + " to " +
+                           FormatNumber(v.auc_to)
+                     : ", no AUC: every point at one false-alarm rate";
+      std::vector<size_t> order(v.fa.size());
+      for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+      std::stable_sort(order.begin(), order.end(),
+                       [&](size_t a, size_t b) { return std::tie(v.fa[a], v.det[a]) < std::tie(v.fa[b], v.det[b]); });
+      std::vector<double> xs, ys;
+      for (size_t i : order) xs.push_back(v.fa[i]), ys.push_back(v.det[i]);
+      plot.Line("", xs, ys, svg::Stroke{color, v.overall ? 2.6 : 1.6, "", 0.9});
+      plot.Points(label, v.fa, v.det, {}, {}, color, v.overall ? svg::Marker::kCircle : svg::Marker::kSquare, v.tips,
+                  v.overall ? 3.2 : 2.8);
+    }
+    for (const auto& [m, p] : placed) {
+      plot.Points(m.label, {p.first}, {p.second}, {}, {}, m.color, m.marker,
+                  {m.label + ": false alarms " + Pct(p.first) + ", detection " + Pct(p.second) + "; " +
+                   SettingText(Field(*m.point, "setting"))},
+                  m.size);
+    }
+    return plot.Render();
+  };
+  const double x_max = axis_end(fa_max);
+  std::string plots = draw("roc", "Detection against false alarms, per threshold setting", x_max,
+                           std::string(x_max < 1 ? "False-alarm axis zoomed to 0 to " : "False-alarm axis 0 to ") +
+                               FormatNumber(x_max) + " (largest measured: " + FormatNumber(fa_max) +
+                               "). Each point is one threshold setting; lines join measured points only.");
+  // When the curves reach far, a second plot zooms on the low end where the operating point
+  // lies (up to a little above it and the rule's ceiling); the points beyond are cut off.
+  const double low_max = axis_end(std::max(marked_max, ceiling));
+  if (low_max <= x_max / 4) {
+    long beyond = 0, within = 0;
+    for (const RocView& v : swept) {
+      for (double x : v.fa) (x > low_max ? beyond : within) += 1;
+    }
+    if (within > 0 && beyond > 0) {
+      plots += draw("roc-low-false-alarms", "The low false-alarm end, where the operating point lies", low_max,
+                    "Zoomed to false alarms 0 to " + FormatNumber(low_max) + ": " + std::to_string(beyond) +
+                        " points lie beyond the axis (see the plot above).");
+    }
+  }
+  return o + "<div class=\"plots\">" + plots + "</div><ul class=\"note\">" + notes + "</ul></section>";
+}
+
+// Whether tuning.json's operating point uses other thresholds than the campaign ran with.
+bool OperatingPointDiffers(const json& tuning) {
+  const json* op = Field(tuning, "operating_point");
+  const json* def = Field(tuning, "default_point");
+  const json* a = op != nullptr ? Field(*op, "setting") : nullptr;
+  const json* b = def != nullptr ? Field(*def, "setting") : nullptr;
+  return a == nullptr || b == nullptr || *a != *b;
+}
+
+// The fit of a family's detection as run: with runs at 2 or more numeric magnitudes, else null.
+json AsRunFit(const PodAsRun& p) {
+  if (p.magnitude_key.empty() || p.by_magnitude.size() < 2) return nullptr;
+  return PodFitJson(p.magnitude_key, p.severities, p.hits);
+}
+
+// a90 or a90_95 of a fit as a table cell.
+std::string A90Cell(const json* fit, const char* key, bool numeric) {
+  if (!numeric) return "named variants";
+  if (fit == nullptr) return "no fit";
+  const json* v = Field(*fit, key);
+  return v != nullptr && Num(*v, "magnitude") ? Sig4(*Num(*v, "magnitude")) : "not reached";
+}
+
+// One row per family: family, magnitude, a90 and a90/95 as run, and at the tuned operating
+// point (tuning.json's fit).
+std::vector<std::vector<std::string>> A90Rows(const ReportData& d) {
+  const json* tuned = d.tuning ? Field(*d.tuning, "detection_probability") : nullptr;
+  std::vector<std::vector<std::string>> rows;
+  for (const auto& [family, p] : d.pod) {
+    const bool numeric = !p.magnitude_key.empty() && !p.by_magnitude.empty();
+    const json fit = AsRunFit(p);
+    const json* usable = fit.is_object() && fit.value("ok", false) ? &fit : nullptr;
+    const json* tuned_family = tuned != nullptr ? Field(*tuned, family) : nullptr;
+    const json* tuned_fit = tuned_family != nullptr ? UsableFit(*tuned_family) : nullptr;
+    const std::string key = numeric ? p.magnitude_key : p.name_key;
+    rows.push_back({family, key.empty() ? "–" : key, A90Cell(usable, "a90", numeric), A90Cell(usable, "a90_95", numeric),
+                    d.tuning ? A90Cell(tuned_fit, "a90", numeric) : "no tuning",
+                    d.tuning ? A90Cell(tuned_fit, "a90_95", numeric) : "no tuning"});
+  }
+  return rows;
 }
 
 std::string PodSection(const ReportData& d) {
   std::string o = "<section id=\"pod\"><h2>Detection probability against fault magnitude</h2>";
-  if (!d.tuning) return o + TuneFirst(d.dir) + "</section>";
-  const json* pod = Field(*d.tuning, "detection_probability");
-  if (pod == nullptr || !pod->is_object() || pod->empty()) {
-    return o + "<p>tuning.json has no detection-probability curves.</p></section>";
+  if (d.pod.empty()) {
+    return o + "<p class=\"missing\">No detection-probability plots: results.jsonl holds no completed faulty runs.</p>"
+               "</section>";
   }
-  o += "<p>At the operating point. Points: measured detection rate per magnitude with its 95 % Wilson interval; "
-       "line and band: fitted probability of detection with its 95 % confidence band; a90 and a90/95 marked "
-       "where the fit reaches 90 %.</p><div class=\"plots\">";
-  for (const auto& [family, f] : pod->items()) {
-    const std::string key = Str(f, "magnitude_key");
+  const json* tuned = d.tuning ? Field(*d.tuning, "detection_probability") : nullptr;
+  const bool tuned_differs = d.tuning && OperatingPointDiffers(*d.tuning);
+  o += "<p>Every faulty run as it was run, with the campaign's own thresholds: small dots at 1 were detected, at 0 "
+       "missed (hover for the run). Circles: the detected fraction at each magnitude with its 95 % Wilson score "
+       "interval. Line and band: a logistic fit of detection against log severity with its 95 % confidence band "
+       "(MIL-HDBK-1823A hit/miss, Firth); a90 and a90/95 where the fit and its one-sided 95 % lower bound reach "
+       "90 %, never extrapolated. ";
+  if (!d.tuning) {
+    o += "No tuned curve: " + CodeSpans(d.tuning_source) + ".";
+  } else if (tuned_differs) {
+    o += "Dashed: the fit at the tuned operating point (tuning.json), which uses other thresholds.";
+  } else {
+    o += "The tuned operating point uses the thresholds as run: its curve is this one.";
+  }
+  o += "</p><div class=\"plots\">";
+  bool any_curve_possible = false;
+  for (const auto& [family, p] : d.pod) {
     const std::string color = FamilyColor(family);
-    svg::Plot plot("pod-" + IdPart(family), family, kHalfWidth, 330);
-    plot.y().label = "detection probability";
+    const bool numeric = !p.magnitude_key.empty() && !p.by_magnitude.empty();
+    const std::string key = numeric ? p.magnitude_key : p.name_key;
+    svg::Plot plot("pod-" + IdPart(family), family, kHalfWidth, 340);
+    plot.y().label = "detection probability (fraction of runs)";
     plot.y().min = 0;
     plot.y().max = 1;
-    plot.x().label = (key.empty() ? std::string("magnitude") : key) + " (fault magnitude)";
-    const json* pts = Field(f, "points");
-    // Named magnitudes (a stuck sensor's lead) sit on a categorical axis, one slot per point.
-    bool named = false;
-    if (pts != nullptr && pts->is_array()) {
-      for (const json& p : *pts) named = named || (Field(p, "magnitude") != nullptr && !p["magnitude"].is_number());
-    }
-    std::vector<std::string> categories;
-    std::vector<double> xs, ys, lo, hi, mags, sevs;
-    std::vector<std::string> tips;
-    if (pts != nullptr && pts->is_array()) {
-      for (const json& p : *pts) {
-        const json* m = Field(p, "magnitude");
-        const auto rate = Num(p, "rate");
-        if (m == nullptr || !rate) continue;
-        const std::string mtext = m->is_number()   ? FormatNumber(m->get<double>())
-                                  : m->is_string() ? m->get<std::string>()
-                                                   : m->dump();
-        if (named) {
-          xs.push_back(static_cast<double>(categories.size()));
-          categories.push_back(mtext);
-        } else {
-          xs.push_back(m->get<double>());
-          mags.push_back(xs.back());
-          sevs.push_back(Num(p, "severity").value_or(std::nan("")));
-        }
-        ys.push_back(*rate);
-        lo.push_back(Num(p, "low").value_or(*rate));
-        hi.push_back(Num(p, "high").value_or(*rate));
-        tips.push_back(key + " " + mtext + ": " + std::to_string(Count(p, "detected")) + " of " +
-                       std::to_string(Count(p, "runs")) + " detected (" + Pct(*rate) + ", 95 % [" +
-                       Fixed(100 * lo.back(), 1) + ", " + Fixed(100 * hi.back(), 1) + "] %)");
+    plot.x().label = numeric ? WithUnit(key) + ", fault magnitude"
+                             : (key.empty() ? std::string("fault (no magnitude)") : key + " (named fault variant)");
+    std::vector<double> xs, ys, lo, hi, hx, hy, mx, my;
+    std::vector<std::string> tips, htips, mtips, categories;
+    long runs = 0, detected = 0;
+    bool capped = false;
+    auto add_cell = [&](double x, const std::string& mtext, const PodAsRun::Cell& c) {
+      const RateInterval w = Wilson(c.detected, c.runs);
+      runs += c.runs;
+      detected += c.detected;
+      xs.push_back(x);
+      ys.push_back(w.rate);
+      lo.push_back(w.low);
+      hi.push_back(w.high);
+      tips.push_back(key + " " + mtext + ": " + std::to_string(c.detected) + " of " + std::to_string(c.runs) +
+                     " runs detected (" + Pct(w.rate) + ", 95 % Wilson [" + Fixed(100 * w.low, 1) + ", " +
+                     Fixed(100 * w.high, 1) + "] %)");
+      // The runs themselves, stacked a little inwards from 0 and 1 so that several show.
+      for (size_t i = 0; i < c.hit_ids.size(); ++i) {
+        hx.push_back(x);
+        hy.push_back(1 - 0.014 * static_cast<double>(i % 5));
+        htips.push_back(c.hit_ids[i] + ": detected");
       }
-    }
-    if (named) {
-      plot.x().categories = categories;
+      for (size_t i = 0; i < c.miss_ids.size(); ++i) {
+        mx.push_back(x);
+        my.push_back(0.014 * static_cast<double>(i % 5));
+        mtips.push_back(c.miss_ids[i] + ": missed");
+      }
+      capped = capped || c.hit_ids.size() < static_cast<size_t>(c.detected) ||
+               c.miss_ids.size() < static_cast<size_t>(c.runs - c.detected);
+    };
+    if (numeric) {
+      for (const auto& [m, c] : p.by_magnitude) add_cell(m, FormatNumber(m), c);
+      // Severity grows to the right: a falling parameter (kt_factor, resistance_ohm) gets a reversed axis.
+      plot.x().reversed = PodSeverity(key, 2.0) < PodSeverity(key, 1.0);
     } else {
-      // Severity grows to the right: a falling parameter (kt_factor) gets a reversed axis.
-      bool falling = false;
-      for (size_t a = 0; a < mags.size(); ++a) {
-        for (size_t b = 0; b < mags.size(); ++b) {
-          if (mags[a] < mags[b] && sevs[a] > sevs[b]) falling = true;
-        }
+      for (const auto& [name, c] : p.by_name) {
+        add_cell(static_cast<double>(categories.size()), name.empty() ? "–" : name, c);
+        categories.push_back(name.empty() ? "–" : name);
       }
-      plot.x().reversed = falling;
-      plot.set_caption(std::string("Severity grows to the right") + (falling ? " (smaller " + key + ")." : "."));
+      plot.x().categories = categories;
     }
-    const json* fit = UsableFit(f);
-    if (fit != nullptr && !named) {
+    std::string caption = std::to_string(runs) + " runs at " + std::to_string(xs.size()) +
+                          (numeric ? " magnitude" : " variant") + (xs.size() == 1 ? "" : "s") + ": " + std::to_string(detected) + " detected, " +
+                          std::to_string(runs - detected) + " missed" + (capped ? " (dots: the first 40 of each)" : "") +
+                          ". ";
+    const json fit = AsRunFit(p);
+    any_curve_possible = any_curve_possible || !fit.is_null();
+    const json* usable = fit.is_object() && fit.value("ok", false) ? &fit : nullptr;
+    if (usable != nullptr) {
       std::vector<double> cx, cp, cl, ch;
-      if (const json* curve = Field(*fit, "curve"); curve != nullptr && curve->is_array()) {
-        for (const json& c : *curve) {
-          const auto m = Num(c, "magnitude"), p = Num(c, "pod");
-          if (!m || !p) continue;
-          cx.push_back(*m);
-          cp.push_back(*p);
-          cl.push_back(Num(c, "low").value_or(*p));
-          ch.push_back(Num(c, "high").value_or(*p));
-        }
+      for (const json& c : (*usable)["curve"]) {
+        cx.push_back(c["magnitude"].get<double>());
+        cp.push_back(c["pod"].get<double>());
+        cl.push_back(c["low"].get<double>());
+        ch.push_back(c["high"].get<double>());
       }
-      if (!cx.empty()) {
-        plot.Band("95 % confidence band", cx, cl, ch, color, 0.18);
-        plot.Line("fitted detection probability", cx, cp, svg::Stroke{color, 2, "", 1});
-      }
+      plot.Band("95 % confidence band (as run)", cx, cl, ch, color, 0.18);
+      plot.Line("fitted as run", cx, cp, svg::Stroke{color, 2, "", 1});
       plot.HLine(0.9, "90 %", svg::Stroke{"#666", 1, "4 3", 1});
-      if (const json* a = Field(*fit, "a90"); a != nullptr && Num(*a, "magnitude")) {
-        plot.VLine(*Num(*a, "magnitude"), "a90 = " + FormatNumber(*Num(*a, "magnitude")),
-                   svg::Stroke{"#333", 1.4, "", 1});
+      if (const json* a = Field(*usable, "a90"); a != nullptr && Num(*a, "magnitude")) {
+        plot.VLine(*Num(*a, "magnitude"), "a90 = " + Sig4(*Num(*a, "magnitude")), svg::Stroke{"#333", 1.4, "", 1});
       }
-      if (const json* a = Field(*fit, "a90_95"); a != nullptr && Num(*a, "magnitude")) {
-        plot.VLine(*Num(*a, "magnitude"), "a90/95 = " + FormatNumber(*Num(*a, "magnitude")),
+      if (const json* a = Field(*usable, "a90_95"); a != nullptr && Num(*a, "magnitude")) {
+        plot.VLine(*Num(*a, "magnitude"), "a90/95 = " + Sig4(*Num(*a, "magnitude")),
                    svg::Stroke{"#b00020", 1.4, "5 3", 1});
       }
+      if (Field(*usable, "a90_95") == nullptr) caption += "a90/95 not reached in the tested range.";
+    } else if (!numeric) {
+      caption += "Named variants: no fitted curve.";
+    } else if (p.by_magnitude.size() < 2) {
+      caption += "One magnitude only: no curve (a fit needs 2 or more).";
+    } else {
+      caption += "No fitted curve: " + Str(fit, "reason") + ".";
     }
-    plot.Points("measured (Wilson 95 %)", xs, ys, lo, hi, color, svg::Marker::kCircle, tips);
-    if (named) {
-      plot.set_caption("Named magnitudes: no fitted curve.");
-    } else if (fit == nullptr) {
-      const json* made = Field(f, "fit");
-      const std::string reason = made != nullptr ? Str(*made, "reason") : "";
-      plot.set_caption("No fitted curve" + (reason.empty() ? std::string(".") : ": " + reason + "."));
-    } else if (Field(*fit, "a90") == nullptr || Field(*fit, "a90_95") == nullptr) {
-      plot.set_caption(std::string(Field(*fit, "a90") == nullptr ? "a90" : "a90/95") +
-                       " not reached in the tested range (never extrapolated).");
+    // The tuned operating point's fit, when its thresholds differ from the ones run.
+    const json* tuned_family = tuned != nullptr ? Field(*tuned, family) : nullptr;
+    const json* tuned_fit = tuned_family != nullptr ? UsableFit(*tuned_family) : nullptr;
+    if (numeric && tuned_differs && tuned_fit != nullptr) {
+      std::vector<double> cx, cp;
+      if (const json* curve = Field(*tuned_fit, "curve"); curve != nullptr && curve->is_array()) {
+        for (const json& c : *curve) {
+          if (Num(c, "magnitude") && Num(c, "pod")) cx.push_back(*Num(c, "magnitude")), cp.push_back(*Num(c, "pod"));
+        }
+      }
+      if (!cx.empty()) plot.Line("fitted at the tuned operating point", cx, cp, svg::Stroke{"#000", 1.4, "6 4", 0.8});
     }
+    plot.set_caption(caption);
+    if (!hx.empty()) plot.Points("runs detected (at 1)", hx, hy, {}, {}, color, svg::Marker::kCircle, htips, 2.2);
+    if (!mx.empty()) plot.Points("runs missed (at 0)", mx, my, {}, {}, "#c62828", svg::Marker::kSquare, mtips, 2.4);
+    plot.Points("detected fraction as run (95 % Wilson)", xs, ys, lo, hi, color, svg::Marker::kCircle, tips, 4.5);
     o += plot.Render();
   }
-  return o + "</div></section>";
+  o += "</div>";
+  if (!any_curve_possible) {
+    o += "<p class=\"missing\">No family had more than one magnitude: no detection-probability curve could be "
+         "fitted. Sweep a magnitude (a list or grid of kt_factor, friction_factor, …) to get one.</p>";
+  }
+  std::vector<std::vector<std::string>> rows;
+  for (const auto& r : A90Rows(d)) {
+    std::vector<std::string> row;
+    for (const std::string& c : r) row.push_back(Escape(c));
+    rows.push_back(row);
+  }
+  o += "<h3>Smallest reliably detected fault</h3>" +
+       HtmlTable({"family", "magnitude", "a90 as run", "a90/95 as run", "a90 at the operating point",
+                  "a90/95 at the operating point"},
+                 rows) +
+       "<p class=\"note\">a90: the magnitude detected with 90 % probability (fitted curve); a90/95: with 90 % "
+       "probability at 95 % confidence (one-sided lower bound); \"not reached\": not within the tested magnitudes.</p>";
+  return o + "</section>";
 }
 
 std::string LatencyThresholdSection(const ReportData& d) {
   std::string o = "<section id=\"latency-threshold\"><h2>Latency against threshold</h2>";
-  if (!d.tuning) return o + TuneFirst(d.dir) + "</section>";
+  if (!d.tuning) return o + TuneFirst(d) + "</section>";
   const json* lat = Field(*d.tuning, "latency");
   if (lat == nullptr || !lat->is_object() || lat->empty()) {
-    return o + "<p>tuning.json has no latency curves.</p></section>";
+    return o + "<p class=\"missing\">No latency curves: no family of this campaign has a swept threshold of its own "
+               "(kt_factor, resistance_factor, friction_factor or sensor_drift_Nm).</p></section>";
   }
   std::map<std::string, double> defaults;
   if (const json* params = Field(*d.tuning, "parameters"); params != nullptr && params->is_array()) {
@@ -561,12 +887,9 @@ std::string LatencyThresholdSection(const ReportData& d) {
   const json* setting = op != nullptr ? Field(*op, "setting") : nullptr;
   o += "<p>Time from the fault's onset to the first alarm over the detected runs of each family, as that family's "
        "threshold moves (the other thresholds at the operating point).</p><div class=\"plots\">";
+  std::string notes;
   for (const auto& [family, f] : lat->items()) {
     const std::string param = Str(f, "parameter");
-    svg::Plot plot("latency-threshold-" + IdPart(family), family, kHalfWidth, 320);
-    plot.x().label = (param.empty() ? std::string("threshold") : param) + " (threshold)";
-    plot.y().label = "latency after onset (s)";
-    plot.y().include_zero = true;
     std::vector<double> xs, med, p95;
     std::vector<std::string> tips;
     if (const json* pts = Field(f, "points"); pts != nullptr && pts->is_array()) {
@@ -580,6 +903,18 @@ std::string LatencyThresholdSection(const ReportData& d) {
                        SecondsText(Num(p, "p95_s")) + " over " + std::to_string(Count(p, "detected")) + " detected runs");
       }
     }
+    const bool any_latency = std::any_of(med.begin(), med.end(), [](double v) { return std::isfinite(v); });
+    if (xs.size() < 2 || !any_latency) {
+      notes += "<li>" + Escape(family) + ": " +
+               Escape(xs.size() < 2 ? "one threshold value only (" + param + " not swept): no curve"
+                                    : "no run detected at any swept " + param + ": no latency") +
+               ".</li>";
+      continue;
+    }
+    svg::Plot plot("latency-threshold-" + IdPart(family), family, kHalfWidth, 320);
+    plot.x().label = (param.empty() ? std::string("threshold") : WithUnit(param)) + ", threshold";
+    plot.y().label = "latency after onset (s)";
+    plot.y().include_zero = true;
     const std::string color = FamilyColor(family);
     plot.Line("95th percentile", xs, p95, svg::Stroke{color, 1.6, "5 3", 1}, svg::Marker::kTriangle);
     plot.Line("median", xs, med, svg::Stroke{color, 2.2, "", 1});
@@ -589,11 +924,13 @@ std::string LatencyThresholdSection(const ReportData& d) {
                  svg::Stroke{"#000", 1.4, "", 1});
     }
     if (auto it = defaults.find(param); it != defaults.end()) {
-      plot.VLine(it->second, "default " + FormatNumber(it->second), svg::Stroke{"#888", 1.4, "4 3", 1});
+      plot.VLine(it->second, "as run " + FormatNumber(it->second), svg::Stroke{"#888", 1.4, "4 3", 1});
     }
     o += plot.Render();
   }
-  return o + "</div></section>";
+  o += "</div>";
+  if (!notes.empty()) o += "<ul class=\"note\">" + notes + "</ul>";
+  return o + "</section>";
 }
 
 std::string ConfusionSection(const ReportData& d) {
@@ -602,14 +939,15 @@ std::string ConfusionSection(const ReportData& d) {
   const json* labels = c != nullptr ? Field(*c, "labels") : nullptr;
   const json* counts = c != nullptr ? Field(*c, "counts") : nullptr;
   if (labels == nullptr || counts == nullptr || !labels->is_array() || !counts->is_array()) {
-    return o + "<p>summary.json has no confusion matrix.</p></section>";
+    return o + "<p class=\"missing\">No confusion matrix: summary.json has none (an older or edited file); run the "
+               "campaign again to rebuild it.</p></section>";
   }
   svg::HeatMap h;
   h.id = "confusion";
   h.title = "True class against the class the monitor isolated";
   h.caption = "Counts of runs; shade: share of the row. healthy = no alarm, unknown = alarm without a family.";
   h.row_axis = "true class";
-  h.col_axis = "isolated as";
+  h.col_axis = "isolated as (cells: number of runs)";
   for (size_t k = 0; k < labels->size(); ++k) {
     const std::string label = (*labels)[k].is_string() ? (*labels)[k].get<std::string>() : (*labels)[k].dump();
     h.cols.push_back(label);
@@ -627,7 +965,15 @@ std::string ConfusionSection(const ReportData& d) {
 
 std::string LatencyDistributionSection(const ReportData& d) {
   std::string o = "<section id=\"latency\"><h2>Latency distributions</h2>";
-  if (d.latencies_s.empty() && d.misses.empty()) return o + "<p>No faulty runs in results.jsonl.</p></section>";
+  if (d.latencies_s.empty() && d.misses.empty()) {
+    return o + "<p class=\"missing\">No latencies: results.jsonl holds no completed faulty runs.</p></section>";
+  }
+  if (d.latencies_s.empty()) {
+    long missed = 0;
+    for (const auto& [family, n] : d.misses) missed += n;
+    return o + "<p class=\"missing\">No latencies: none of the " + std::to_string(missed) +
+           " faulty runs was detected.</p></section>";
+  }
   std::vector<std::string> families;
   for (const auto& [family, v] : d.latencies_s) families.push_back(family);
   for (const auto& [family, n] : d.misses) {
@@ -690,7 +1036,9 @@ std::string LatencyDistributionSection(const ReportData& d) {
 
 std::string ThesisSection(const ReportData& d) {
   std::string o = "<section id=\"thesis\"><h2>Efficiency against K_T factor (thesis table 5-3)</h2>";
-  if (d.table_5_3.empty()) return o + "<p>No thesis results.</p></section>";
+  if (d.table_5_3.empty()) {
+    return o + "<p class=\"missing\">No thesis results: " + Escape(d.thesis_source) + " holds no table_5_3 rows.</p></section>";
+  }
   svg::Plot plot("thesis-table-5-3", "Top-joint efficiency (eq 5-5) as the torque constant degrades", kHalfWidth, 340);
   plot.set_caption("armfault: " + d.thesis_source + ". Degradation grows to the right.");
   plot.x().label = "K_T factor n (torque constant / nominal)";
@@ -774,8 +1122,12 @@ std::string RunSection(const ReportData& d) {
     };
     // Efficiencies per judged window of this joint.
     svg::Plot eff("run-j" + std::to_string(j) + "-efficiency", "Efficiencies of " + jt + " per window", kFullWidth, 320);
-    eff.set_caption(std::string("Judged windows; bar: the window's span; dashed: what a healthy joint would show for the "
-                                "same motion.") + (s.first_alarm_s ? "" : " No alarm in this run."));
+    const bool judged = std::any_of(s.monitor.windows.begin(), s.monitor.windows.end(),
+                                    [&](const EfficiencyWindow& w) { return w.joint == j && w.used; });
+    eff.set_caption(judged ? std::string("Judged windows; bar: the window's span; dashed: what a healthy joint would show "
+                                         "for the same motion.") + (s.first_alarm_s ? "" : " No alarm in this run.")
+                           : std::string("Empty: the monitor judged no window of this joint (it did not move or carry "
+                                         "load enough)."));
     eff.y().label = "efficiency (fraction)";
     struct Series {
       const char* name;
@@ -828,6 +1180,18 @@ std::string RunSection(const ReportData& d) {
     o += "<div class=\"plots\">" + eff.Render() + cur.Render() + tor.Render() + "</div>";
   }
   return o + "</section>";
+}
+
+// Which campaign the page is of, and which files say so.
+std::string CampaignHashText(const ReportData& d, bool html) {
+  if (d.campaign_hash.empty()) return "No file names its campaign (no campaign_hash: written by an older armfault).";
+  std::string files;
+  for (size_t k = 0; k < d.hashed_files.size(); ++k) {
+    files += (k == 0 ? "" : k + 1 == d.hashed_files.size() ? " and " : ", ") + d.hashed_files[k];
+  }
+  const std::string hash = html ? "<code>" + Escape(d.campaign_hash) + "</code>" : "`" + d.campaign_hash + "`";
+  return "Campaign hash " + hash + " (SHA-256 of the resolved campaign), carried by " + (html ? Escape(files) : files) +
+         (d.hashed_files.size() > 1 ? ", which agree." : ".");
 }
 
 const char* const kStyle = R"(
@@ -916,9 +1280,43 @@ ReportData GatherReportData(const ReportOptions& options) {
     throw InputError(summary_path.string(), "", "no such file: run `armfault run CAMPAIGN -o " + options.dir + "` first");
   }
   d.summary = ReadJsonFile(summary_path.string());
-  d.tuning = options.tuning ? options.tuning(options.dir) : std::nullopt;
 
-  // results.jsonl: latencies per family and the candidates for the plotted run.
+  // campaign.json: the campaign every other file must be of, and the one the plotted run is
+  // re-simulated from. A campaign that does not parse here (a moved csv trajectory) still
+  // names its campaign; only the run section says what went wrong.
+  const fs::path campaign_path = dir / "campaign.json";
+  std::optional<Campaign> campaign;
+  std::string campaign_error;
+  std::vector<CampaignClaim> claims;
+  if (fs::exists(campaign_path)) {
+    const json file = ReadJsonFile(campaign_path.string());
+    claims.push_back({campaign_path.string(), ClaimedCampaignHash(file, campaign_path.string()), ""});
+    try {
+      if (!file.is_object() || !file.contains("campaign")) {
+        throw InputError(campaign_path.string(), "", "no \"campaign\" key: not written by `armfault run`");
+      }
+      // Relative file names (csv trajectories) resolve against DIR: the campaign's own folder is not recorded.
+      campaign = CampaignFromJson(file["campaign"], campaign_path.string(), options.dir);
+    } catch (const InputError& e) {
+      campaign_error = e.what();
+    }
+  } else {
+    campaign_error = campaign_path.string() + ": no such file";
+  }
+  claims.push_back({summary_path.string(), ClaimedCampaignHash(d.summary, summary_path.string()),
+                    "summary.json is stale or was copied from elsewhere: run the campaign into " + options.dir +
+                        " again (or merge its shards there)"});
+  RequireOneCampaign(claims);
+  for (const CampaignClaim& c : claims) {
+    if (!c.hash) continue;
+    if (d.campaign_hash.empty()) d.campaign_hash = *c.hash;
+    d.hashed_files.push_back(fs::path(c.file).filename().string());
+  }
+
+  // results.jsonl: latencies and detection as run per family, and the candidates for the
+  // plotted run. Each line must be a case of campaign.json.
+  std::optional<CaseMatcher> matcher;
+  if (campaign) matcher.emplace(*campaign);
   std::optional<RunRecord> first, first_missed, first_detected, wanted;
   {
     const fs::path path = dir / "results.jsonl";
@@ -935,10 +1333,20 @@ ReportData GatherReportData(const ReportOptions& options) {
       } catch (const std::exception& e) {
         throw InputError(path.string(), "", "line " + std::to_string(n) + ": " + e.what());
       }
+      if (matcher) {
+        if (const std::string why = matcher->Mismatch(r); !why.empty()) {
+          throw InputError(path.string(), "",
+                           "line " + std::to_string(n) + ": " + why + ": this results.jsonl is not a run of " +
+                               campaign_path.string() +
+                               " (files of different campaigns are not read together); run the campaign into " +
+                               options.dir + " again");
+        }
+      }
       ++d.records;
       if (!first) first = r;
       if (!options.run_id.empty() && r.run_id == options.run_id) wanted = r;
       if (!r.ok || r.family.empty()) continue;
+      AddPodRun(r, &d.pod[r.family]);
       if (r.detected) {
         if (r.latency_s && std::isfinite(*r.latency_s)) d.latencies_s[r.family].push_back(*r.latency_s);
         if (!first_detected) first_detected = r;
@@ -947,6 +1355,32 @@ ReportData GatherReportData(const ReportOptions& options) {
         if (!first_missed) first_missed = r;
       }
     }
+  }
+
+  // Tuning: DIR/tuning.json must be of this campaign; without one, the tuner's defaults.
+  const fs::path tuning_path = dir / "tuning.json";
+  const bool tuning_file = fs::exists(tuning_path);
+  const std::string tune_hint = "run `armfault tune " + options.dir + "`";
+  if (options.tuning) {
+    try {
+      d.tuning = options.tuning(options.dir);
+    } catch (const InputError& e) {
+      if (tuning_file) throw;
+      d.tuning_source = tuning_path.string() + " is absent, and tuning with the defaults failed (" + e.what() + "): " +
+                        tune_hint + " with another rule or sweep";
+    }
+  }
+  if (d.tuning) {
+    d.tuning_source = tuning_file ? tuning_path.string()
+                                  : "computed now with the tuner's defaults (" + tuning_path.string() +
+                                        " is absent: " + tune_hint + " to write it or to choose another rule)";
+    const std::string name = tuning_file ? tuning_path.string() : "the tuning computed for " + options.dir;
+    claims.push_back({name, ClaimedCampaignHash(*d.tuning, name),
+                      tune_hint + " to tune this directory's campaign again (it rewrites tuning.json)"});
+    RequireOneCampaign(claims);
+    if (!d.campaign_hash.empty() && tuning_file) d.hashed_files.push_back("tuning.json");
+  } else if (d.tuning_source.empty()) {
+    d.tuning_source = tuning_path.string() + " is absent: " + tune_hint;
   }
 
   // Thesis table 5-3: the directory's own, else simulated.
@@ -984,32 +1418,23 @@ ReportData GatherReportData(const ReportOptions& options) {
           : first_detected        ? "the first faulty run (every faulty run was detected)"
                                   : "the first run (no faulty runs)";
   s.run_id = !options.run_id.empty() ? options.run_id : chosen ? chosen->run_id : "";
-  const fs::path campaign_path = dir / "campaign.json";
-  Campaign campaign;
-  try {
-    const json file = ReadJsonFile(campaign_path.string());
-    if (!file.is_object() || !file.contains("campaign")) {
-      throw InputError(campaign_path.string(), "", "no \"campaign\" key: not written by `armfault run`");
-    }
-    // Relative file names (csv trajectories) resolve against DIR: the campaign's own folder is not recorded.
-    campaign = CampaignFromJson(file["campaign"], campaign_path.string(), options.dir);
-  } catch (const InputError& e) {
-    if (!options.run_id.empty()) throw;
-    s.error = e.what();
+  if (!campaign) {
+    if (!options.run_id.empty()) throw InputError("--run", "", "cannot re-simulate: " + campaign_error);
+    s.error = campaign_error;
     return d;
   }
   if (s.run_id.empty()) {
     s.error = "results.jsonl holds no runs";
     return d;
   }
-  const std::vector<CaseSpec> cases = ExpandCases(campaign);
+  const std::vector<CaseSpec> cases = ExpandCases(*campaign);
   auto it = std::find_if(cases.begin(), cases.end(), [&](const CaseSpec& c) { return c.run_id == s.run_id; });
   if (it == cases.end()) {
     throw InputError("--run", "", "no run \"" + s.run_id + "\" in " + campaign_path.string() +
                                       " (run ids look like \"" + (cases.empty() ? "" : cases.front().run_id) + "\")");
   }
   const std::string why = s.why;
-  s = SimulateRunSeries(campaign, *it);
+  s = SimulateRunSeries(*campaign, *it);
   s.why = why;
   s.stored = chosen;
   return d;
@@ -1020,6 +1445,8 @@ std::string RenderReportHtml(const ReportData& d) {
   const std::string name = Str(campaign, "name");
   std::string o = "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
                   "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">";
+  // The campaign's content hash, also for machines reading the page.
+  if (!d.campaign_hash.empty()) o += "<meta name=\"armfault-campaign-hash\" content=\"" + Escape(d.campaign_hash) + "\">";
   o += "<title>armfault report: " + Escape(name) + "</title><style>" + kStyle + "</style></head><body><main>";
   o += "<h1>armfault report: " + Escape(name) + "</h1>";
   const bool met = Field(d.summary, "floors_met") && d.summary["floors_met"].is_boolean() &&
@@ -1027,6 +1454,7 @@ std::string RenderReportHtml(const ReportData& d) {
   o += "<p>Directory <code>" + Escape(d.dir) + "</code>, armfault " + Escape(Str(d.summary, "armfault_version")) +
        ". Floors: " + (met ? "<span class=\"met\">all met</span>" : "<span class=\"missed\">some MISSED</span>") +
        ". Hover over a point for its numbers.</p>";
+  o += "<p>" + CampaignHashText(d, true) + "</p>";
   o += "<nav><a href=\"#summary\">rates and floors</a><a href=\"#operating-point\">operating point</a>"
        "<a href=\"#roc\">ROC</a><a href=\"#pod\">detection probability</a><a href=\"#latency-threshold\">latency vs "
        "threshold</a><a href=\"#confusion\">confusion</a><a href=\"#latency\">latency</a><a href=\"#thesis\">table "
@@ -1053,17 +1481,20 @@ std::string RenderReportMarkdown(const ReportData& d) {
   std::string md = "# armfault report: " + Str(campaign, "name") + "\n\n";
   md += std::to_string(Count(runs, "total")) + " runs (" + std::to_string(Count(runs, "faulty")) + " faulty, " +
         std::to_string(Count(runs, "healthy")) + " healthy, " + std::to_string(Count(runs, "failed")) +
-        " failed). Plots: report.html.\n\n";
+        " failed). Plots: report.html.\n\n" + CampaignHashText(d, false) + "\n\n";
   const json& latency = Field(overall, "latency") ? overall["latency"] : empty;
   md += MdTable({"metric", "rate [95 % Wilson interval] (successes/trials)"},
                 {{"detection", RateText(SummaryRate(Field(overall, "detection")))},
                  {"false alarm", RateText(SummaryRate(Field(overall, "false_alarm")))},
+                 {"alarm before onset", RateText(SummaryRate(Field(overall, "alarm_before_onset_rate")))},
                  {"isolation", RateText(SummaryRate(Field(overall, "isolation")))},
                  {"latency median / p95", SecondsText(Num(latency, "median_s")) + " / " + SecondsText(Num(latency, "p95_s"))}});
+  md += "\n";
+  for (const auto& [name, sentence] : MetricDefinitions()) md += "- **" + name + "**: " + sentence + "\n";
 
   md += "\n## Operating point\n\n";
   if (!d.tuning) {
-    md += "No tuning results: run `armfault tune " + d.dir + "` first.\n";
+    md += "No tuning results: " + d.tuning_source + ".\n";
   } else {
     const json& t = *d.tuning;
     const json& op = Field(t, "operating_point") ? t["operating_point"] : empty;
@@ -1074,15 +1505,13 @@ std::string RenderReportMarkdown(const ReportData& d) {
                    {"isolation", RateText(TuningRate(Field(op, "isolation_accuracy")))},
                    {"latency median / p95",
                     SecondsText(Num(op, "latency_median_s")) + " / " + SecondsText(Num(op, "latency_p95_s"))}});
-    md += "\n## Smallest reliably detected fault (a90/95)\n\n";
-    std::vector<std::vector<std::string>> rows;
-    if (const json* pod = Field(t, "detection_probability"); pod != nullptr && pod->is_object()) {
-      for (const auto& [family, f] : pod->items()) {
-        rows.push_back({family, Str(f, "magnitude_key"), A90Text(f, "a90", false), A90Text(f, "a90_95", false)});
-      }
-    }
-    md += rows.empty() ? "No detection-probability curves.\n" : MdTable({"family", "magnitude", "a90", "a90/95"}, rows);
   }
+  md += "\n## Smallest reliably detected fault (a90/95)\n\n";
+  const std::vector<std::vector<std::string>> a90 = A90Rows(d);
+  md += a90.empty() ? "No completed faulty runs: nothing to fit.\n"
+                    : MdTable({"family", "magnitude", "a90 as run", "a90/95 as run", "a90 at the operating point",
+                               "a90/95 at the operating point"},
+                              a90);
 
   md += "\n## Floors\n\n";
   const json* floors = Field(s, "floors");

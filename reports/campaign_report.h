@@ -4,12 +4,19 @@
 //   summary.json   rates with Wilson intervals, per-family rates, confusion matrix, floors
 //   results.jsonl  latency distributions per family; which run to re-simulate
 //   campaign.json  the campaign, to re-simulate one run with RunCase
-//   tuning.json    ROC, detection probability against magnitude, latency against threshold,
-//                  operating point (`armfault tune DIR`; optional: without it those sections
-//                  say "run `armfault tune DIR` first"; format: docs/tuning.md)
+//   tuning.json    ROC, the tuned detection-probability fit, latency against threshold,
+//                  operating point (`armfault tune DIR`; optional: without it the tuner runs
+//                  with its defaults, and if that fails those sections say why and what to
+//                  run; format: docs/tuning.md)
 //   thesis.json    table 5-3 (`armfault thesis -o DIR`; optional: else the thesis experiments
 //                  are run with seed ReportOptions::thesis_seed)
-// Units in the page: rates as fractions or %, times in s, currents in A, torques in N m.
+// Units in the page: rates as fractions or %, times in s, currents in A, torques in N m,
+// magnitudes and thresholds in their own (docs/faults.md, docs/monitor.md).
+//
+// Provenance: the files must be of one campaign (campaigns/provenance.h). The report refuses
+// (InputError, exit status 2) a summary.json or tuning.json whose campaign_hash is not
+// campaign.json's (or summary.json's, without campaign.json), a tuning.json without one, and a
+// results.jsonl line that is not a case of campaign.json. The page shows the hash.
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -65,10 +72,31 @@ struct RunSeries {
 // Re-simulates one case; `joints` empty: the faulted joint, else every joint with a trajectory.
 RunSeries SimulateRunSeries(const Campaign& campaign, const CaseSpec& spec);
 
+// Detection as run, per family, from results.jsonl: the outcome of every faulty run against
+// its magnitude (numeric, or named: a stuck sensor's lead).
+struct PodAsRun {
+  struct Cell {
+    long runs = 0, detected = 0;
+    // The first kMaxListed run ids of each outcome (case order), for the plotted dots.
+    std::vector<std::string> hit_ids, miss_ids;
+  };
+  static constexpr size_t kMaxListed = 40;
+  std::string magnitude_key;             // "" when no run has a numeric magnitude
+  std::string name_key;                  // "lead" or "kind" for named magnitudes
+  std::map<double, Cell> by_magnitude;   // runs with a numeric magnitude
+  std::map<std::string, Cell> by_name;   // the others, by PodCategory ("" when none)
+  std::vector<double> severities;        // per run with severity > 0, for the fit
+  std::vector<bool> hits;
+};
+
 struct ReportData {
   std::string dir;
   nlohmann::json summary;               // summary.json
-  std::optional<nlohmann::json> tuning; // tuning.json
+  std::optional<nlohmann::json> tuning; // tuning.json, or the tuner's defaults computed now
+  std::string tuning_source;            // where `tuning` came from, or why there is none
+  std::string campaign_hash;            // the one campaign of the files ("" when none names one)
+  std::vector<std::string> hashed_files;  // the files that carry it (for the page)
+  std::map<std::string, PodAsRun> pod;  // per family, as run
   // From results.jsonl: latencies of detected faulty runs and the misses, per family.
   std::map<std::string, std::vector<double>> latencies_s;
   std::map<std::string, long> misses;

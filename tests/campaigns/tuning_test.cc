@@ -221,6 +221,44 @@ std::vector<RunRecord> ReadRecords(const std::filesystem::path& path) {
   return out;
 }
 
+TEST(Tune, RocAucCoversTheMeasuredPointsOnlyAndUnsweptCurvesHaveNone) {
+  ScratchDir dir("tune_roc");
+  json file = KtCampaign(json::object());
+  file["faults"].push_back({{"family", "torque_sensor_stuck"}, {"joint", 3}, {"lead", "supply"}, {"onset_s", 2.0}});
+  const Campaign campaign = CampaignFromJson(file, "kt.json", dir.path().string());
+  RunnerOptions o;
+  o.output_dir = (dir.path() / "out").string();
+  RunCampaign(campaign, o);
+  TuneOptions options;
+  options.sweep = "kt_factor.worn=0.9:0.995:20,significance=1:5:9";
+  const json roc = TuneCampaignDir(o.output_dir, options).report["roc"];
+  // The stuck sensor has no swept threshold of its own: not swept, no AUC, whatever its points.
+  EXPECT_TRUE(roc["torque_sensor_stuck"]["parameter"].is_null());
+  EXPECT_FALSE(roc["torque_sensor_stuck"]["swept"].get<bool>());
+  EXPECT_TRUE(roc["torque_sensor_stuck"]["auc"].is_null());
+  EXPECT_EQ(roc["kt_degradation"]["parameter"], "kt_factor.worn");
+  for (const auto& [name, curve] : roc.items()) {
+    std::vector<std::pair<double, double>> pts;
+    for (const json& p : curve["points"]) pts.emplace_back(p["false_alarm_rate"].get<double>(), p["detection_rate"].get<double>());
+    std::sort(pts.begin(), pts.end());
+    pts.erase(std::unique(pts.begin(), pts.end()), pts.end());
+    const bool own = name == "overall" || !curve["parameter"].is_null();
+    EXPECT_EQ(curve["swept"].get<bool>(), own && pts.size() >= 2) << name;
+    if (!curve["swept"].get<bool>() || pts.back().first == pts.front().first) {
+      EXPECT_TRUE(curve["auc"].is_null()) << name;
+      EXPECT_TRUE(curve["auc_false_alarm_range"].is_null()) << name;
+      continue;
+    }
+    // Trapezoids between the measured points only: nothing added at (0, 0) or (1, 1).
+    double area = 0;
+    for (size_t i = 1; i < pts.size(); ++i) area += (pts[i].first - pts[i - 1].first) * (pts[i].second + pts[i - 1].second) / 2;
+    EXPECT_DOUBLE_EQ(curve["auc"].get<double>(), area) << name;
+    EXPECT_EQ(curve["auc_false_alarm_range"], json::array({pts.front().first, pts.back().first})) << name;
+  }
+  // This campaign's swept K_T limit does move its rates.
+  EXPECT_TRUE(roc["kt_degradation"]["swept"].get<bool>()) << roc["kt_degradation"].dump();
+}
+
 TEST(Tune, ChoosesOnEvenSeedsReportsOnOddSeedsAndWarnsAtTheGridsEdge) {
   ScratchDir dir("tune_split");
   json file = KtCampaign(json::object());

@@ -1,7 +1,9 @@
 // The campaign report on a small real campaign (run once for the suite) with the hand-made
-// tuning.json fixture (tests/reports/data/tuning.json): every plot is there with data, the
-// heat map holds summary.json's confusion counts, nothing is fetched, text is escaped, and a
-// missing tuning.json says what to run.
+// tuning.json fixture (tests/reports/data/tuning.json, given this campaign's hash): every plot
+// is there with data and units, the heat map holds summary.json's confusion counts, nothing is
+// fetched, text is escaped, only swept ROC curves are drawn (no extrapolated points, no AUC
+// for the others), detection probability shows the runs as run, every empty plot says why,
+// and files of another campaign are refused.
 #include "reports/campaign_report.h"
 
 #include <gmock/gmock.h>
@@ -14,8 +16,10 @@
 #include <sstream>
 
 #include "campaigns/campaign_summary.h"
+#include "campaigns/provenance.h"
 #include "campaigns/runner.h"
 #include "core/json_input.h"
+#include "tests/core/test_support.h"
 
 namespace armfault {
 namespace {
@@ -24,6 +28,8 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 using testing::HasSubstr;
 using testing::Not;
+using testing_support::ErrorOf;
+using testing_support::ScratchDir;
 
 std::string ReadAll(const fs::path& p) {
   std::ifstream f(p, std::ios::binary);
@@ -48,8 +54,8 @@ int DataPaths(const std::string& svg) {
 
 class CampaignReportTest : public testing::Test {
  protected:
-  // One short campaign for the whole suite: a strong and a slight K_T fault (the slight one
-  // is likely missed), a stuck sensor, two healthy runs.
+  // One short campaign for the whole suite: K_T faults from strong to slight (the slight one
+  // is likely missed; four magnitudes, enough for a fit), a stuck sensor, two healthy runs.
   static void SetUpTestSuite() {
     dir_ = new fs::path(fs::temp_directory_path() / ("armfault_report_test_" + std::to_string(getpid())));
     fs::remove_all(*dir_);
@@ -58,7 +64,7 @@ class CampaignReportTest : public testing::Test {
       "name": "report-test", "seed": 11, "duration_s": 5,
       "trajectories": [{"name": "exp1", "joints": {"3": {"type": "sine_pair", "amplitude_deg": 25, "omega_rad_s": 1.2732}}}],
       "faults": [
-        {"family": "kt_degradation", "joint": 3, "kt_factor": [0.5, 0.97], "onset_s": 1.5},
+        {"family": "kt_degradation", "joint": 3, "kt_factor": [0.5, 0.7, 0.9, 0.97], "onset_s": 1.5},
         {"family": "torque_sensor_stuck", "joint": 3, "lead": ["supply", "open"], "onset_s": 2.0}
       ],
       "healthy": 2,
@@ -74,7 +80,10 @@ class CampaignReportTest : public testing::Test {
     std::string line;
     while (std::getline(in, line)) builder.Add(RunRecordFromJson(json::parse(line)));
     std::ofstream(*dir_ / "summary.json") << builder.Build(campaign_->floors, campaign_->resolved, "test").dump(2);
-    fs::copy_file(fs::path(ARMFAULT_SOURCE_DIR) / "tests/reports/data/tuning.json", *dir_ / "tuning.json");
+    // The fixture, as `armfault tune` would have written it for this campaign.
+    json tuning = ReadJsonFile((fs::path(ARMFAULT_SOURCE_DIR) / "tests/reports/data/tuning.json").string());
+    tuning["campaign_hash"] = CampaignHash(campaign_->resolved);
+    std::ofstream(*dir_ / "tuning.json") << tuning.dump(1);
     // Table 5-3 from a file, so the suite does not run the thesis experiments.
     std::ofstream(*dir_ / "thesis.json") << R"({"table_5_3": [
       {"kt_factor": 1.0, "thesis_pct": 80.5, "armfault_pct": 80.86, "thesis_ratio": 1, "armfault_ratio": 1, "windows": 4},
@@ -114,25 +123,206 @@ ReportData* CampaignReportTest::data_ = nullptr;
 std::string* CampaignReportTest::html_ = nullptr;
 
 TEST_F(CampaignReportTest, EveryPlotIsThereWithData) {
-  for (const char* id : {"roc", "pod-kt_degradation", "pod-friction_increase", "pod-torque_sensor_stuck",
-                         "latency-threshold-kt_degradation", "latency-threshold-friction_increase", "confusion",
-                         "latency-distribution", "thesis-table-5-3", "run-j3-efficiency", "run-j3-current",
-                         "run-j3-torque"}) {
+  for (const char* id : {"roc", "pod-kt_degradation", "pod-torque_sensor_stuck", "latency-threshold-kt_degradation",
+                         "latency-threshold-friction_increase", "confusion", "latency-distribution",
+                         "thesis-table-5-3", "run-j3-efficiency", "run-j3-current", "run-j3-torque"}) {
     const std::string svg = SvgById(*html_, id);
     ASSERT_FALSE(svg.empty()) << id;
     EXPECT_GT(DataPaths(svg), 0) << id;
   }
-  // Axis labels carry units.
-  for (const char* label : {"time (s)", "current (A)", "torque (N m)", "efficiency η (%)", "latency after onset (s"}) {
+  // Every axis label carries its unit.
+  for (const char* label : {"time (s)", "current (A)", "torque (N m)", "efficiency η (%)", "efficiency (fraction)",
+                            "latency after onset (s", "false-alarm rate (fraction of healthy runs alarmed",
+                            "detection rate (fraction of faulty runs", "detection probability (fraction of runs)",
+                            "kt_factor (× nominal K_T), fault magnitude", "kt_factor.worn (× nominal K_T), threshold",
+                            "friction_factor.worn (× nominal friction), threshold", "lead (named fault variant)"}) {
     EXPECT_THAT(*html_, HasSubstr(label));
   }
-  // AUCs in the ROC legend; a90 and a90/95 marked.
-  EXPECT_THAT(SvgById(*html_, "roc"), HasSubstr("overall frontier (AUC 0.970)"));
-  EXPECT_THAT(SvgById(*html_, "roc"), HasSubstr("kt_degradation (AUC 0.950)"));
-  EXPECT_THAT(SvgById(*html_, "pod-kt_degradation"), HasSubstr("a90 = 0.87"));
-  EXPECT_THAT(SvgById(*html_, "pod-kt_degradation"), HasSubstr("a90/95 = 0.8418"));
   // The run plot marks the onset and the alarm.
   EXPECT_THAT(SvgById(*html_, "run-j3-current"), HasSubstr("fault onset"));
+}
+
+// The <title> tooltips of the data points of an SVG.
+std::vector<std::string> PointTips(const std::string& svg) {
+  static const std::regex point("<path class=\"data point\"[^>]*><title>([^<]*)</title>");
+  std::vector<std::string> out;
+  for (auto it = std::sregex_iterator(svg.begin(), svg.end(), point); it != std::sregex_iterator(); ++it) {
+    out.push_back((*it)[1].str());
+  }
+  return out;
+}
+
+TEST_F(CampaignReportTest, RocDrawsOnlySweptCurvesWithMeasuredPointsAndTheOperatingPoint) {
+  const std::string roc = SvgById(*html_, "roc");
+  // The three swept curves (5 points each) and four marked points, nothing else: no point was
+  // added at (0, 0) or (1, 1).
+  const std::vector<std::string> tips = PointTips(roc);
+  EXPECT_EQ(tips.size(), 3u * 5 + 4);
+  for (const std::string& tip : tips) {
+    EXPECT_THAT(tip, Not(HasSubstr("false alarms 0.0 %, detection 0.0 %")));
+    EXPECT_THAT(tip, Not(HasSubstr("false alarms 100.0 %")));
+  }
+  // Each curve's line joins its five measured points: four segments, no extrapolated ends.
+  static const std::regex line("<path class=\"data line\" d=\"([^\"]*)\"");
+  int lines = 0;
+  for (auto it = std::sregex_iterator(roc.begin(), roc.end(), line); it != std::sregex_iterator(); ++it, ++lines) {
+    const std::string d = (*it)[1].str();
+    EXPECT_EQ(std::count(d.begin(), d.end(), 'L'), 4) << d;
+  }
+  EXPECT_EQ(lines, 3);
+  // AUCs only as measured; none for the families without a swept threshold, which are not drawn.
+  EXPECT_THAT(roc, HasSubstr("overall frontier, AUC 0.238 over false alarms 0 to 0.25"));
+  EXPECT_THAT(roc, HasSubstr("kt_degradation (kt_factor.worn swept), AUC 0.188 over false alarms 0 to 0.1875"));
+  for (const char* family : {"brake_lock", "inverter_short", "torque_sensor_stuck"}) {
+    EXPECT_THAT(roc, Not(HasSubstr(family)));
+    EXPECT_THAT(*html_, HasSubstr(std::string("Not drawn: <b>") + family +
+                                  "</b>: no threshold of its own is swept (its detectors are not on the grid)"));
+  }
+  // The false-alarm axis is zoomed to a little above the largest rate (0.25), and says so.
+  EXPECT_THAT(roc, HasSubstr("false-alarm rate (fraction of healthy runs alarmed; axis 0 to 0.3)"));
+  // The chosen operating point, over every run and on each half.
+  EXPECT_THAT(roc, HasSubstr("operating point (all runs): false alarms 0.0 %, detection 94.4 %"));
+  EXPECT_THAT(roc, HasSubstr("operating point on the held-out runs: false alarms 12.5 %, detection 89.5 %"));
+  EXPECT_THAT(roc, HasSubstr("thresholds as run"));
+}
+
+TEST_F(CampaignReportTest, RocWithoutASweptCurveSaysWhyInsteadOfDrawing) {
+  ReportData d = *data_;
+  json& roc = (*d.tuning)["roc"];
+  roc["overall"]["points"] = json::array({roc["overall"]["points"][0]});
+  roc["kt_degradation"]["points"] = json::array({roc["kt_degradation"]["points"][2]});
+  roc.erase("friction_increase");
+  const std::string html = RenderReportHtml(d);
+  EXPECT_EQ(SvgById(html, "roc"), "");
+  EXPECT_THAT(html, HasSubstr("No ROC curve to draw"));
+  EXPECT_THAT(html, HasSubstr("Not drawn: <b>overall frontier</b>: one operating point only (false alarms 0.0 %, "
+                              "detection 61.0 %): every setting of the grid gave these rates; no AUC."));
+  EXPECT_THAT(html, HasSubstr("Not drawn: <b>kt_degradation</b>: one operating point only"));
+  // A curve that varies but sits at one false-alarm rate is drawn without an AUC.
+  d = *data_;
+  (*d.tuning)["roc"]["kt_degradation"]["auc"] = 1.0;
+  (*d.tuning)["roc"]["kt_degradation"]["auc_false_alarm_range"] = {0, 0};
+  EXPECT_THAT(SvgById(RenderReportHtml(d), "roc"),
+              HasSubstr("kt_degradation (kt_factor.worn swept), no AUC: every point at one false-alarm rate"));
+}
+
+TEST_F(CampaignReportTest, RocZoomsOnTheLowEndWhenTheCurvesReachFar) {
+  ReportData d = *data_;
+  (*d.tuning)["roc"]["overall"]["points"].push_back({{"false_alarm_rate", 0.9}, {"detection_rate", 1.0}});
+  const std::string html = RenderReportHtml(d);
+  EXPECT_THAT(SvgById(html, "roc"), HasSubstr("false-alarm rate (fraction of healthy runs alarmed; axis 0 to 1)"));
+  const std::string low = SvgById(html, "roc-low-false-alarms");
+  EXPECT_THAT(low, HasSubstr("false-alarm rate (fraction of healthy runs alarmed; axis 0 to 0.2)"));
+  EXPECT_THAT(low, HasSubstr("Zoomed to false alarms 0 to 0.2: 3 points lie beyond the axis"));
+  // Without far points, one plot is enough.
+  EXPECT_EQ(SvgById(*html_, "roc-low-false-alarms"), "");
+}
+
+TEST_F(CampaignReportTest, DetectionProbabilityShowsEveryRunAsRunAndTheFit) {
+  const std::string pod = SvgById(*html_, "pod-kt_degradation");
+  const std::vector<std::string> tips = PointTips(pod);
+  long runs = 0, missed = 0;
+  for (const RunRecord& r : Records()) {
+    if (r.family != "kt_degradation") continue;
+    ++runs;
+    missed += r.detected ? 0 : 1;
+    const std::string expected = r.run_id + (r.detected ? ": detected" : ": missed");
+    EXPECT_NE(std::find(tips.begin(), tips.end(), expected), tips.end()) << expected;
+  }
+  ASSERT_EQ(runs, 4);
+  // One dot per run and one detected fraction per magnitude, with its Wilson interval.
+  EXPECT_EQ(tips.size(), 4u + 4u);
+  EXPECT_THAT(pod, HasSubstr("detected fraction as run (95 % Wilson)"));
+  EXPECT_THAT(pod, HasSubstr("kt_factor 0.5: 1 of 1 runs detected (100.0 %, 95 % Wilson [20.7, 100.0] %)"));
+  EXPECT_THAT(pod, HasSubstr("4 runs at 4 magnitudes: " + std::to_string(runs - missed) + " detected, " +
+                             std::to_string(missed) + " missed"));
+  EXPECT_THAT(pod, HasSubstr("fitted as run"));
+  // Named variants: their runs and fractions, no curve.
+  const std::string stuck = SvgById(*html_, "pod-torque_sensor_stuck");
+  EXPECT_THAT(stuck, HasSubstr("exp1/torque_sensor_stuck#1/lead=supply/j3/r0: "));
+  EXPECT_THAT(stuck, HasSubstr("Named variants: no fitted curve."));
+}
+
+TEST_F(CampaignReportTest, MissesAreVisibleAtZero) {
+  ReportData d = *data_;
+  PodAsRun p;
+  p.magnitude_key = "friction_factor";
+  for (double m : {1.2, 1.5, 2.0}) {
+    PodAsRun::Cell& c = p.by_magnitude[m];
+    for (int k = 0; k < 3; ++k) {
+      const bool hit = m > 1.3 && k < 2;
+      const std::string id = "exp1/friction_increase#0/friction_factor=" + FormatNumber(m) + "/j3/r" + std::to_string(k);
+      ++c.runs;
+      c.detected += hit;
+      (hit ? c.hit_ids : c.miss_ids).push_back(id);
+      p.severities.push_back(m - 1);
+      p.hits.push_back(hit);
+    }
+  }
+  d.pod = {{"friction_increase", p}};
+  const std::string pod = SvgById(RenderReportHtml(d), "pod-friction_increase");
+  EXPECT_THAT(pod, HasSubstr("runs missed (at 0)"));
+  EXPECT_THAT(pod, HasSubstr("exp1/friction_increase#0/friction_factor=1.2/j3/r2: missed"));
+  EXPECT_THAT(pod, HasSubstr("friction_factor 1.2: 0 of 3 runs detected (0.0 %"));
+  EXPECT_THAT(pod, HasSubstr("9 runs at 3 magnitudes: 4 detected, 5 missed"));
+  EXPECT_THAT(pod, HasSubstr("fill=\"#c62828\""));  // the misses' own colour
+}
+
+TEST_F(CampaignReportTest, EveryEmptyPlotSaysWhy) {
+  // One magnitude per family: no curve, and the section says why.
+  ReportData d = *data_;
+  PodAsRun one;
+  one.magnitude_key = "kt_factor";
+  one.by_magnitude[0.6] = PodAsRun::Cell{2, 1, {"a"}, {"b"}};
+  one.severities = {0.4, 0.4};
+  one.hits = {true, false};
+  d.pod = {{"kt_degradation", one}};
+  std::string html = RenderReportHtml(d);
+  EXPECT_THAT(SvgById(html, "pod-kt_degradation"), HasSubstr("One magnitude only: no curve (a fit needs 2 or more)."));
+  EXPECT_THAT(html, HasSubstr("No family had more than one magnitude: no detection-probability curve could be fitted"));
+
+  // No faulty runs at all.
+  d = *data_;
+  d.pod.clear();
+  d.latencies_s.clear();
+  d.misses.clear();
+  html = RenderReportHtml(d);
+  EXPECT_THAT(html, HasSubstr("No detection-probability plots: results.jsonl holds no completed faulty runs."));
+  EXPECT_THAT(html, HasSubstr("No latencies: results.jsonl holds no completed faulty runs."));
+
+  // Faulty runs, none detected.
+  d = *data_;
+  d.latencies_s.clear();
+  d.misses = {{"kt_degradation", 3}};
+  EXPECT_THAT(RenderReportHtml(d), HasSubstr("No latencies: none of the 3 faulty runs was detected."));
+
+  // A latency curve with one threshold value.
+  d = *data_;
+  (*d.tuning)["latency"]["kt_degradation"]["points"] = json::array({(*d.tuning)["latency"]["kt_degradation"]["points"][0]});
+  html = RenderReportHtml(d);
+  EXPECT_EQ(SvgById(html, "latency-threshold-kt_degradation"), "");
+  EXPECT_THAT(html, HasSubstr("kt_degradation: one threshold value only (kt_factor.worn not swept): no curve."));
+}
+
+TEST_F(CampaignReportTest, ExplainsEveryMetricAndItsInterval) {
+  const std::string md = RenderReportMarkdown(*data_);
+  for (const char* metric : {"detection rate", "false-alarm rate", "alarm-before-onset rate", "isolation accuracy",
+                             "latency median / p95", "magnitude error", "95 % Wilson score interval"}) {
+    EXPECT_THAT(*html_, HasSubstr(std::string("<li><b>") + metric + "</b>: ")) << metric;
+    EXPECT_THAT(md, HasSubstr(std::string("- **") + metric + "**: ")) << metric;
+  }
+  EXPECT_THAT(md, HasSubstr("0 of 10 still allows up to 27.8 %"));
+}
+
+TEST_F(CampaignReportTest, ShowsTheCampaignHashOfEveryFile) {
+  const std::string hash = CampaignHash(campaign_->resolved);
+  EXPECT_EQ(data_->campaign_hash, hash);
+  EXPECT_EQ(data_->hashed_files, (std::vector<std::string>{"campaign.json", "summary.json", "tuning.json"}));
+  EXPECT_THAT(*html_, HasSubstr("<meta name=\"armfault-campaign-hash\" content=\"" + hash + "\">"));
+  EXPECT_THAT(*html_, HasSubstr("Campaign hash <code>" + hash +
+                                "</code> (SHA-256 of the resolved campaign), carried by campaign.json, summary.json "
+                                "and tuning.json, which agree."));
+  EXPECT_THAT(RenderReportMarkdown(*data_), HasSubstr("Campaign hash `" + hash + "`"));
 }
 
 TEST_F(CampaignReportTest, HeatMapHoldsTheSummaryConfusionCounts) {
@@ -250,18 +440,23 @@ TEST_F(CampaignReportTest, RunOptionPicksAnyRunAndRejectsUnknownOnes) {
 TEST_F(CampaignReportTest, WithoutTuningTheTunedSectionsSayWhatToRun) {
   ReportData d = *data_;
   d.tuning.reset();
+  d.tuning_source = (*dir_ / "tuning.json").string() + " is absent: run `armfault tune " + dir_->string() + "`";
   const std::string html = RenderReportHtml(d);
   EXPECT_EQ(SvgById(html, "roc"), "");
-  EXPECT_EQ(SvgById(html, "pod-kt_degradation"), "");
   EXPECT_EQ(SvgById(html, "latency-threshold-kt_degradation"), "");
-  const std::string hint = "run <code>armfault tune " + dir_->string() + "</code> first";
+  const std::string hint = "No tuning results: " + (*dir_ / "tuning.json").string() +
+                           " is absent: run <code>armfault tune " + dir_->string() + "</code>.";
   size_t n = 0;
   for (size_t p = html.find(hint); p != std::string::npos; p = html.find(hint, p + 1)) ++n;
-  EXPECT_EQ(n, 4u);  // operating point, ROC, detection probability, latency against threshold
+  EXPECT_EQ(n, 3u);  // operating point, ROC, latency against threshold
+  // Detection probability as run needs no tuning; it says the tuned curve is missing and why.
+  EXPECT_GT(DataPaths(SvgById(html, "pod-kt_degradation")), 0);
+  EXPECT_THAT(html, HasSubstr("No tuned curve: " + (*dir_ / "tuning.json").string() + " is absent"));
   // The rest is still there.
   EXPECT_FALSE(SvgById(html, "confusion").empty());
   EXPECT_FALSE(SvgById(html, "run-j3-efficiency").empty());
-  EXPECT_THAT(RenderReportMarkdown(d), HasSubstr("run `armfault tune " + dir_->string() + "` first"));
+  EXPECT_THAT(RenderReportMarkdown(d), HasSubstr("No tuning results: " + (*dir_ / "tuning.json").string() +
+                                                 " is absent: run `armfault tune " + dir_->string() + "`."));
 
   // The tuning source is one swappable function.
   ReportOptions ro;
@@ -276,15 +471,80 @@ TEST_F(CampaignReportTest, WithoutTuningTheTunedSectionsSayWhatToRun) {
   EXPECT_EQ(calls, 1);
 }
 
+TEST_F(CampaignReportTest, WithoutTuningJsonTheTunersDefaultsAreShownAndSaidSo) {
+  ScratchDir scratch("report_no_tuning");
+  fs::copy(*dir_, scratch.path(), fs::copy_options::recursive);
+  fs::remove(scratch.path() / "tuning.json");
+  ReportOptions ro;
+  ro.dir = scratch.path().string();
+  const ReportData d = GatherReportData(ro);
+  ASSERT_TRUE(d.tuning.has_value());
+  EXPECT_EQ((*d.tuning)["campaign_hash"], d.campaign_hash);
+  EXPECT_THAT(d.tuning_source, HasSubstr("computed now with the tuner's defaults"));
+  EXPECT_THAT(RenderReportHtml(d), HasSubstr("run <code>armfault tune " + ro.dir + "</code> to write it"));
+}
+
+TEST_F(CampaignReportTest, RefusesFilesOfAnotherCampaign) {
+  ScratchDir scratch("report_mixed");
+  fs::copy(*dir_, scratch.path(), fs::copy_options::recursive);
+  ReportOptions ro;
+  ro.dir = scratch.path().string();
+  const std::string tuning = (scratch.path() / "tuning.json").string();
+  const std::string campaign = (scratch.path() / "campaign.json").string();
+  json t = ReadJsonFile(tuning);
+
+  // tuning.json of another campaign.
+  t["campaign_hash"] = "sha256:" + std::string(64, '0');
+  std::ofstream(tuning, std::ios::trunc) << t.dump();
+  InputError e = ErrorOf([&] { GatherReportData(ro); });
+  EXPECT_EQ(e.source(), tuning);
+  EXPECT_THAT(e.what(), HasSubstr("belongs to campaign sha256:0000"));
+  EXPECT_THAT(e.what(), HasSubstr("but " + campaign + " to campaign " + CampaignHash(campaign_->resolved)));
+  EXPECT_THAT(e.what(), HasSubstr("run `armfault tune " + ro.dir + "` to tune this directory's campaign again"));
+
+  // tuning.json without a hash (an older armfault, or another campaign).
+  t.erase("campaign_hash");
+  std::ofstream(tuning, std::ios::trunc) << t.dump();
+  e = ErrorOf([&] { GatherReportData(ro); });
+  EXPECT_EQ(e.source(), tuning);
+  EXPECT_THAT(e.what(), HasSubstr("carries no campaign_hash"));
+  EXPECT_THAT(e.what(), HasSubstr("run `armfault tune " + ro.dir + "`"));
+
+  // summary.json of another campaign.
+  fs::copy_file(*dir_ / "tuning.json", tuning, fs::copy_options::overwrite_existing);
+  json s = ReadJsonFile((scratch.path() / "summary.json").string());
+  s["campaign"]["seed"] = 12;
+  s["campaign_hash"] = CampaignHash(s["campaign"]);
+  std::ofstream(scratch.path() / "summary.json", std::ios::trunc) << s.dump();
+  e = ErrorOf([&] { GatherReportData(ro); });
+  EXPECT_EQ(e.source(), (scratch.path() / "summary.json").string());
+  EXPECT_THAT(e.what(), HasSubstr(campaign));
+
+  // results.jsonl of another campaign (the same run ids, another seed).
+  fs::copy_file(*dir_ / "summary.json", scratch.path() / "summary.json", fs::copy_options::overwrite_existing);
+  std::string lines;
+  for (RunRecord r : Records()) {
+    r.seed ^= 1;
+    lines += ToJson(r).dump() + "\n";
+  }
+  std::ofstream(scratch.path() / "results.jsonl", std::ios::trunc) << lines;
+  e = ErrorOf([&] { GatherReportData(ro); });
+  EXPECT_EQ(e.source(), (scratch.path() / "results.jsonl").string());
+  EXPECT_THAT(e.what(), HasSubstr("line 1: run \"" + Records().front().run_id + "\" has seed"));
+}
+
 TEST_F(CampaignReportTest, MarkdownHasHeadlineOperatingPointA90AndFloors) {
   const std::string md = RenderReportMarkdown(*data_);
   EXPECT_THAT(md, HasSubstr("# armfault report: report-test"));
   EXPECT_THAT(md, HasSubstr("| detection |"));
   EXPECT_THAT(md, HasSubstr("| false alarm |"));
+  EXPECT_THAT(md, HasSubstr("| alarm before onset |"));
   EXPECT_THAT(md, HasSubstr("Rule: max_detection (false_alarm_ceiling = 0.05)"));
   EXPECT_THAT(md, HasSubstr("kt_factor.worn = 0.95"));
-  EXPECT_THAT(md, HasSubstr("| kt_degradation | kt_factor | 0.87 | 0.8418 |"));
-  EXPECT_THAT(md, HasSubstr("| torque_sensor_stuck | lead | no fit | no fit |"));
+  EXPECT_THAT(md, HasSubstr("| family | magnitude | a90 as run | a90/95 as run | a90 at the operating point |"));
+  EXPECT_THAT(md, HasSubstr("| kt_degradation | kt_factor | "));
+  EXPECT_THAT(md, HasSubstr("| 0.87 | 0.8418 |"));  // the fixture's fit at the operating point
+  EXPECT_THAT(md, HasSubstr("| torque_sensor_stuck | lead | named variants | named variants |"));
   EXPECT_THAT(md, HasSubstr("| detection_rate | ≥ 0.500 |"));
   EXPECT_THAT(md, HasSubstr("| per_family/torque_sensor_stuck/detection_rate |"));
 }
