@@ -6,7 +6,7 @@
 FROM debian:bookworm-slim AS build
 RUN apt-get update \
  && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends \
-      build-essential cmake pkg-config libode-dev libeigen3-dev libtbb-dev nlohmann-json3-dev libcli11-dev \
+      build-essential cmake pkg-config libode-dev libeigen3-dev libtbb-dev nlohmann-json3-dev libcli11-dev libssl-dev \
  && rm -rf /var/lib/apt/lists/*
 WORKDIR /src
 COPY . .
@@ -16,7 +16,7 @@ RUN cmake -S . -B /build -DCMAKE_BUILD_TYPE=Release -DBUILD_TESTING=OFF -DARMFAU
 
 FROM debian:bookworm-slim
 RUN apt-get update \
- && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends libode8 libtbb12 \
+ && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends libode8 libtbb12 libssl3 \
  && rm -rf /var/lib/apt/lists/*
 COPY --from=build /usr/local/bin/armfault /usr/local/bin/armfault
 COPY --from=build /usr/local/share/armfault /usr/local/share/armfault

@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 # Test-only: chromium (report page), slurm-wlm and munge (tools/slurm_check.sh runs a real Slurm),
 # python3-yaml (tests/deploy/deploy_test.sh parses the Kubernetes YAML).
 packages=(build-essential cmake pkg-config libode-dev libeigen3-dev libtbb-dev nlohmann-json3-dev
-          libcli11-dev libgtest-dev libgmock-dev libbenchmark-dev chromium slurm-wlm munge
+          libcli11-dev libssl-dev libgtest-dev libgmock-dev libbenchmark-dev chromium slurm-wlm munge
           python3-yaml)
 missing=()
 for p in "${packages[@]}"; do
