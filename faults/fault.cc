@@ -52,6 +52,7 @@ class RatioMeter : public EffectMeter {
     e.healthy = num_.n_before >= kMinSamples && den_.before != 0 ? num_.before / den_.before : nominal_;
     if (num_.n_after < kMinSamples || den_.after == 0) {
       e.faulty = e.healthy;
+      e.measured = false;
       e.note = "too few informative samples after onset to measure " + measure_;
       return e;
     }
@@ -82,6 +83,7 @@ class RmsMeter : public EffectMeter {
     e.healthy = sq_.n_before > 0 ? std::sqrt(sq_.before / sq_.n_before) : 0.0;
     e.faulty = sq_.n_after > 0 ? std::sqrt(sq_.after / sq_.n_after) : e.healthy;
     e.took_effect = sq_.n_after > 0 && e.faulty > factor_ * e.healthy + margin_;
+    e.measured = sq_.n_after > 0;
     if (!e.took_effect) e.note = measure_ + " did not rise above " + FormatNumber(factor_) + " x healthy + " + FormatNumber(margin_);
     return e;
   }
@@ -104,6 +106,7 @@ class MeanMeter : public EffectMeter {
     e.healthy = sum_.n_before > 0 ? sum_.before / sum_.n_before : 0.0;
     e.faulty = sum_.n_after > 0 ? sum_.after / sum_.n_after : e.healthy;
     e.took_effect = sum_.n_after > 0 && e.faulty > e.healthy + margin_;
+    e.measured = sum_.n_after > 0;
     if (!e.took_effect) e.note = measure_ + " did not rise by more than " + FormatNumber(margin_);
     return e;
   }
@@ -130,6 +133,7 @@ class FlatnessMeter : public EffectMeter {
     e.healthy = Std(sum_.before, sq_.before, sum_.n_before);
     e.faulty = Std(sum_.after, sq_.after, sum_.n_after);
     e.took_effect = sum_.n_after >= kMinSamples && e.healthy > 0 && e.faulty < fraction_ * e.healthy;
+    e.measured = sum_.n_after >= kMinSamples;
     if (!e.took_effect) e.note = measure_ + " did not fall below " + FormatNumber(fraction_) + " x healthy";
     return e;
   }
@@ -159,6 +163,7 @@ class EitherMeter : public EffectMeter {
     FaultEffect b = b_->Result();
     if (b.took_effect) return b;
     a.note += "; " + b.note;
+    a.measured = a.measured || b.measured;
     return a;
   }
 
@@ -241,12 +246,14 @@ std::vector<FaultEffect> EffectRecorder::Results() const {
 }
 
 std::string NotExcitedReason(const Fault& fault, const FaultEffect& effect) {
-  if (!effect.took_effect) return "the fault took no effect: " + effect.note;
   if (FaultNeedsMotion(fault.family()) && effect.joint_travel_rad < kMinTravelToExcite_rad) {
     char travel[32];
     std::snprintf(travel, sizeof travel, "%.3g", effect.joint_travel_rad);
     return "joint " + std::to_string(fault.joint_index() + 1) + " was asked to move " + travel + " rad after the onset (less than " +
            FormatNumber(kMinTravelToExcite_rad) + " rad), and " + fault.family() + " shows only in motion";
+  }
+  if (!effect.took_effect && (!effect.measured || FaultIsDiscrete(fault.family()))) {
+    return "the fault took no effect: " + effect.note;
   }
   return "";
 }

@@ -46,6 +46,7 @@ struct FaultEffect {
   double faulty = 0.0;        // after onset
   bool took_effect = false;   // false: reported as "no effect", never silently counted
   std::string note;           // why not, when there was no effect
+  bool measured = true;       // false: too few informative samples after the onset to judge
   // How far the faulted joint's reference moved from the onset on: the motion asked of it (a
   // locked brake stops the joint itself).
   double joint_travel_rad = 0.0;
@@ -101,9 +102,14 @@ std::string FaultMagnitudeKey(const std::string& family);
 // in motion, and on a still joint a K_T loss shows only as another holding current, which an
 // unknown payload explains as well. A stuck sensor, a short, a drift show at rest.
 bool FaultNeedsMotion(const std::string& family);
+// True for the families that are present or absent (a stuck lead, a short) rather than graded
+// by a magnitude: for them "no effect" means the fault could not act, while a graded fault
+// with a small effect is simply small (and missing it is a miss).
+bool FaultIsDiscrete(const std::string& family);
 
-// Why a run's fault could not be seen by any monitor ("" when it could): it took no effect on
-// the hardware, or its joint stayed still although its signature needs motion.
+// Why a run's fault could not be seen by any monitor ("" when it could): its joint was left
+// still although its signature needs motion, its effect had nothing to act on (too few
+// informative samples after the onset), or a discrete fault took no effect.
 std::string NotExcitedReason(const Fault& fault, const FaultEffect& effect);
 
 // All faults of a run as the plant's hardware schedule.

@@ -10,16 +10,17 @@ struct Family {
   FaultFactory make;
   const char* magnitude_key;  // the parameter that sizes a fault of this family
   bool needs_motion;          // its signature shows only while the joint moves (fault.h)
+  bool discrete;              // present or absent (a lead, a short), not graded by a magnitude
 };
 
 const Family kFamilies[] = {
-    {"kt_degradation", &MakeKtDegradation, "kt_factor", true},
-    {"friction_increase", &MakeFrictionIncrease, "friction_factor", true},
-    {"brake_lock", &MakeBrakeLock, "drag_fraction", true},
-    {"torque_sensor_stuck", &MakeTorqueSensorStuck, "", false},
-    {"inverter_short", &MakeInverterShort, "resistance_ohm", false},
-    {"winding_resistance", &MakeWindingResistance, "resistance_factor", false},
-    {"torque_sensor_drift", &MakeTorqueSensorDrift, "drift_Nm_per_s", false},
+    {"kt_degradation", &MakeKtDegradation, "kt_factor", true, false},
+    {"friction_increase", &MakeFrictionIncrease, "friction_factor", true, false},
+    {"brake_lock", &MakeBrakeLock, "drag_fraction", true, false},
+    {"torque_sensor_stuck", &MakeTorqueSensorStuck, "", false, true},
+    {"inverter_short", &MakeInverterShort, "resistance_ohm", false, true},
+    {"winding_resistance", &MakeWindingResistance, "resistance_factor", false, false},
+    {"torque_sensor_drift", &MakeTorqueSensorDrift, "drift_Nm_per_s", false, false},
 };
 
 }  // namespace
@@ -40,6 +41,13 @@ std::string FaultMagnitudeKey(const std::string& family) {
 bool FaultNeedsMotion(const std::string& family) {
   for (const Family& f : kFamilies) {
     if (family == f.name) return f.needs_motion;
+  }
+  return false;
+}
+
+bool FaultIsDiscrete(const std::string& family) {
+  for (const Family& f : kFamilies) {
+    if (family == f.name) return f.discrete;
   }
   return false;
 }

@@ -963,6 +963,34 @@ std::string ConfusionSection(const ReportData& d) {
   return o + "<div class=\"plots\">" + h.Render() + "</div></section>";
 }
 
+// The runs scored wrong with why, and the runs that could not be seen, as two tables.
+std::string WhySection(const ReportData& d) {
+  std::string o = "<section id=\"why\"><h2>Runs scored wrong, and why</h2>";
+  auto table = [](const std::vector<ReportData::ListedRun>& runs, long count, const char* what) {
+    std::string t = "<p>" + std::to_string(count) + " " + what +
+                    (count > static_cast<long>(runs.size()) ? " (the first " + std::to_string(runs.size()) + " listed)" : "") +
+                    ". Replay one with <code>armfault trace campaign.json --run RUN_ID</code> in the output directory.</p>";
+    t += "<table><tr><th>run</th><th>why</th></tr>";
+    for (const auto& r : runs) t += "<tr><td><code>" + Escape(r.run_id) + "</code></td><td>" + Escape(r.reason) + "</td></tr>";
+    return t + "</table>";
+  };
+  if (d.wrong_count == 0) {
+    o += "<p>Every run was scored right: no miss, no wrong family or joint, no healthy run that alarmed.</p>";
+  } else {
+    o += table(d.wrong, d.wrong_count, "runs missed, isolated to the wrong family or joint, or healthy runs that alarmed");
+  }
+  o += "<h3>Runs whose fault could not act (not excited)</h3>";
+  if (d.not_excited_count == 0) {
+    o += "<p>None: every fault changed the hardware where a monitor could see it.</p>";
+  } else {
+    o += std::string("<p>") +
+         (d.not_excited_included ? "The campaign sets include_not_excited: these runs are scored like any other."
+                                 : "Left out of every rate (summary.json lists them under not_excited_runs).") +
+         "</p>" + table(d.not_excited, d.not_excited_count, "runs not excited");
+  }
+  return o + "</section>";
+}
+
 std::string LatencyDistributionSection(const ReportData& d) {
   std::string o = "<section id=\"latency\"><h2>Latency distributions</h2>";
   if (d.latencies_s.empty() && d.misses.empty()) {
@@ -1317,6 +1345,7 @@ ReportData GatherReportData(const ReportOptions& options) {
   // plotted run. Each line must be a case of campaign.json.
   std::optional<CaseMatcher> matcher;
   if (campaign) matcher.emplace(*campaign);
+  if (campaign) d.not_excited_included = campaign->include_not_excited;
   std::optional<RunRecord> first, first_missed, first_detected, wanted;
   {
     const fs::path path = dir / "results.jsonl";
@@ -1345,7 +1374,16 @@ ReportData GatherReportData(const ReportOptions& options) {
       ++d.records;
       if (!first) first = r;
       if (!options.run_id.empty() && r.run_id == options.run_id) wanted = r;
+      if (r.ok && !r.miss_reason.empty() && (r.family.empty() || r.excited() || d.not_excited_included)) {
+        if (d.wrong.size() < ReportData::kListedRuns) d.wrong.push_back({r.run_id, r.miss_reason});
+        ++d.wrong_count;
+      }
       if (!r.ok || r.family.empty()) continue;
+      if (!r.excited()) {
+        if (d.not_excited.size() < ReportData::kListedRuns) d.not_excited.push_back({r.run_id, r.not_excited_reason});
+        ++d.not_excited_count;
+        if (!d.not_excited_included) continue;  // as summary.json: outside the rates
+      }
       AddPodRun(r, &d.pod[r.family]);
       if (r.detected) {
         if (r.latency_s && std::isfinite(*r.latency_s)) d.latencies_s[r.family].push_back(*r.latency_s);
@@ -1457,7 +1495,7 @@ std::string RenderReportHtml(const ReportData& d) {
   o += "<p>" + CampaignHashText(d, true) + "</p>";
   o += "<nav><a href=\"#summary\">rates and floors</a><a href=\"#operating-point\">operating point</a>"
        "<a href=\"#roc\">ROC</a><a href=\"#pod\">detection probability</a><a href=\"#latency-threshold\">latency vs "
-       "threshold</a><a href=\"#confusion\">confusion</a><a href=\"#latency\">latency</a><a href=\"#thesis\">table "
+       "threshold</a><a href=\"#confusion\">confusion</a><a href=\"#why\">why wrong</a><a href=\"#latency\">latency</a><a href=\"#thesis\">table "
        "5-3</a><a href=\"#run\">one run</a></nav>";
   o += SummarySection(d);
   o += OperatingPointSection(d);
@@ -1465,6 +1503,7 @@ std::string RenderReportHtml(const ReportData& d) {
   o += PodSection(d);
   o += LatencyThresholdSection(d);
   o += ConfusionSection(d);
+  o += WhySection(d);
   o += LatencyDistributionSection(d);
   o += ThesisSection(d);
   o += RunSection(d);

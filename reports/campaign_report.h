@@ -101,6 +101,15 @@ struct ReportData {
   std::map<std::string, std::vector<double>> latencies_s;
   std::map<std::string, long> misses;
   long records = 0;
+  // Runs scored wrong (missed, wrong family or joint, healthy runs that alarmed) with the
+  // record's reason, and runs whose fault could not act: the first kListedRuns of each.
+  struct ListedRun {
+    std::string run_id, reason;
+  };
+  static constexpr size_t kListedRuns = 50;
+  std::vector<ListedRun> wrong, not_excited;
+  long wrong_count = 0, not_excited_count = 0;
+  bool not_excited_included = false;  // the campaign scores them like any other run
   std::vector<ThesisRow> table_5_3;     // K_T factor 1 ... 0.5
   std::string thesis_source;            // "DIR/thesis.json" or "simulated, seed 1"
   RunSeries run;

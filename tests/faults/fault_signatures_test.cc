@@ -352,13 +352,20 @@ TEST(NotExcitedTest, AStillJointHidesOnlyTheFamiliesThatNeedMotion) {
   EXPECT_FALSE(FaultNeedsMotion("inverter_short"));
 }
 
-TEST(NotExcitedTest, AFaultThatTookNoEffectIsNotExcited) {
-  // An onset after the end of the run: nothing to measure, so nothing a monitor could see.
-  const json late = {{"family", "friction_increase"}, {"joint", 3}, {"friction_factor", 2.0}, {"onset_s", 1e3}};
+TEST(NotExcitedTest, ADiscreteFaultWithoutEffectIsNotExcitedAGradedSmallOneIsScored) {
+  // A stuck lead with its onset after the end of the run: nothing a monitor could see.
+  const json late = {{"family", "torque_sensor_stuck"}, {"joint", 3}, {"lead", "open"}, {"onset_s", 1e3}};
   const FaultyRun run = RunWithFaults(json::array({late}));
   EXPECT_FALSE(run.effects[0].took_effect);
   EXPECT_THAT(NotExcitedReason(*MakeFault(late, "/f", ThesisExperiment1().robot), run.effects[0]),
               HasSubstr("the fault took no effect: "));
+  // A 1 % K_T loss on the moving joint is below its meter's 3 %, but it acts: a small fault,
+  // scored (missing it is a miss), not an unexcited one.
+  const json slight = {{"family", "kt_degradation"}, {"joint", 3}, {"kt_factor", 0.99}, {"onset_s", kOnset}};
+  const FaultyRun small = RunWithFaults(json::array({slight}));
+  EXPECT_FALSE(small.effects[0].took_effect);
+  EXPECT_TRUE(small.effects[0].measured);
+  EXPECT_EQ(NotExcitedReason(*MakeFault(slight, "/f", ThesisExperiment1().robot), small.effects[0]), "");
 }
 
 }  // namespace

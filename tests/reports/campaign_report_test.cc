@@ -379,6 +379,25 @@ TEST_F(CampaignReportTest, EscapesNamesFromTheFiles) {
   EXPECT_THAT(html, HasSubstr("kt_degradation&quot;&gt;&lt;b&gt;"));
 }
 
+TEST_F(CampaignReportTest, ListsEveryWrongRunWithItsReasonAndTheNotExcitedApart) {
+  long wrong = 0;
+  std::string first_id, first_reason;
+  for (const RunRecord& r : Records()) {
+    if (!r.ok || r.miss_reason.empty()) continue;
+    if (wrong++ == 0) first_id = r.run_id, first_reason = r.miss_reason;
+  }
+  ASSERT_GT(wrong, 0) << "the slight K_T loss is expected to be missed";
+  EXPECT_EQ(data_->wrong_count, wrong);
+  EXPECT_THAT(*html_, HasSubstr("<section id=\"why\"><h2>Runs scored wrong, and why</h2><p>" + std::to_string(wrong) + " runs missed"));
+  EXPECT_THAT(*html_, HasSubstr("<tr><td><code>" + first_id + "</code></td><td>"));
+  EXPECT_THAT(*html_, HasSubstr("None: every fault changed the hardware where a monitor could see it."));
+  ReportData d = *data_;
+  d.not_excited = {{"exp1/x/j2/r0", "joint 2 was asked to move 0 rad after the onset"}};
+  d.not_excited_count = 1;
+  EXPECT_THAT(RenderReportHtml(d), HasSubstr("Left out of every rate (summary.json lists them under not_excited_runs)."));
+  EXPECT_THAT(RenderReportHtml(d), HasSubstr("<td>joint 2 was asked to move 0 rad after the onset</td>"));
+}
+
 TEST_F(CampaignReportTest, IsDeterministic) { EXPECT_EQ(RenderReportHtml(*data_), *html_); }
 
 TEST_F(CampaignReportTest, PlotsTheFirstMissedFaultyRunElseTheFirstDetected) {
