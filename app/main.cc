@@ -125,7 +125,8 @@ int main(int argc, char** argv) {
     if (*diff_cmd) return armfault::DiffCommand(diff);
     if (*report_cmd) return armfault::ReportCommand(report);
   } catch (const armfault::InputError& e) {
-    std::fprintf(stderr, "armfault: error: %s\n", e.what());
+    // Every error found in the input (a campaign lists all of its own), one per line.
+    for (const std::string& line : armfault::ErrorReportLines(e)) std::fprintf(stderr, "armfault: error: %s\n", line.c_str());
     return 2;
   } catch (const std::filesystem::filesystem_error& e) {
     std::fprintf(stderr, "armfault: error: %s\n", e.what());

@@ -98,7 +98,7 @@ int RunTrace(const TraceOptions& o) {
   try {
     for (auto& fault : MakeFaults(run.faults_json, "/faults", run.robot)) faults.push_back(std::move(fault));
   } catch (const InputError& e) {
-    throw e.source().empty() ? e.WithSource(context.source) : e;
+    throw e.WithSource(context.source);  // errors that name a file keep it
   }
   RunSpec spec = MakeRunSpec(run);
   if (!faults.empty()) spec.hardware = std::make_shared<FaultSchedule>(faults);

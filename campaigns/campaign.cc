@@ -7,6 +7,7 @@
 
 #include "core/rng.h"
 #include "core/run_config.h"
+#include "core/suggest.h"
 #include "faults/fault.h"
 
 namespace armfault {
@@ -47,10 +48,12 @@ ParsedSweep ParseSweep(const nlohmann::json& v, const std::string& pointer, bool
   };
   if (v.is_array()) {
     if (v.empty()) throw InputError("", pointer, "empty sweep: give at least one value");
+    ErrorList errors;  // every bad element is reported
     for (size_t i = 0; i < v.size(); ++i) {
-      check_element(v[i], PointerJoin(pointer, i));
+      errors.Try([&] { check_element(v[i], PointerJoin(pointer, i)); });
       p.sweep.values.push_back(v[i]);
     }
+    errors.ThrowIfAny();
     p.swept = true;
     return p;
   }
@@ -63,8 +66,10 @@ ParsedSweep ParseSweep(const nlohmann::json& v, const std::string& pointer, bool
       }
       const std::string up = reader.PointerTo("uniform");
       if (!u->is_array() || u->size() != 2) throw InputError("", up, "expected [low, high], got " + Describe(*u));
-      p.sweep.low = AsNumber((*u)[0], PointerJoin(up, 0));
-      p.sweep.high = AsNumber((*u)[1], PointerJoin(up, 1));
+      ErrorList errors;  // both bounds are checked before their order
+      errors.Try([&] { p.sweep.low = AsNumber((*u)[0], PointerJoin(up, 0)); });
+      errors.Try([&] { p.sweep.high = AsNumber((*u)[1], PointerJoin(up, 1)); });
+      errors.ThrowIfAny();
       if (p.sweep.low > p.sweep.high) {
         throw InputError("", PointerJoin(up, 0),
                          "low " + FormatNumber(p.sweep.low) + " is greater than high " + FormatNumber(p.sweep.high));
@@ -73,9 +78,13 @@ ParsedSweep ParseSweep(const nlohmann::json& v, const std::string& pointer, bool
       p.swept = true;
       return p;
     }
-    const double from = reader.RequireNumber("from");
-    const double to = reader.RequireNumber("to");
-    const int steps = reader.RequireInt("steps");
+    double from = 0, to = 0;
+    int steps = 0;
+    ErrorList errors;  // all three keys are checked before the grid is
+    errors.Try([&] { from = reader.RequireNumber("from"); });
+    errors.Try([&] { to = reader.RequireNumber("to"); });
+    errors.Try([&] { steps = reader.RequireInt("steps"); });
+    errors.ThrowIfAny();
     if (from > to) {
       throw InputError("", reader.PointerTo("from"),
                        FormatNumber(from) + " is greater than \"to\" (" + FormatNumber(to) + ")");
@@ -115,8 +124,10 @@ Sweep VariationSweep(ObjectReader& reader, const char* key, double min, double m
     throw InputError("", reader.PointerTo(key), "expected a number or {\"uniform\": [a, b]}, got " + Describe(*v));
   }
   if (p.sweep.uniform) {
-    RequireInRange(p.sweep.low, min, max, PointerJoin(PointerJoin(reader.PointerTo(key), "uniform"), 0));
-    RequireInRange(p.sweep.high, min, max, PointerJoin(PointerJoin(reader.PointerTo(key), "uniform"), 1));
+    ErrorList errors;  // each bound on its own
+    errors.Try([&] { RequireInRange(p.sweep.low, min, max, PointerJoin(PointerJoin(reader.PointerTo(key), "uniform"), 0)); });
+    errors.Try([&] { RequireInRange(p.sweep.high, min, max, PointerJoin(PointerJoin(reader.PointerTo(key), "uniform"), 1)); });
+    errors.ThrowIfAny();
   } else {
     RequireInRange(p.sweep.values[0].get<double>(), min, max, reader.PointerTo(key));
   }
@@ -134,78 +145,137 @@ StatedTolerances ParseTolerances(const nlohmann::json& v, const std::string& poi
   ObjectReader reader(v, pointer);
   std::vector<std::string> allowed = {"preset"};
   for (const ToleranceKey& k : ToleranceKeys()) allowed.push_back(k.name);
-  reader.AllowOnly(allowed);
+  ErrorList errors;  // every key on its own
+  errors.Try([&] { reader.AllowOnly(allowed); });
   StatedTolerances t;
-  if (const auto* p = reader.Find("preset")) t = ParseTolerances(*p, reader.PointerTo("preset"));
+  errors.Try([&] {
+    if (const auto* p = reader.Find("preset")) t = ParseTolerances(*p, reader.PointerTo("preset"));
+  });
   for (const ToleranceKey& k : ToleranceKeys()) {
-    if (const auto* x = reader.Find(k.name)) {
-      const double s = AsNumber(*x, reader.PointerTo(k.name));
-      RequireInRange(s, 0, k.max, reader.PointerTo(k.name));
-      t.*k.member = s;
-    }
+    errors.Try([&] {
+      if (const auto* x = reader.Find(k.name)) {
+        const double s = AsNumber(*x, reader.PointerTo(k.name));
+        RequireInRange(s, 0, k.max, reader.PointerTo(k.name));
+        t.*k.member = s;
+      }
+    });
   }
-  reader.Finish();
+  errors.ThrowIfAny();
   return t;
 }
 
 FloorSet ParseFloorSet(const nlohmann::json& v, const std::string& pointer, bool allow_per_family) {
   ObjectReader reader(v, pointer);
-  if (allow_per_family) reader.AllowOnly({"detection_rate", "false_alarm_rate", "isolation_accuracy", "per_family"});
-  else reader.AllowOnly({"detection_rate", "false_alarm_rate", "isolation_accuracy"});
+  ErrorList errors;  // every key on its own
+  errors.Try([&] {
+    if (allow_per_family) reader.AllowOnly({"detection_rate", "false_alarm_rate", "isolation_accuracy", "per_family"});
+    else reader.AllowOnly({"detection_rate", "false_alarm_rate", "isolation_accuracy"});
+  });
   FloorSet f;
   for (auto [key, member] : {std::pair{"detection_rate", &FloorSet::detection_rate},
                              std::pair{"false_alarm_rate", &FloorSet::false_alarm_rate},
                              std::pair{"isolation_accuracy", &FloorSet::isolation_accuracy}}) {
-    if (const auto* x = reader.Find(key)) {
-      const double value = AsNumber(*x, reader.PointerTo(key));
-      RequireInRange(value, 0, 1, reader.PointerTo(key));
-      f.*member = value;
-    }
+    errors.Try([&, key = key, member = member] {
+      if (const auto* x = reader.Find(key)) {
+        const double value = AsNumber(*x, reader.PointerTo(key));
+        RequireInRange(value, 0, 1, reader.PointerTo(key));
+        f.*member = value;
+      }
+    });
   }
+  errors.ThrowIfAny();
   return f;
 }
 
 Floors ParseFloors(const nlohmann::json& v, const std::string& pointer) {
   Floors floors;
-  floors.overall = ParseFloorSet(v, pointer, true);
+  ErrorList errors;  // the overall floors and each family's on their own
+  errors.Try([&] { floors.overall = ParseFloorSet(v, pointer, true); });
   if (v.contains("per_family")) {
     const std::string pp = PointerJoin(pointer, "per_family");
-    ObjectReader(v["per_family"], pp);  // must be an object
-    const std::vector<std::string> families = FaultFamilyNames();
-    for (auto it = v["per_family"].begin(); it != v["per_family"].end(); ++it) {
-      if (std::find(families.begin(), families.end(), it.key()) == families.end()) {
-        throw InputError("", PointerJoin(pp, it.key()), "unknown fault family \"" + it.key() + "\"");
+    errors.Try([&] {
+      ObjectReader(v["per_family"], pp);  // must be an object
+      const std::vector<std::string> families = FaultFamilyNames();
+      for (auto it = v["per_family"].begin(); it != v["per_family"].end(); ++it) {
+        errors.Try([&] {
+          if (std::find(families.begin(), families.end(), it.key()) == families.end()) {
+            const std::string near = NearestWord(it.key(), families);
+            throw InputError("", PointerJoin(pp, it.key()), "unknown fault family \"" + it.key() + "\"",
+                             near.empty() ? "" : "did you mean \"" + near + "\"?");
+          }
+          floors.per_family[it.key()] = ParseFloorSet(it.value(), PointerJoin(pp, it.key()), false);
+        });
       }
-      floors.per_family[it.key()] = ParseFloorSet(it.value(), PointerJoin(pp, it.key()), false);
-    }
+    });
   }
+  errors.ThrowIfAny();
   return floors;
 }
 
-FaultEntry ParseFaultEntry(const nlohmann::json& v, const std::string& pointer, const RobotConfig& robot) {
+// Reports every error of the entry it can find. Without a robot (the campaign's own is bad)
+// only the entry's shape is checked: the family's checks need the robot's joints.
+FaultEntry ParseFaultEntry(const nlohmann::json& v, const std::string& pointer, const RobotConfig* robot) {
   ObjectReader reader(v, pointer);
   FaultEntry e;
   e.pointer = pointer;
-  e.family = reader.RequireString("family");
-  const std::vector<std::string> families = FaultFamilyNames();
-  if (std::find(families.begin(), families.end(), e.family) == families.end()) {
-    MakeFault(v, pointer, robot);  // throws the registry's "unknown fault family" error
-  }
-  const nlohmann::json& joint = reader.Require("joint");
-  const ParsedSweep joints = ParseSweep(joint, reader.PointerTo("joint"), true);
-  if (joints.sweep.uniform || (joint.is_object())) {
-    throw InputError("", reader.PointerTo("joint"), "expected a joint number or a list of them, got " + Describe(joint));
-  }
-  for (size_t i = 0; i < joints.sweep.values.size(); ++i) {
-    e.joints.push_back(AsInt(joints.sweep.values[i], ValuePointer(joints.sweep, i, joints.swept)));
-  }
+  ErrorList errors;
+  const bool family_ok = errors.Try([&] {
+    e.family = reader.RequireString("family");
+    const std::vector<std::string> families = FaultFamilyNames();
+    if (std::find(families.begin(), families.end(), e.family) == families.end()) {
+      MakeFault(v, pointer, RobotConfig());  // throws the registry's "unknown fault family" error
+    }
+  });
+  ParsedSweep joints;
+  const bool joints_ok = errors.Try([&] {
+    const nlohmann::json& joint = reader.Require("joint");
+    joints = ParseSweep(joint, reader.PointerTo("joint"), true);
+    if (joints.sweep.uniform || (joint.is_object())) {
+      throw InputError("", reader.PointerTo("joint"), "expected a joint number or a list of them, got " + Describe(joint));
+    }
+    ErrorList joint_errors;  // every bad joint number
+    for (size_t i = 0; i < joints.sweep.values.size(); ++i) {
+      joint_errors.Try([&] {
+        e.joints.push_back(AsInt(joints.sweep.values[i], ValuePointer(joints.sweep, i, joints.swept)));
+      });
+    }
+    joint_errors.ThrowIfAny();
+  });
   std::vector<bool> swept;
+  bool keys_ok = true;
   for (auto it = v.begin(); it != v.end(); ++it) {
     if (it.key() == "family" || it.key() == "joint") continue;
     reader.Find(it.key());
-    ParsedSweep p = ParseSweep(it.value(), reader.PointerTo(it.key()), false);
-    e.keys.emplace_back(it.key(), p.sweep);
-    swept.push_back(p.swept);
+    keys_ok &= errors.Try([&] {
+      ParsedSweep p = ParseSweep(it.value(), reader.PointerTo(it.key()), false);
+      e.keys.emplace_back(it.key(), p.sweep);
+      swept.push_back(p.swept);
+    });
+  }
+  // The family's checks below need a known family, the robot, and every key's values.
+  if (!family_ok || !joints_ok || !keys_ok || robot == nullptr) {
+    // The family still names the keys it does not know: it rejects them before reading any
+    // value, so a probe with every key null and a valid joint gives exactly those errors.
+    if (family_ok) {
+      nlohmann::json probe = {{"family", e.family}, {"joint", 1}};
+      for (auto it = v.begin(); it != v.end(); ++it) {
+        if (it.key() != "family" && it.key() != "joint") probe[it.key()] = nullptr;
+      }
+      try {
+        MakeFault(probe, pointer, robot ? *robot : RobotPreset("mrr-config1"));
+      } catch (const InputError& err) {
+        for (const InputError& one : err.errors()) {
+          for (auto it = probe.begin(); it != probe.end(); ++it) {
+            if (one.pointer() == PointerJoin(pointer, it.key()) &&
+                one.message() == e.family + ": unknown key \"" + it.key() + "\"") {
+              errors.Add(one);
+            }
+          }
+        }
+      }
+    }
+    errors.ThrowIfAny();
+    return e;
   }
   // Each value on its own, through the family's own checks, with the others at their first
   // value; an error on the key is moved to the value's own pointer.
@@ -223,14 +293,41 @@ FaultEntry ParseFaultEntry(const nlohmann::json& v, const std::string& pointer, 
   for (size_t k = 0; k < e.keys.size(); ++k) {
     first_value_pointer[PointerJoin(pointer, e.keys[k].first)] = ValuePointer(e.keys[k].second, 0, swept[k]);
   }
-  auto check = [&](const nlohmann::json& spec, const std::string& key_pointer, const std::string& value_pointer) {
-    try {
-      MakeFault(spec, pointer, robot);
-    } catch (const InputError& err) {
-      if (err.pointer() == key_pointer) throw InputError(err.source(), value_pointer, err.message());
-      const auto it = first_value_pointer.find(err.pointer());
-      if (it != first_value_pointer.end()) throw InputError(err.source(), it->second, err.message());
-      throw;
+  // Checks one value through the family's code and records its errors (ErrorList drops the
+  // repeats of a bad first value). An error about another key would hide this value's own, so
+  // that key is then left out (at its default) and the check repeated for this value's own
+  // errors. Returns false if this value itself is bad.
+  auto check = [&](nlohmann::json spec, const std::string& key_pointer, const std::string& value_pointer) {
+    auto to_value = [&](std::string*, std::string* at, std::string*) {
+      if (*at == key_pointer) {
+        *at = value_pointer;
+      } else if (const auto it = first_value_pointer.find(*at); it != first_value_pointer.end()) {
+        *at = it->second;
+      }
+    };
+    for (bool retry = false;; retry = true) {
+      try {
+        MakeFault(spec, pointer, *robot);
+        return true;
+      } catch (const InputError& err) {
+        bool own = false;
+        std::vector<std::string> others;  // keys of the entry that the errors are about
+        for (const InputError& one : err.errors()) {
+          if (one.pointer() == key_pointer) own = true;
+          for (const auto& key : e.keys) {
+            if (one.pointer() == PointerJoin(pointer, key.first) && one.pointer() != key_pointer && spec.contains(key.first)) {
+              others.push_back(key.first);
+            }
+          }
+        }
+        for (const InputError& one : err.errors()) {
+          if (!retry || one.pointer() == key_pointer) errors.Add(one.Edited(to_value));
+        }
+        // The profile decides which timing keys apply: without it the check would mislead.
+        const bool profile = std::find(others.begin(), others.end(), "profile") != others.end();
+        if (own || others.empty() || profile) return !own;
+        for (const std::string& key : others) spec.erase(key);
+      }
     }
   };
   for (size_t j = 0; j < e.joints.size(); ++j) {
@@ -242,10 +339,21 @@ FaultEntry ParseFaultEntry(const nlohmann::json& v, const std::string& pointer, 
     if (s.uniform) {
       check(spec_with(k, s.low, e.joints[0]), kp, ValuePointer(s, 0, true));
       check(spec_with(k, s.high, e.joints[0]), kp, ValuePointer(s, 1, true));
+    } else if (s.grid) {
+      // The ends first. The points between share the grid's pointer and fail anyway when an
+      // end does, so they are checked only after both ends pass, up to the first bad one.
+      auto check_point = [&](size_t i) { return check(spec_with(k, s.values[i], e.joints[0]), kp, ValuePointer(s, i, true)); };
+      const size_t last = s.values.size() - 1;
+      const bool from_ok = check_point(0);
+      const bool to_ok = last == 0 || check_point(last);
+      for (size_t i = 1; from_ok && to_ok && i < last; ++i) {
+        if (!check_point(i)) break;
+      }
     } else {
       for (size_t i = 0; i < s.values.size(); ++i) check(spec_with(k, s.values[i], e.joints[0]), kp, ValuePointer(s, i, swept[k]));
     }
   }
+  errors.ThrowIfAny();
   return e;
 }
 
@@ -364,84 +472,138 @@ Campaign CampaignFromJson(const nlohmann::json& value, const std::string& source
   try {
     if (!value.is_object()) throw InputError("", "", "expected a JSON object describing a campaign, got " + Describe(value));
     ObjectReader reader(value, "");
-    reader.AllowOnly({"name", "seed", "robot", "duration_s", "trajectories", "faults", "healthy", "repetitions",
-                      "variation", "commissioning", "include_not_excited", "monitor", "floors"});
+    // Each independent part is read on its own and all errors are reported together; a check
+    // that needs a part that failed (the robot, the duration) is skipped instead.
+    ErrorList errors;
+    errors.Try([&] {
+      reader.AllowOnly({"name", "seed", "robot", "duration_s", "trajectories", "faults", "healthy", "repetitions",
+                        "variation", "commissioning", "include_not_excited", "monitor", "floors"});
+    });
     c.name = std::filesystem::path(source).stem().string();
-    reader.OptionalString("name", &c.name);
-    if (const auto* seed = reader.Find("seed")) {
-      const double s = AsNumber(*seed, reader.PointerTo("seed"));
-      if (s < 0 || s != std::floor(s) || s > 9007199254740991.0) {
-        throw InputError("", reader.PointerTo("seed"), "expected a whole number >= 0, got " + Describe(*seed));
+    errors.Try([&] { reader.OptionalString("name", &c.name); });
+    errors.Try([&] {
+      if (const auto* seed = reader.Find("seed")) {
+        const double s = AsNumber(*seed, reader.PointerTo("seed"));
+        if (s < 0 || s != std::floor(s) || s > 9007199254740991.0) {
+          throw InputError("", reader.PointerTo("seed"), "expected a whole number >= 0, got " + Describe(*seed));
+        }
+        c.seed = static_cast<unsigned long long>(s);
       }
-      c.seed = static_cast<unsigned long long>(s);
-    }
-    if (const auto* robot = reader.Find("robot")) c.robot = RobotFromJson(*robot, reader.PointerTo("robot"));
-    else c.robot = RobotPreset("mrr-config1");
-    reader.OptionalNumber("duration_s", &c.duration_s);
-    RequireInRange(c.duration_s, 0.002, 3600, reader.PointerTo("duration_s"));
+    });
+    const bool robot_ok = errors.Try([&] {
+      if (const auto* robot = reader.Find("robot")) c.robot = RobotFromJson(*robot, reader.PointerTo("robot"));
+      else c.robot = RobotPreset("mrr-config1");
+    });
+    const bool duration_ok = errors.Try([&] {
+      reader.OptionalNumber("duration_s", &c.duration_s);
+      RequireInRange(c.duration_s, 0.002, 3600, reader.PointerTo("duration_s"));
+    });
 
-    const nlohmann::json& trajectories = reader.Require("trajectories");
     const std::string tp = reader.PointerTo("trajectories");
-    if (!trajectories.is_array() || trajectories.empty()) {
-      throw InputError("", tp, "expected a non-empty array of trajectories, got " + Describe(trajectories));
-    }
+    const nlohmann::json* trajectories = nullptr;
+    errors.Try([&] {
+      const nlohmann::json& given = reader.Require("trajectories");
+      if (!given.is_array() || given.empty()) {
+        throw InputError("", tp, "expected a non-empty array of trajectories, got " + Describe(given));
+      }
+      trajectories = &given;
+    });
     std::set<std::string> names;
-    for (size_t i = 0; i < trajectories.size(); ++i) {
-      const std::string p = PointerJoin(tp, i);
-      ObjectReader tr(trajectories[i], p);
-      tr.AllowOnly({"name", "joints"});
-      CampaignTrajectory t;
-      t.name = tr.RequireString("name");
-      if (t.name.empty() || t.name.find('/') != std::string::npos) {
-        throw InputError("", tr.PointerTo("name"), "a trajectory name must be non-empty and without '/', got " +
-                                                     Describe(trajectories[i]["name"]));
-      }
-      if (!names.insert(t.name).second) throw InputError("", tr.PointerTo("name"), "duplicate trajectory name \"" + t.name + "\"");
-      t.joints = tr.Require("joints");
-      t.parsed = JointTrajectoriesFromJson(t.joints, tr.PointerTo("joints"), c.robot, c.duration_s, context);
-      c.trajectories.push_back(std::move(t));
+    for (size_t i = 0; trajectories && i < trajectories->size(); ++i) {
+      errors.Try([&] {
+        const std::string p = PointerJoin(tp, i);
+        ObjectReader tr((*trajectories)[i], p);
+        errors.Try([&] { tr.AllowOnly({"name", "joints"}); });
+        CampaignTrajectory t;
+        errors.Try([&] {
+          t.name = tr.RequireString("name");
+          if (t.name.empty() || t.name.find('/') != std::string::npos) {
+            throw InputError("", tr.PointerTo("name"), "a trajectory name must be non-empty and without '/', got " +
+                                                         Describe((*trajectories)[i]["name"]));
+          }
+          if (!names.insert(t.name).second) throw InputError("", tr.PointerTo("name"), "duplicate trajectory name \"" + t.name + "\"");
+        });
+        errors.Try([&] {
+          t.joints = tr.Require("joints");
+          // The joints are checked against the robot's joints over the duration; without
+          // those, each trajectory is still checked on its own.
+          if (robot_ok && duration_ok) {
+            t.parsed = JointTrajectoriesFromJson(t.joints, tr.PointerTo("joints"), c.robot, c.duration_s, context);
+          } else if (t.joints.is_object()) {
+            for (auto it = t.joints.begin(); it != t.joints.end(); ++it) {
+              errors.Try([&] { MakeTrajectory(it.value(), PointerJoin(tr.PointerTo("joints"), it.key()), context); });
+            }
+          }
+        });
+        c.trajectories.push_back(std::move(t));
+      });
     }
-    if (const auto* faults = reader.Find("faults")) {
-      if (!faults->is_array()) throw InputError("", reader.PointerTo("faults"), "expected an array of faults, got " + Describe(*faults));
-      for (size_t i = 0; i < faults->size(); ++i) {
-        c.faults.push_back(ParseFaultEntry((*faults)[i], PointerJoin(reader.PointerTo("faults"), i), c.robot));
+    errors.Try([&] {
+      if (const auto* faults = reader.Find("faults")) {
+        if (!faults->is_array()) throw InputError("", reader.PointerTo("faults"), "expected an array of faults, got " + Describe(*faults));
+        for (size_t i = 0; i < faults->size(); ++i) {
+          errors.Try([&] {
+            c.faults.push_back(ParseFaultEntry((*faults)[i], PointerJoin(reader.PointerTo("faults"), i), robot_ok ? &c.robot : nullptr));
+          });
+        }
       }
-    }
-    reader.OptionalInt("healthy", &c.healthy);
-    RequireInRange(c.healthy, 0, 1000000, reader.PointerTo("healthy"));
-    reader.OptionalInt("repetitions", &c.repetitions);
-    RequireInRange(c.repetitions, 1, 1000000, reader.PointerTo("repetitions"));
-    if (const auto* v = reader.Find("variation")) {
-      ObjectReader vr(*v, reader.PointerTo("variation"));
-      vr.AllowOnly({"payload_kg", "torque_noise_Nm", "friction_spread", "tolerances", "ambient_C", "units"});
-      c.variation.payload_kg = VariationSweep(vr, "payload_kg", 0, 100);
-      c.variation.torque_noise_Nm = VariationSweep(vr, "torque_noise_Nm", 0, 100);
-      vr.OptionalNumber("friction_spread", &c.variation.friction_spread);
-      RequireInRange(c.variation.friction_spread, 0, 0.9, vr.PointerTo("friction_spread"));
-      if (const auto* t = vr.Find("tolerances")) {
-        c.variation.tolerances = ParseTolerances(*t, vr.PointerTo("tolerances"));
-        c.variation.has_tolerances = true;
+    });
+    errors.Try([&] {
+      reader.OptionalInt("healthy", &c.healthy);
+      RequireInRange(c.healthy, 0, 1000000, reader.PointerTo("healthy"));
+    });
+    errors.Try([&] {
+      reader.OptionalInt("repetitions", &c.repetitions);
+      RequireInRange(c.repetitions, 1, 1000000, reader.PointerTo("repetitions"));
+    });
+    errors.Try([&] {
+      if (const auto* v = reader.Find("variation")) {
+        ObjectReader vr(*v, reader.PointerTo("variation"));
+        errors.Try([&] { vr.AllowOnly({"payload_kg", "torque_noise_Nm", "friction_spread", "tolerances", "ambient_C", "units"}); });
+        errors.Try([&] { c.variation.payload_kg = VariationSweep(vr, "payload_kg", 0, 100); });
+        errors.Try([&] { c.variation.torque_noise_Nm = VariationSweep(vr, "torque_noise_Nm", 0, 100); });
+        errors.Try([&] {
+          vr.OptionalNumber("friction_spread", &c.variation.friction_spread);
+          RequireInRange(c.variation.friction_spread, 0, 0.9, vr.PointerTo("friction_spread"));
+        });
+        errors.Try([&] {
+          if (const auto* t = vr.Find("tolerances")) {
+            c.variation.tolerances = ParseTolerances(*t, vr.PointerTo("tolerances"));
+            c.variation.has_tolerances = true;
+          }
+        });
+        errors.Try([&] { c.variation.ambient_C = VariationSweep(vr, "ambient_C", -40, 120); });
+        errors.Try([&] {
+          if (vr.Has("units")) {
+            vr.OptionalInt("units", &c.variation.units);
+            RequireInRange(c.variation.units, 1, 100000, vr.PointerTo("units"));
+          }
+        });
       }
-      c.variation.ambient_C = VariationSweep(vr, "ambient_C", -40, 120);
-      if (vr.Has("units")) {
-        vr.OptionalInt("units", &c.variation.units);
-        RequireInRange(c.variation.units, 1, 100000, vr.PointerTo("units"));
-      }
-    }
+    });
     c.commissioning = c.variation.has_tolerances;
-    if (const auto* v = reader.Find("commissioning")) {
-      if (!v->is_boolean()) throw InputError("", reader.PointerTo("commissioning"), "expected true or false, got " + Describe(*v));
-      c.commissioning = v->get<bool>();
-    }
-    if (const auto* v = reader.Find("include_not_excited")) {
-      if (!v->is_boolean()) {
-        throw InputError("", reader.PointerTo("include_not_excited"), "expected true or false, got " + Describe(*v));
+    errors.Try([&] {
+      if (const auto* v = reader.Find("commissioning")) {
+        if (!v->is_boolean()) throw InputError("", reader.PointerTo("commissioning"), "expected true or false, got " + Describe(*v));
+        c.commissioning = v->get<bool>();
       }
-      c.include_not_excited = v->get<bool>();
-    }
-    if (const auto* m = reader.Find("monitor")) c.monitor = MonitorConfigFromJsonOrFile(*m, reader.PointerTo("monitor"), context);
-    if (const auto* f = reader.Find("floors")) c.floors = ParseFloors(*f, reader.PointerTo("floors"));
-    reader.Finish();
+    });
+    errors.Try([&] {
+      if (const auto* v = reader.Find("include_not_excited")) {
+        if (!v->is_boolean()) {
+          throw InputError("", reader.PointerTo("include_not_excited"), "expected true or false, got " + Describe(*v));
+        }
+        c.include_not_excited = v->get<bool>();
+      }
+    });
+    errors.Try([&] {
+      if (const auto* m = reader.Find("monitor")) c.monitor = MonitorConfigFromJsonOrFile(*m, reader.PointerTo("monitor"), context);
+    });
+    errors.Try([&] {
+      if (const auto* f = reader.Find("floors")) c.floors = ParseFloors(*f, reader.PointerTo("floors"));
+    });
+    // (Unknown keys were all reported by AllowOnly above.) The run count needs every part.
+    errors.ThrowIfAny();
 
     const long cases = CaseCount(c);
     if (cases == 0) throw InputError("", "", "the campaign has no runs: give \"faults\" or \"healthy\" runs");
@@ -450,8 +612,7 @@ Campaign CampaignFromJson(const nlohmann::json& value, const std::string& source
                                    std::to_string(kMaxCases) + "; split it");
     }
   } catch (const InputError& e) {
-    if (e.source().empty()) throw e.WithSource(source);
-    throw;
+    throw e.WithSource(source);  // errors that name a file (a monitor or CSV file) keep it
   }
 
   // A monitor left with the datasheet must allow for the tolerances the datasheet states.

@@ -113,7 +113,10 @@ Campaign CampaignForScoring(const ShardInput& first) {
   try {
     c = CampaignFromJson(copy, first.campaign_path, first.dir.string());
   } catch (const InputError& e) {
-    throw InputError(first.campaign_path, "/campaign" + e.pointer(), e.message());
+    throw e.Edited([&](std::string* source, std::string* pointer, std::string*) {
+      *source = first.campaign_path;
+      *pointer = "/campaign" + *pointer;
+    });
   }
   c.resolved = resolved;
   if (CaseCount(c) != first.cases) {

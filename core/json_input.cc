@@ -5,6 +5,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "core/suggest.h"
+
 namespace armfault {
 
 namespace {
@@ -23,14 +25,71 @@ std::string FormatWhat(const std::string& source, const std::string& pointer,
 std::string TypeName(const nlohmann::json& v) { return v.type_name(); }
 }  // namespace
 
-InputError::InputError(std::string source, std::string pointer, std::string message)
+InputError::InputError(std::string source, std::string pointer, std::string message, std::string hint)
     : std::runtime_error(FormatWhat(source, pointer, message)),
       source_(std::move(source)),
       pointer_(std::move(pointer)),
-      message_(std::move(message)) {}
+      message_(std::move(message)),
+      hint_(std::move(hint)) {}
+
+InputError::InputError(const std::vector<InputError>& errors) : InputError(Flatten(errors), 0) {}
+
+// Members are set in declaration order, so `flat` is moved into all_ only after its first
+// element was copied into the others.
+InputError::InputError(std::vector<InputError> flat, int)
+    : std::runtime_error(flat.at(0).what()),
+      source_(flat[0].source_),
+      pointer_(flat[0].pointer_),
+      message_(flat[0].message_),
+      hint_(flat[0].hint_),
+      all_(flat.size() > 1 ? std::make_shared<const std::vector<InputError>>(std::move(flat)) : nullptr) {}
+
+std::vector<InputError> InputError::Flatten(const std::vector<InputError>& errors) {
+  ErrorList list;
+  for (const InputError& e : errors) list.Add(e);
+  return list.errors();
+}
+
+std::string InputError::text() const { return hint_.empty() ? std::string(what()) : what() + ("; " + hint_); }
+
+std::vector<InputError> InputError::errors() const {
+  if (all_) return *all_;
+  return {InputError(source_, pointer_, message_, hint_)};
+}
 
 InputError InputError::WithSource(const std::string& source) const {
-  return InputError(source, pointer_, message_);
+  return Edited([&](std::string* s, std::string*, std::string*) {
+    if (s->empty()) *s = source;
+  });
+}
+
+InputError InputError::Edited(
+    const std::function<void(std::string* source, std::string* pointer, std::string* message)>& edit) const {
+  std::vector<InputError> out;
+  for (const InputError& e : errors()) {
+    std::string source = e.source_, pointer = e.pointer_, message = e.message_;
+    edit(&source, &pointer, &message);
+    out.emplace_back(std::move(source), std::move(pointer), std::move(message), e.hint_);
+  }
+  return InputError(out);
+}
+
+void ErrorList::Add(const InputError& e) {
+  for (InputError& one : e.errors()) {
+    if (seen_.emplace(one.source(), one.pointer(), one.message()).second) errors_.push_back(std::move(one));
+  }
+}
+
+void ErrorList::ThrowIfAny() const {
+  if (!errors_.empty()) throw InputError(errors_);
+}
+
+std::vector<std::string> ErrorReportLines(const InputError& e, size_t limit) {
+  std::vector<std::string> lines;
+  const std::vector<InputError> all = e.errors();
+  for (size_t i = 0; i < all.size() && i < limit; ++i) lines.push_back(all[i].text());
+  if (all.size() > limit) lines.push_back("... and " + std::to_string(all.size() - limit) + " more errors");
+  return lines;
 }
 
 std::string Describe(const nlohmann::json& value) {
@@ -61,6 +120,7 @@ ObjectReader::ObjectReader(const nlohmann::json& object, std::string pointer)
 bool ObjectReader::Has(const std::string& key) const { return object_.contains(key); }
 
 const nlohmann::json* ObjectReader::Find(const std::string& key) {
+  asked_.insert(key);
   auto it = object_.find(key);
   if (it == object_.end()) return nullptr;
   used_.insert(key);
@@ -99,11 +159,18 @@ std::string ObjectReader::RequireString(const std::string& key) {
 }
 
 void ObjectReader::Finish() const {
-  for (auto it = object_.begin(); it != object_.end(); ++it) {
-    if (used_.count(it.key()) == 0) {
-      throw InputError("", PointerTo(it.key()), "unknown key \"" + it.key() + "\"");
-    }
+  std::vector<std::string> known(used_.begin(), used_.end());
+  for (const std::string& key : asked_) {
+    if (!used_.count(key)) known.push_back(key);
   }
+  ErrorList errors;
+  for (auto it = object_.begin(); it != object_.end(); ++it) {
+    if (used_.count(it.key()) != 0) continue;
+    const std::string near = NearestWord(it.key(), known);
+    errors.Add(InputError("", PointerTo(it.key()), "unknown key \"" + it.key() + "\"",
+                          near.empty() ? "" : "did you mean \"" + near + "\"?"));
+  }
+  errors.ThrowIfAny();
 }
 
 void ObjectReader::AllowOnly(std::initializer_list<const char*> keys) {

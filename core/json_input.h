@@ -4,31 +4,94 @@
 
 #include <nlohmann/json.hpp>
 
+#include <functional>
+#include <memory>
 #include <set>
 #include <stdexcept>
 #include <initializer_list>
 #include <cmath>
 #include <string>
+#include <tuple>
 #include <vector>
 
 namespace armfault {
 
 // Invalid user input (a file, a command-line value). The CLI turns it into
 // exit status 2. what() reads "<source>: <pointer>: <message>".
+//
+// One InputError may also stand for several errors found in one input (ErrorList): it then
+// reads as the first of them, and errors() gives them all, so a caller that only knows about
+// one error still gets the first, exactly as before.
 class InputError : public std::runtime_error {
  public:
-  InputError(std::string source, std::string pointer, std::string message);
+  // `hint` is advice printed after the message ("did you mean ...?"); it is not part of
+  // what(), so the message stays the same whether a hint is found or not.
+  InputError(std::string source, std::string pointer, std::string message, std::string hint = "");
+  // The errors in `errors` (each flattened, repeats dropped) as one; `errors` must not be empty.
+  explicit InputError(const std::vector<InputError>& errors);
 
   const std::string& source() const { return source_; }
   const std::string& pointer() const { return pointer_; }
   const std::string& message() const { return message_; }
+  const std::string& hint() const { return hint_; }
+  // what() followed by "; <hint>" when there is one: the line the command line prints.
+  std::string text() const;
 
-  // The same error attributed to `source` (used where a parser did not know the file name).
+  // Every error this one stands for, in the order found: itself, or all that were collected.
+  std::vector<InputError> errors() const;
+  size_t count() const { return all_ ? all_->size() : 1; }
+
+  // The same error(s), each without a source attributed to `source` (used where a parser did
+  // not know the file name); errors that already name a file keep it.
   InputError WithSource(const std::string& source) const;
+  // The same error(s) with each one's source, pointer or message rewritten by `edit`.
+  InputError Edited(const std::function<void(std::string* source, std::string* pointer, std::string* message)>& edit) const;
 
  private:
-  std::string source_, pointer_, message_;
+  InputError(std::vector<InputError> flat, int);
+  static std::vector<InputError> Flatten(const std::vector<InputError>& errors);
+
+  std::string source_, pointer_, message_, hint_;
+  std::shared_ptr<const std::vector<InputError>> all_;  // null: a single error; else >= 2 single ones
 };
+
+// Collects the errors of the independent parts of one input, so a user sees every mistake in
+// a file at once instead of one per attempt. A parser runs each part through Try(), keeps
+// going after a part fails, skips only the checks that need the failed part, and ends with
+// ThrowIfAny(). Parts may themselves throw several errors (a nested collecting parser).
+class ErrorList {
+ public:
+  // Runs `part`; an InputError it throws is recorded. Returns false if it threw, so the caller
+  // can skip what depends on the part. Other exceptions pass through.
+  template <class F>
+  bool Try(F&& part) {
+    try {
+      part();
+      return true;
+    } catch (const InputError& e) {
+      Add(e);
+      return false;
+    }
+  }
+  // Records every error `e` stands for; one already recorded (same source, pointer and
+  // message, as when two checks trip over the same bad value) is dropped.
+  void Add(const InputError& e);
+  bool empty() const { return errors_.empty(); }
+  size_t size() const { return errors_.size(); }
+  const std::vector<InputError>& errors() const { return errors_; }
+  // Throws the collected errors as one InputError; does nothing when there are none.
+  void ThrowIfAny() const;
+
+ private:
+  std::vector<InputError> errors_;
+  std::set<std::tuple<std::string, std::string, std::string>> seen_;  // source, pointer, message
+};
+
+// How many errors the command line prints before "... and N more".
+constexpr size_t kMaxReportedErrors = 20;
+// The lines the command line prints for `e` (without its "armfault: error: " prefix): one
+// text() per error, at most `limit`, then "... and N more errors" for the rest.
+std::vector<std::string> ErrorReportLines(const InputError& e, size_t limit = kMaxReportedErrors);
 
 // A number for messages: up to 12 significant digits, no trailing zeros ("0.5", "1e-07").
 std::string FormatNumber(double x);
@@ -70,7 +133,8 @@ class ObjectReader {
   const std::string& pointer() const { return pointer_; }
   const nlohmann::json& object() const { return object_; }
 
-  // Rejects the first key (in document order) that was never read.
+  // Rejects every key that was never read, each as its own error (in document order), with
+  // the nearest known key as a "did you mean" hint.
   void Finish() const;
   // Marks `keys` as known and rejects any other key now, before values are checked, so a
   // misspelt key is reported as such rather than as a missing or defaulted one.
@@ -81,6 +145,7 @@ class ObjectReader {
   const nlohmann::json& object_;
   std::string pointer_;
   std::set<std::string> used_;
+  std::set<std::string> asked_;  // every key looked up, present or not: candidates for hints
 };
 
 // Value checks: throw InputError(pointer, "<value> ...") when violated.

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <set>
 
 #include "core/power_monitor.h"
 
@@ -71,59 +72,84 @@ const std::vector<LimitField>& LimitFields() {
 
 }  // namespace
 
+namespace {
+
+// The range checks of Validate(), each on its own, into `errors`. A limit whose object could
+// not be read (in `unread_limits`) is skipped: its defaults would be checked, not the file.
+void CheckRanges(const MonitorConfig& c, const std::string& pointer, const std::set<std::string>& unread_limits,
+                 ErrorList* errors) {
+  for (const auto& f : NumberFields()) {
+    errors->Try([&] { RequireInRange(c.*f.member, f.min, f.max, PointerJoin(pointer, f.key)); });
+  }
+  for (const auto& f : IntFields()) {
+    errors->Try([&] { RequireInRange(c.*f.member, f.min, f.max, PointerJoin(pointer, f.key)); });
+  }
+  for (const auto& f : LimitFields()) {
+    if (unread_limits.count(f.key)) continue;
+    const StateLimits& l = c.*f.member;
+    const std::string p = PointerJoin(pointer, f.key);
+    // defective is bounded by worn: checked only when worn is valid.
+    switch (f.direction) {
+      case Direction::kBelow:
+        if (errors->Try([&] { RequireInRange(l.worn, 0, 1, PointerJoin(p, "worn")); })) {
+          errors->Try([&] { RequireInRange(l.defective, 0, l.worn, PointerJoin(p, "defective")); });
+        }
+        break;
+      case Direction::kAbove:
+        if (errors->Try([&] { RequireInRange(l.worn, 1, kInf, PointerJoin(p, "worn")); })) {
+          errors->Try([&] { RequireInRange(l.defective, l.worn, kInf, PointerJoin(p, "defective")); });
+        }
+        break;
+      case Direction::kMagnitude:
+        if (errors->Try([&] { RequireInRange(l.worn, 0, kInf, PointerJoin(p, "worn")); })) {
+          errors->Try([&] { RequireInRange(l.defective, l.worn, kInf, PointerJoin(p, "defective")); });
+        }
+        break;
+    }
+  }
+}
+
+}  // namespace
+
 MonitorConfig MonitorConfigFromJson(const nlohmann::json& value, const std::string& pointer,
                                     const std::string& source) {
   MonitorConfig c;
+  ErrorList errors;  // every key on its own: all bad ones are reported together
+  std::set<std::string> unread_limits;
   try {
     ObjectReader reader(value, pointer);
     std::vector<std::string> keys;
     for (const auto& f : NumberFields()) keys.push_back(f.key);
     for (const auto& f : IntFields()) keys.push_back(f.key);
     for (const auto& f : LimitFields()) keys.push_back(f.key);
-    reader.AllowOnly(keys);
-    for (const auto& f : NumberFields()) reader.OptionalNumber(f.key, &(c.*f.member));
-    for (const auto& f : IntFields()) reader.OptionalInt(f.key, &(c.*f.member));
+    errors.Try([&] { reader.AllowOnly(keys); });
+    for (const auto& f : NumberFields()) errors.Try([&] { reader.OptionalNumber(f.key, &(c.*f.member)); });
+    for (const auto& f : IntFields()) errors.Try([&] { reader.OptionalInt(f.key, &(c.*f.member)); });
     for (const auto& f : LimitFields()) {
-      const nlohmann::json* v = reader.Find(f.key);
-      if (!v) continue;
-      ObjectReader limits(*v, reader.PointerTo(f.key));
-      limits.AllowOnly({"worn", "defective"});
-      limits.OptionalNumber("worn", &(c.*f.member).worn);
-      limits.OptionalNumber("defective", &(c.*f.member).defective);
+      const bool read = errors.Try([&] {
+        const nlohmann::json* v = reader.Find(f.key);
+        if (!v) return;
+        ObjectReader limits(*v, reader.PointerTo(f.key));
+        ErrorList limit_errors;
+        limit_errors.Try([&] { limits.AllowOnly({"worn", "defective"}); });
+        limit_errors.Try([&] { limits.OptionalNumber("worn", &(c.*f.member).worn); });
+        limit_errors.Try([&] { limits.OptionalNumber("defective", &(c.*f.member).defective); });
+        limit_errors.ThrowIfAny();
+      });
+      if (!read) unread_limits.insert(f.key);
     }
-    reader.Finish();
   } catch (const InputError& e) {
-    throw e.WithSource(source);
+    throw e.WithSource(source);  // not an object
   }
-  Validate(c, pointer, source);
+  CheckRanges(c, pointer, unread_limits, &errors);
+  if (!errors.empty()) throw InputError(errors.errors()).WithSource(source);
   return c;
 }
 
 void Validate(const MonitorConfig& c, const std::string& pointer, const std::string& source) {
-  try {
-    for (const auto& f : NumberFields()) RequireInRange(c.*f.member, f.min, f.max, PointerJoin(pointer, f.key));
-    for (const auto& f : IntFields()) RequireInRange(c.*f.member, f.min, f.max, PointerJoin(pointer, f.key));
-    for (const auto& f : LimitFields()) {
-      const StateLimits& l = c.*f.member;
-      const std::string p = PointerJoin(pointer, f.key);
-      switch (f.direction) {
-        case Direction::kBelow:
-          RequireInRange(l.worn, 0, 1, PointerJoin(p, "worn"));
-          RequireInRange(l.defective, 0, l.worn, PointerJoin(p, "defective"));
-          break;
-        case Direction::kAbove:
-          RequireInRange(l.worn, 1, kInf, PointerJoin(p, "worn"));
-          RequireInRange(l.defective, l.worn, kInf, PointerJoin(p, "defective"));
-          break;
-        case Direction::kMagnitude:
-          RequireInRange(l.worn, 0, kInf, PointerJoin(p, "worn"));
-          RequireInRange(l.defective, l.worn, kInf, PointerJoin(p, "defective"));
-          break;
-      }
-    }
-  } catch (const InputError& e) {
-    throw e.WithSource(source);
-  }
+  ErrorList errors;
+  CheckRanges(c, pointer, {}, &errors);
+  if (!errors.empty()) throw InputError(errors.errors()).WithSource(source);
 }
 
 nlohmann::json MonitorConfigToJson(const MonitorConfig& c) {

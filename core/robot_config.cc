@@ -116,25 +116,29 @@ const Fields<ControllerParams>& ControllerFields() {
   return f;
 }
 
+// Each field is checked on its own, so one call reports every bad field and unknown key.
 template <class T>
 void ReadFields(ObjectReader& reader, const Fields<T>& fields, T* out) {
   std::vector<std::string> keys;
   for (const Field<T>& field : fields) keys.push_back(field.key);
-  reader.AllowOnly(keys);
+  ErrorList errors;
+  errors.Try([&] { reader.AllowOnly(keys); });
   for (const Field<T>& field : fields) {
-    const nlohmann::json* v = reader.Find(field.key);
-    if (v == nullptr) continue;
-    const std::string ptr = reader.PointerTo(field.key);
-    double x = field.integer ? AsInt(*v, ptr) : AsNumber(*v, ptr);
-    if (field.min_exclusive) {
-      RequireAbove(x, field.min, ptr);
-      RequireInRange(x, field.min, field.max, ptr);
-    } else {
-      RequireInRange(x, field.min, field.max, ptr);
-    }
-    out->*field.member = x;
+    errors.Try([&] {
+      const nlohmann::json* v = reader.Find(field.key);
+      if (v == nullptr) return;
+      const std::string ptr = reader.PointerTo(field.key);
+      double x = field.integer ? AsInt(*v, ptr) : AsNumber(*v, ptr);
+      if (field.min_exclusive) {
+        RequireAbove(x, field.min, ptr);
+        RequireInRange(x, field.min, field.max, ptr);
+      } else {
+        RequireInRange(x, field.min, field.max, ptr);
+      }
+      out->*field.member = x;
+    });
   }
-  reader.Finish();
+  errors.ThrowIfAny();
 }
 
 template <class T>
@@ -163,60 +167,88 @@ std::array<double, 3> ReadVector3(const nlohmann::json& v, const std::string& po
 
 double Norm(const std::array<double, 3>& v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
 
-ModuleParams ModuleFromJson(const nlohmann::json& value, const std::string& pointer) {
+// Records its errors in `errors` and returns what it could read (the type's defaults where a
+// value is bad), so the robot's cross-field checks still see one module per joint. Throws only
+// when `value` is not an object.
+ModuleParams ModuleFromJson(const nlohmann::json& value, const std::string& pointer, ErrorList* errors) {
   ObjectReader reader(value, pointer);
-  reader.AllowOnly({"type", "min_angle_deg", "max_angle_deg", "motor", "inverter", "drive", "friction", "brake",
-                    "torque_sensor", "encoder", "controller", "winding_temperature_sensor"});
+  errors->Try([&] {
+    reader.AllowOnly({"type", "min_angle_deg", "max_angle_deg", "motor", "inverter", "drive", "friction", "brake",
+                      "torque_sensor", "encoder", "controller", "winding_temperature_sensor"});
+  });
   std::string type = "MRR2";
-  reader.OptionalString("type", &type);
-  ModuleParams m = ModuleDefaults(type, reader.PointerTo("type"));
-  reader.OptionalNumber("min_angle_deg", &m.min_angle_deg);
-  reader.OptionalNumber("max_angle_deg", &m.max_angle_deg);
-  ReadGroup(reader, "motor", MotorFields(), &m.motor);
-  ReadGroup(reader, "inverter", InverterFields(), &m.inverter);
-  ReadGroup(reader, "drive", DriveFields(), &m.drive);
-  ReadGroup(reader, "friction", FrictionFields(), &m.friction);
-  ReadGroup(reader, "brake", BrakeFields(), &m.brake);
-  ReadGroup(reader, "torque_sensor", TorqueSensorFields(), &m.torque_sensor);
-  ReadGroup(reader, "encoder", EncoderFields(), &m.encoder);
-  ReadGroup(reader, "controller", ControllerFields(), &m.controller);
-  if (const nlohmann::json* v = reader.Find("winding_temperature_sensor")) {
-    if (!v->is_boolean()) {
-      throw InputError("", reader.PointerTo("winding_temperature_sensor"), "expected true or false, got " + Describe(*v));
+  ModuleParams m;
+  // An unknown type leaves the MRR2 defaults under the other keys, which are still checked.
+  errors->Try([&] {
+    reader.OptionalString("type", &type);
+    m = ModuleDefaults(type, reader.PointerTo("type"));
+  });
+  errors->Try([&] { reader.OptionalNumber("min_angle_deg", &m.min_angle_deg); });
+  errors->Try([&] { reader.OptionalNumber("max_angle_deg", &m.max_angle_deg); });
+  errors->Try([&] { ReadGroup(reader, "motor", MotorFields(), &m.motor); });
+  errors->Try([&] { ReadGroup(reader, "inverter", InverterFields(), &m.inverter); });
+  errors->Try([&] { ReadGroup(reader, "drive", DriveFields(), &m.drive); });
+  errors->Try([&] { ReadGroup(reader, "friction", FrictionFields(), &m.friction); });
+  errors->Try([&] { ReadGroup(reader, "brake", BrakeFields(), &m.brake); });
+  errors->Try([&] { ReadGroup(reader, "torque_sensor", TorqueSensorFields(), &m.torque_sensor); });
+  errors->Try([&] { ReadGroup(reader, "encoder", EncoderFields(), &m.encoder); });
+  errors->Try([&] { ReadGroup(reader, "controller", ControllerFields(), &m.controller); });
+  errors->Try([&] {
+    if (const nlohmann::json* v = reader.Find("winding_temperature_sensor")) {
+      if (!v->is_boolean()) {
+        throw InputError("", reader.PointerTo("winding_temperature_sensor"), "expected true or false, got " + Describe(*v));
+      }
+      m.winding_temperature_sensor = v->get<bool>();
     }
-    m.winding_temperature_sensor = v->get<bool>();
-  }
-  reader.Finish();
+  });
   return m;
 }
 
-LinkParams LinkFromJson(const nlohmann::json& value, const std::string& pointer) {
+// Like ModuleFromJson: errors go to `errors`, defaults stand in for bad values.
+LinkParams LinkFromJson(const nlohmann::json& value, const std::string& pointer, ErrorList* errors) {
   ObjectReader reader(value, pointer);
-  reader.AllowOnly({"mass_kg", "length_m", "radius_m", "com_fraction", "direction", "joint_axis", "inertia_kg_m2"});
+  errors->Try([&] {
+    reader.AllowOnly({"mass_kg", "length_m", "radius_m", "com_fraction", "direction", "joint_axis", "inertia_kg_m2"});
+  });
   LinkParams link;
-  reader.OptionalNumber("mass_kg", &link.mass_kg);
-  RequireAbove(link.mass_kg, 0, reader.PointerTo("mass_kg"));
-  reader.OptionalNumber("length_m", &link.length_m);
-  RequireAtLeast(link.length_m, 0, reader.PointerTo("length_m"));
-  reader.OptionalNumber("radius_m", &link.radius_m);
-  RequireAbove(link.radius_m, 0, reader.PointerTo("radius_m"));
-  reader.OptionalNumber("com_fraction", &link.com_fraction);
-  RequireInRange(link.com_fraction, 0, 1, reader.PointerTo("com_fraction"));
-  if (const auto* v = reader.Find("direction")) link.direction = ReadVector3(*v, reader.PointerTo("direction"));
-  if (const auto* v = reader.Find("joint_axis")) link.joint_axis = ReadVector3(*v, reader.PointerTo("joint_axis"));
-  if (const auto* v = reader.Find("inertia_kg_m2")) {
-    link.inertia_kg_m2 = ReadVector3(*v, reader.PointerTo("inertia_kg_m2"));
-    link.has_inertia = true;
-    for (size_t i = 0; i < 3; ++i) {
-      RequireAbove(link.inertia_kg_m2[i], 0, PointerJoin(reader.PointerTo("inertia_kg_m2"), i));
+  errors->Try([&] {
+    reader.OptionalNumber("mass_kg", &link.mass_kg);
+    RequireAbove(link.mass_kg, 0, reader.PointerTo("mass_kg"));
+  });
+  errors->Try([&] {
+    reader.OptionalNumber("length_m", &link.length_m);
+    RequireAtLeast(link.length_m, 0, reader.PointerTo("length_m"));
+  });
+  errors->Try([&] {
+    reader.OptionalNumber("radius_m", &link.radius_m);
+    RequireAbove(link.radius_m, 0, reader.PointerTo("radius_m"));
+  });
+  errors->Try([&] {
+    reader.OptionalNumber("com_fraction", &link.com_fraction);
+    RequireInRange(link.com_fraction, 0, 1, reader.PointerTo("com_fraction"));
+  });
+  const bool direction_read = errors->Try([&] {
+    if (const auto* v = reader.Find("direction")) link.direction = ReadVector3(*v, reader.PointerTo("direction"));
+  });
+  const bool axis_read = errors->Try([&] {
+    if (const auto* v = reader.Find("joint_axis")) link.joint_axis = ReadVector3(*v, reader.PointerTo("joint_axis"));
+  });
+  errors->Try([&] {
+    if (const auto* v = reader.Find("inertia_kg_m2")) {
+      link.inertia_kg_m2 = ReadVector3(*v, reader.PointerTo("inertia_kg_m2"));
+      link.has_inertia = true;
+      ErrorList moments;  // each moment on its own
+      for (size_t i = 0; i < 3; ++i) {
+        moments.Try([&] { RequireAbove(link.inertia_kg_m2[i], 0, PointerJoin(reader.PointerTo("inertia_kg_m2"), i)); });
+      }
+      moments.ThrowIfAny();
     }
+  });
+  if (direction_read && Norm(link.direction) < 1e-9) {
+    errors->Add(InputError("", reader.PointerTo("direction"), "the link direction must not be the zero vector"));
   }
-  reader.Finish();
-  if (Norm(link.direction) < 1e-9) {
-    throw InputError("", reader.PointerTo("direction"), "the link direction must not be the zero vector");
-  }
-  if (Norm(link.joint_axis) < 1e-9) {
-    throw InputError("", reader.PointerTo("joint_axis"), "the joint axis must not be the zero vector");
+  if (axis_read && Norm(link.joint_axis) < 1e-9) {
+    errors->Add(InputError("", reader.PointerTo("joint_axis"), "the joint axis must not be the zero vector"));
   }
   return link;
 }
@@ -335,63 +367,86 @@ RobotConfig RobotFromJson(const nlohmann::json& value, const std::string& pointe
     return r;
   }
   ObjectReader reader(value, pointer);
-  reader.AllowOnly({"name", "modules", "links", "base_position_m", "payload_kg", "gravity_m_s2", "physics_rate_Hz",
-                    "electrical_substeps"});
+  // Every part is read on its own and all errors are reported together (ErrorList).
+  ErrorList errors;
+  errors.Try([&] {
+    reader.AllowOnly({"name", "modules", "links", "base_position_m", "payload_kg", "gravity_m_s2", "physics_rate_Hz",
+                      "electrical_substeps"});
+  });
   RobotConfig r;
-  reader.OptionalString("name", &r.name);
-  const nlohmann::json& modules = reader.Require("modules");
-  const nlohmann::json& links = reader.Require("links");
-  if (!modules.is_array() || modules.empty()) {
-    throw InputError("", reader.PointerTo("modules"), "expected a non-empty array of modules, got " + Describe(modules));
+  errors.Try([&] { reader.OptionalString("name", &r.name); });
+  const nlohmann::json* modules = nullptr;
+  const nlohmann::json* links = nullptr;
+  errors.Try([&] { modules = &reader.Require("modules"); });
+  errors.Try([&] { links = &reader.Require("links"); });
+  if (modules && (!modules->is_array() || modules->empty())) {
+    errors.Add(InputError("", reader.PointerTo("modules"), "expected a non-empty array of modules, got " + Describe(*modules)));
+    modules = nullptr;
   }
-  if (!links.is_array()) {
-    throw InputError("", reader.PointerTo("links"), "expected an array of links, got " + Describe(links));
+  if (links && !links->is_array()) {
+    errors.Add(InputError("", reader.PointerTo("links"), "expected an array of links, got " + Describe(*links)));
+    links = nullptr;
   }
-  for (size_t i = 0; i < modules.size(); ++i) {
-    r.modules.push_back(ModuleFromJson(modules[i], PointerJoin(reader.PointerTo("modules"), i)));
+  // A module or link that is not even an object is replaced by the defaults, so the counts
+  // the cross-field checks compare stay those of the file.
+  for (size_t i = 0; modules && i < modules->size(); ++i) {
+    ModuleParams m;
+    errors.Try([&] { m = ModuleFromJson((*modules)[i], PointerJoin(reader.PointerTo("modules"), i), &errors); });
+    r.modules.push_back(m);
   }
-  for (size_t i = 0; i < links.size(); ++i) {
-    r.links.push_back(LinkFromJson(links[i], PointerJoin(reader.PointerTo("links"), i)));
+  for (size_t i = 0; links && i < links->size(); ++i) {
+    LinkParams link;
+    errors.Try([&] { link = LinkFromJson((*links)[i], PointerJoin(reader.PointerTo("links"), i), &errors); });
+    r.links.push_back(link);
   }
-  if (const auto* v = reader.Find("base_position_m")) r.base_position_m = ReadVector3(*v, reader.PointerTo("base_position_m"));
-  reader.OptionalNumber("payload_kg", &r.payload_kg);
-  reader.OptionalNumber("gravity_m_s2", &r.gravity_m_s2);
-  reader.OptionalNumber("physics_rate_Hz", &r.physics_rate_Hz);
-  reader.OptionalInt("electrical_substeps", &r.electrical_substeps);
-  reader.Finish();
-  Validate(r, pointer);
+  bool top_level_read = modules && links;
+  top_level_read &= errors.Try([&] {
+    if (const auto* v = reader.Find("base_position_m")) r.base_position_m = ReadVector3(*v, reader.PointerTo("base_position_m"));
+  });
+  top_level_read &= errors.Try([&] { reader.OptionalNumber("payload_kg", &r.payload_kg); });
+  top_level_read &= errors.Try([&] { reader.OptionalNumber("gravity_m_s2", &r.gravity_m_s2); });
+  top_level_read &= errors.Try([&] { reader.OptionalNumber("physics_rate_Hz", &r.physics_rate_Hz); });
+  top_level_read &= errors.Try([&] { reader.OptionalInt("electrical_substeps", &r.electrical_substeps); });
+  // The cross-field checks need the robot's own counts and rates; bad values inside a module
+  // or link left their defaults, which these checks accept.
+  if (top_level_read) errors.Try([&] { Validate(r, pointer); });
+  errors.ThrowIfAny();
   return r;
 }
 
 void Validate(const RobotConfig& r, const std::string& pointer) {
   if (r.modules.empty()) throw InputError("", PointerJoin(pointer, "modules"), "the robot has no modules");
+  ErrorList errors;  // the checks below are independent, except where noted
   if (r.links.size() != r.modules.size()) {
-    throw InputError("", PointerJoin(pointer, "links"),
-                     std::to_string(r.links.size()) + " links for " + std::to_string(r.modules.size()) +
-                         " modules: give one link per joint module");
+    errors.Add(InputError("", PointerJoin(pointer, "links"),
+                          std::to_string(r.links.size()) + " links for " + std::to_string(r.modules.size()) +
+                              " modules: give one link per joint module"));
   }
-  RequireInRange(r.payload_kg, 0, 100, PointerJoin(pointer, "payload_kg"));
-  RequireInRange(r.gravity_m_s2, 0, 100, PointerJoin(pointer, "gravity_m_s2"));
-  RequireInRange(r.physics_rate_Hz, 100, 1e5, PointerJoin(pointer, "physics_rate_Hz"));
-  RequireInRange(r.electrical_substeps, 1, 1000, PointerJoin(pointer, "electrical_substeps"));
+  errors.Try([&] { RequireInRange(r.payload_kg, 0, 100, PointerJoin(pointer, "payload_kg")); });
+  errors.Try([&] { RequireInRange(r.gravity_m_s2, 0, 100, PointerJoin(pointer, "gravity_m_s2")); });
+  const bool rate_ok = errors.Try([&] { RequireInRange(r.physics_rate_Hz, 100, 1e5, PointerJoin(pointer, "physics_rate_Hz")); });
+  errors.Try([&] { RequireInRange(r.electrical_substeps, 1, 1000, PointerJoin(pointer, "electrical_substeps")); });
   for (size_t i = 0; i < r.modules.size(); ++i) {
     const ModuleParams& m = r.modules[i];
     const std::string mp = PointerJoin(PointerJoin(pointer, "modules"), i);
+    // An empty range makes the bounds' own checks moot: one error for the pair.
     if (!(m.min_angle_deg < m.max_angle_deg)) {
-      throw InputError("", PointerJoin(mp, "max_angle_deg"),
-                       "the joint range [" + FormatNumber(m.min_angle_deg) + ", " +
-                           FormatNumber(m.max_angle_deg) + "] deg is empty");
+      errors.Add(InputError("", PointerJoin(mp, "max_angle_deg"),
+                            "the joint range [" + FormatNumber(m.min_angle_deg) + ", " +
+                                FormatNumber(m.max_angle_deg) + "] deg is empty"));
+    } else {
+      errors.Try([&] { RequireInRange(m.min_angle_deg, -360, 0, PointerJoin(mp, "min_angle_deg")); });
+      errors.Try([&] { RequireInRange(m.max_angle_deg, 0, 360, PointerJoin(mp, "max_angle_deg")); });
     }
-    RequireInRange(m.min_angle_deg, -360, 0, PointerJoin(mp, "min_angle_deg"));
-    RequireInRange(m.max_angle_deg, 0, 360, PointerJoin(mp, "max_angle_deg"));
-    // The controller runs every k physics steps: the rates must divide.
+    // The controller runs every k physics steps: the rates must divide (needs a valid physics rate).
     double k = r.physics_rate_Hz / m.controller.rate_Hz;
-    if (std::fabs(k - std::round(k)) > 1e-9 || k < 1) {
-      throw InputError("", PointerJoin(PointerJoin(mp, "controller"), "rate_Hz"),
-                       FormatNumber(m.controller.rate_Hz) + " Hz must divide the physics rate " +
-                           FormatNumber(r.physics_rate_Hz) + " Hz");
+    if (rate_ok && (std::fabs(k - std::round(k)) > 1e-9 || k < 1)) {
+      errors.Add(InputError("", PointerJoin(PointerJoin(mp, "controller"), "rate_Hz"),
+                            FormatNumber(m.controller.rate_Hz) + " Hz must divide the physics rate " +
+                                FormatNumber(r.physics_rate_Hz) + " Hz"));
     }
   }
+  errors.ThrowIfAny();
 }
 
 nlohmann::json RobotToJson(const RobotConfig& r) {

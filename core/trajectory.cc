@@ -57,8 +57,7 @@ std::unique_ptr<Trajectory> MakeTrajectory(const nlohmann::json& spec, const std
                          "; known types: " + KnownTypesText());
   } catch (const InputError& e) {
     // The JSON helpers do not know the file name; errors from a CSV file carry their own.
-    if (e.source().empty()) throw e.WithSource(context.source);
-    throw;
+    throw e.WithSource(context.source);
   }
 }
 

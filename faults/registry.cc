@@ -1,4 +1,5 @@
 // The fault families: one line each. A new family is a new file plus a line here.
+#include "core/suggest.h"
 #include "faults/family_support.h"
 
 namespace armfault {
@@ -60,19 +61,26 @@ std::unique_ptr<Fault> MakeFault(const nlohmann::json& spec, const std::string& 
     try {
       return f.make(reader, robot);
     } catch (const InputError& e) {
-      throw InputError(e.source(), e.pointer(), family + ": " + e.message());
+      // Each error the family found (there may be several unknown keys) names the family.
+      throw e.Edited([&](std::string*, std::string*, std::string* message) { *message = family + ": " + *message; });
     }
   }
   std::string known;
   for (const std::string& name : FaultFamilyNames()) known += (known.empty() ? "" : ", ") + name;
-  throw InputError("", reader.PointerTo("family"), "unknown fault family \"" + family + "\" (known: " + known + ")");
+  const std::string near = NearestWord(family, FaultFamilyNames());
+  throw InputError("", reader.PointerTo("family"), "unknown fault family \"" + family + "\" (known: " + known + ")",
+                   near.empty() ? "" : "did you mean \"" + near + "\"?");
 }
 
 std::vector<std::unique_ptr<Fault>> MakeFaults(const nlohmann::json& specs, const std::string& pointer,
                                                const RobotConfig& robot) {
   if (!specs.is_array()) throw InputError("", pointer, "expected an array of faults, got " + Describe(specs));
   std::vector<std::unique_ptr<Fault>> faults;
-  for (size_t i = 0; i < specs.size(); ++i) faults.push_back(MakeFault(specs[i], PointerJoin(pointer, i), robot));
+  ErrorList errors;  // each fault on its own: all bad ones are reported
+  for (size_t i = 0; i < specs.size(); ++i) {
+    errors.Try([&] { faults.push_back(MakeFault(specs[i], PointerJoin(pointer, i), robot)); });
+  }
+  errors.ThrowIfAny();
   return faults;
 }
 

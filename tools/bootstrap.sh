@@ -5,10 +5,11 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 # Test-only: chromium (report page), slurm-wlm and munge (tools/slurm_check.sh runs a real Slurm),
-# python3-yaml (tests/deploy/deploy_test.sh parses the Kubernetes YAML).
+# python3-yaml (tests/deploy/deploy_test.sh parses the Kubernetes YAML), python3-jsonschema
+# (tests/campaigns/schema_test.py checks campaigns/campaign.schema.json).
 packages=(build-essential cmake pkg-config libode-dev libeigen3-dev libtbb-dev nlohmann-json3-dev
           libcli11-dev libssl-dev libgtest-dev libgmock-dev libbenchmark-dev chromium slurm-wlm munge
-          python3-yaml)
+          python3-yaml python3-jsonschema)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -270,6 +270,37 @@ expect_stdout_contains "valid campaign \"ci\": 52 runs"
 printf '{"trajectories": [{"name": "a", "joints": {"3": {"type": "hold"}}}], "faults": [{"family": "kt_degradation", "joint": 3, "kt_factor": [0.9, 1.5]}]}\n' >"$tmp/bad_campaign.json"
 run campaign_bad_value "$armfault" validate "$tmp/bad_campaign.json"
 expect_input_error "$tmp/bad_campaign.json: /faults/0/kt_factor/1: kt_degradation: 1.5 is outside"
+# Every error of a campaign, one line each, in the order found; then exit 2. `run` prints the
+# same and writes nothing.
+printf '%s\n' '{"trajectories": [{"name": "a", "joints": {"3": {"type": "hold", "angle_deg": 500}}}],' \
+  ' "faults": [{"family": "kt_degradation", "joint": 3, "kt_factor": [0.9, 1.5]}], "healthy": -1, "floors": {"detection_rte": 0.5}}' \
+  >"$tmp/four_errors.json"
+four_errors=("armfault: error: $tmp/four_errors.json: /trajectories/0/joints/3: the trajectory spans [500, 500] deg, beyond joint 3's range [-120, 120] deg"
+  "armfault: error: $tmp/four_errors.json: /faults/0/kt_factor/1: kt_degradation: 1.5 is outside [0, 1]"
+  "armfault: error: $tmp/four_errors.json: /healthy: -1 is outside [0, 1000000]"
+  "armfault: error: $tmp/four_errors.json: /floors/detection_rte: unknown key \"detection_rte\"; did you mean \"detection_rate\"?")
+for cmd in validate run; do
+  if [[ $cmd == run ]]; then
+    run campaign_all_errors_run "$armfault" run "$tmp/four_errors.json" -o "$tmp/not_written" -q
+  else
+    run campaign_all_errors_validate "$armfault" validate "$tmp/four_errors.json"
+  fi
+  expect_status 2
+  if cmp -s "$tmp/stderr" <(printf '%s\n' "${four_errors[@]}"); then pass; else
+    fail "stderr is not the four errors: $(cat "$tmp/stderr")"
+  fi
+  if [[ ! -s "$tmp/stdout" && ! -e "$tmp/not_written" ]]; then pass; else fail "invalid input printed or wrote something"; fi
+done
+# More than 20: the first 20, then how many more.
+values=$(seq -s, 2 26)
+printf '{"trajectories": [{"name": "a", "joints": {}}], "faults": [{"family": "kt_degradation", "joint": 3, "kt_factor": [%s]}]}\n' \
+  "$values" >"$tmp/many_errors.json"
+run campaign_many_errors "$armfault" validate "$tmp/many_errors.json"
+expect_status 2
+if [[ $(wc -l <"$tmp/stderr") -eq 21 && $(sed -n 20p "$tmp/stderr") == *"/faults/0/kt_factor/19: kt_degradation: 21 is outside [0, 1]" &&
+  $(tail -n 1 "$tmp/stderr") == "armfault: error: ... and 5 more errors" ]]; then pass; else
+  fail "not 20 errors and '... and 5 more errors': $(head -c 400 "$tmp/stderr")"
+fi
 printf '{"trajectories": [{"name": "a", "joints": {"3": {"type": "hold"}}}], "healthy": 2, "duration_s": 0.5,\n "floors": {"false_alarm_rate": 0, "detection_rate": 0.5}}\n' >"$tmp/healthy_only.json"
 run campaign_floor_missed "$armfault" run "$tmp/healthy_only.json" -o "$tmp/ho" -q
 expect_status 1

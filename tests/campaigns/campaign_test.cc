@@ -111,10 +111,113 @@ TEST(CampaignParse, ErrorsPointAtTheOffendingValue) {
     SCOPED_TRACE(c.patch);
     const json bad = Small().patch(json::parse(c.patch));
     const InputError e = ErrorOf([&] { Parse(bad); });
+    EXPECT_EQ(e.count(), 1u);  // one mistake, one error: no echo from dependent checks
     EXPECT_EQ(e.source(), "c.json");
     EXPECT_EQ(e.pointer(), c.pointer);
     EXPECT_THAT(e.message(), HasSubstr(c.message));
   }
+}
+
+// Each error as the command line prints it (what() and any hint).
+std::vector<std::string> Texts(const InputError& e) {
+  std::vector<std::string> out;
+  for (const InputError& one : e.errors()) out.push_back(one.text());
+  return out;
+}
+
+TEST(CampaignParseAllErrors, ThreeIndependentErrorsAreExactlyThoseThree) {
+  const json bad = Small().patch(json::parse(R"([
+    {"op": "replace", "path": "/faults/0/kt_factor/1", "value": 1.7},
+    {"op": "replace", "path": "/healthy", "value": -1},
+    {"op": "add", "path": "/variation/friction_sprd", "value": 0.1}])"));
+  const InputError e = ErrorOf([&] { Parse(bad); });
+  EXPECT_THAT(Texts(e), testing::ElementsAre(
+                            "c.json: /faults/0/kt_factor/1: kt_degradation: 1.7 is outside [0, 1]",
+                            "c.json: /healthy: -1 is outside [0, 1000000]",
+                            "c.json: /variation/friction_sprd: unknown key \"friction_sprd\"; did you mean \"friction_spread\"?"));
+  // The first error reads exactly as it did when the loader stopped at it.
+  const json first_only = Small().patch(json::parse(R"([{"op": "replace", "path": "/faults/0/kt_factor/1", "value": 1.7}])"));
+  const InputError alone = ErrorOf([&] { Parse(first_only); });
+  EXPECT_EQ(alone.count(), 1u);
+  EXPECT_STREQ(e.what(), alone.what());
+  EXPECT_STREQ(e.what(), "c.json: /faults/0/kt_factor/1: kt_degradation: 1.7 is outside [0, 1]");
+  EXPECT_EQ(e.pointer(), "/faults/0/kt_factor/1");
+}
+
+TEST(CampaignParseAllErrors, ManyErrorsAreCutAtTheLimit) {
+  json bad = Small();
+  bad["faults"][0]["kt_factor"] = json::array();
+  for (int i = 0; i < 25; ++i) bad["faults"][0]["kt_factor"].push_back(2 + i);
+  const InputError e = ErrorOf([&] { Parse(bad); });
+  ASSERT_EQ(e.count(), 25u);
+  const std::vector<std::string> lines = ErrorReportLines(e);
+  ASSERT_EQ(lines.size(), 21u);
+  EXPECT_EQ(lines[0], "c.json: /faults/0/kt_factor/0: kt_degradation: 2 is outside [0, 1]");
+  EXPECT_EQ(lines[19], "c.json: /faults/0/kt_factor/19: kt_degradation: 21 is outside [0, 1]");
+  EXPECT_EQ(lines[20], "... and 5 more errors");
+}
+
+TEST(CampaignParseAllErrors, EveryUnknownKeyIsItsOwnError) {
+  const json bad = Small().patch(json::parse(R"([
+    {"op": "add", "path": "/durations", "value": 3},
+    {"op": "add", "path": "/trajectories/0/joints/3/omga_rad_s", "value": 1},
+    {"op": "add", "path": "/faults/0/kt_factr", "value": 0.5},
+    {"op": "add", "path": "/faults/0/onset", "value": 0.5},
+    {"op": "add", "path": "/floors/detection_rte", "value": 0.5},
+    {"op": "add", "path": "/monitor", "value": {"debounce": 1, "kt_factor": {"wron": 0.9}}}])"));
+  EXPECT_THAT(Texts(ErrorOf([&] { Parse(bad); })),
+              testing::ElementsAre(
+                  "c.json: /durations: unknown key \"durations\"; did you mean \"duration_s\"?",
+                  "c.json: /trajectories/0/joints/3/omga_rad_s: unknown key \"omga_rad_s\"; did you mean \"omega_rad_s\"?",
+                  "c.json: /faults/0/kt_factr: kt_degradation: unknown key \"kt_factr\"; did you mean \"kt_factor\"?",
+                  "c.json: /faults/0/onset: kt_degradation: unknown key \"onset\"; did you mean \"onset_s\"?",
+                  "c.json: /monitor/debounce: unknown key \"debounce\"; did you mean \"debounce_s\"?",
+                  "c.json: /monitor/kt_factor/wron: unknown key \"wron\"; did you mean \"worn\"?",
+                  "c.json: /floors/detection_rte: unknown key \"detection_rte\"; did you mean \"detection_rate\"?"));
+}
+
+TEST(CampaignParseAllErrors, ValuesOfOneEntryAreCheckedPastABadNeighbour) {
+  // onset_s is bad at its first value; kt_factor's own bad values still show, and so does
+  // the bad joint.
+  json bad = Small();
+  bad["faults"][0] = json::parse(R"({"family": "kt_degradation", "joint": [3, 9], "kt_factor": [0.9, 1.5, 1.7],
+                                     "onset_s": [-1, 2]})");
+  EXPECT_THAT(Texts(ErrorOf([&] { Parse(bad); })),
+              testing::ElementsAre("c.json: /faults/0/onset_s/0: kt_degradation: -1 is below the minimum 0",
+                                   "c.json: /faults/0/joint/1: kt_degradation: joint 9 does not exist: robot mrr-config1 has joints 1..3",
+                                   "c.json: /faults/0/kt_factor/1: kt_degradation: 1.5 is outside [0, 1]",
+                                   "c.json: /faults/0/kt_factor/2: kt_degradation: 1.7 is outside [0, 1]"));
+}
+
+TEST(CampaignParseAllErrors, DependentChecksAreSkipped) {
+  // A bad robot: trajectories are not checked against its joints and fault values not
+  // through the family (both need it), but their own shape still is.
+  json bad = Small();
+  bad["robot"] = "mrr-config9";
+  bad["trajectories"][0]["joints"]["7"] = {{"type", "hold"}};            // needs the robot: skipped
+  bad["trajectories"][0]["joints"]["3"]["omega_rad_s"] = "fast";         // its own shape: reported
+  bad["faults"][1]["family"] = "friction_increse";                        // reported
+  bad["faults"][0]["kt_factor"] = {0.9, 1.7};                             // needs the robot: skipped
+  EXPECT_THAT(Texts(ErrorOf([&] { Parse(bad); })),
+              testing::ElementsAre(
+                  "c.json: /robot: unknown robot preset \"mrr-config9\" (known: mrr-config1, pendulum)",
+                  "c.json: /trajectories/0/joints/3/omega_rad_s: expected a number, got string \"fast\"",
+                  "c.json: /faults/1/family: unknown fault family \"friction_increse\" (known: kt_degradation, "
+                  "friction_increase, brake_lock, torque_sensor_stuck, inverter_short, winding_resistance, "
+                  "torque_sensor_drift); did you mean \"friction_increase\"?"));
+  // A grid with a bad end: the points between are not reported as well.
+  json grid = Small();
+  grid["faults"][1]["friction_factor"] = {{"from", 0.5}, {"to", 200}, {"steps", 50}};
+  EXPECT_THAT(Texts(ErrorOf([&] { Parse(grid); })),
+              testing::ElementsAre("c.json: /faults/1/friction_factor/from: friction_increase: 0.5 is outside [1, 100]",
+                                   "c.json: /faults/1/friction_factor/to: friction_increase: 200 is outside [1, 100]"));
+  // The run count needs every part: not checked while another error stands.
+  json empty = Small();
+  empty.erase("faults");
+  empty["healthy"] = 0;
+  empty["repetitions"] = 0;
+  EXPECT_THAT(Texts(ErrorOf([&] { Parse(empty); })),
+              testing::ElementsAre("c.json: /repetitions: 0 is outside [1, 1000000]"));
 }
 
 TEST(CampaignParse, AHealthyOnlyCampaignIsValidAnEmptyOneIsNot) {

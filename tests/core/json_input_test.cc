@@ -10,6 +10,7 @@
 #include <fstream>
 #include <functional>
 #include <limits>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -47,6 +48,91 @@ TEST(JsonInputError, WithSourceKeepsPointerAndMessage) {
   EXPECT_EQ(e.pointer(), "/duration_s");
   EXPECT_EQ(e.message(), "too long");
   EXPECT_STREQ(e.what(), "run.json: /duration_s: too long");
+}
+
+// ---------------------------------------------------------------- ErrorList
+
+TEST(JsonInputErrorList, TryRecordsEachPartsErrorAndGoesOn) {
+  ErrorList errors;
+  EXPECT_TRUE(errors.Try([] {}));
+  EXPECT_FALSE(errors.Try([] { throw InputError("", "/a", "bad a"); }));
+  EXPECT_FALSE(errors.Try([] { throw InputError("", "/b", "bad b"); }));
+  ASSERT_EQ(errors.size(), 2u);
+  const InputError e = ErrorOf([&] { errors.ThrowIfAny(); });
+  // It reads as the first error, so code that knows only one error sees what it saw before.
+  EXPECT_EQ(e.pointer(), "/a");
+  EXPECT_STREQ(e.what(), "/a: bad a");
+  ASSERT_EQ(e.count(), 2u);
+  EXPECT_EQ(e.errors()[1].pointer(), "/b");
+}
+
+TEST(JsonInputErrorList, NothingCollectedThrowsNothing) {
+  ErrorList errors;
+  EXPECT_NO_THROW(errors.ThrowIfAny());
+  EXPECT_TRUE(errors.empty());
+}
+
+TEST(JsonInputErrorList, NestedListsFlattenAndRepeatsAreDropped) {
+  ErrorList inner;
+  inner.Add(InputError("", "/x", "bad"));
+  inner.Add(InputError("", "/y", "bad"));
+  ErrorList outer;
+  outer.Try([&] { inner.ThrowIfAny(); });
+  outer.Add(InputError("", "/x", "bad"));    // the same error found by a second check
+  outer.Add(InputError("f", "/x", "bad"));   // another file: another error
+  ASSERT_EQ(outer.size(), 3u);
+  EXPECT_EQ(outer.errors()[0].count(), 1u);
+  EXPECT_EQ(outer.errors()[2].source(), "f");
+}
+
+TEST(JsonInputErrorList, OtherExceptionsPassThrough) {
+  ErrorList errors;
+  EXPECT_THROW(errors.Try([] { throw std::logic_error("bug"); }), std::logic_error);
+  EXPECT_TRUE(errors.empty());
+}
+
+TEST(JsonInputError, WithSourceFillsOnlyTheErrorsThatNameNoFile) {
+  const InputError both({InputError("", "/a", "bad"), InputError("monitor.json", "/b", "bad")});
+  const std::vector<InputError> e = both.WithSource("camp.json").errors();
+  ASSERT_EQ(e.size(), 2u);
+  EXPECT_EQ(e[0].source(), "camp.json");
+  EXPECT_EQ(e[1].source(), "monitor.json");
+}
+
+TEST(JsonInputError, EditedRewritesEveryErrorAndKeepsHints) {
+  const InputError both({InputError("", "/a", "one", "did you mean \"b\"?"), InputError("", "/c", "two")});
+  const InputError edited =
+      both.Edited([](std::string*, std::string* pointer, std::string* message) {
+        *pointer = "/faults/0" + *pointer;
+        *message = "kt_degradation: " + *message;
+      });
+  const std::vector<InputError> e = edited.errors();
+  ASSERT_EQ(e.size(), 2u);
+  EXPECT_EQ(e[0].pointer(), "/faults/0/a");
+  EXPECT_EQ(e[0].message(), "kt_degradation: one");
+  EXPECT_EQ(e[0].hint(), "did you mean \"b\"?");
+  EXPECT_EQ(e[1].message(), "kt_degradation: two");
+}
+
+TEST(JsonInputError, TheHintFollowsTheMessageOnlyInText) {
+  const InputError e("run.json", "/duraton_s", "unknown key \"duraton_s\"", "did you mean \"duration_s\"?");
+  EXPECT_STREQ(e.what(), "run.json: /duraton_s: unknown key \"duraton_s\"");
+  EXPECT_EQ(e.text(), "run.json: /duraton_s: unknown key \"duraton_s\"; did you mean \"duration_s\"?");
+  EXPECT_EQ(InputError("run.json", "/a", "bad").text(), "run.json: /a: bad");
+}
+
+TEST(JsonInputErrorReport, OneLinePerErrorUpToTheLimitThenHowManyMore) {
+  EXPECT_EQ(ErrorReportLines(InputError("c.json", "/a", "bad")), std::vector<std::string>{"c.json: /a: bad"});
+  std::vector<InputError> many;
+  for (int i = 0; i < 25; ++i) many.emplace_back("c.json", "/v/" + std::to_string(i), "bad");
+  const std::vector<std::string> lines = ErrorReportLines(InputError(many));
+  ASSERT_EQ(lines.size(), kMaxReportedErrors + 1);
+  EXPECT_EQ(lines[0], "c.json: /v/0: bad");
+  EXPECT_EQ(lines[19], "c.json: /v/19: bad");
+  EXPECT_EQ(lines[20], "... and 5 more errors");
+  // Exactly at the limit: no "more" line.
+  many.erase(many.begin() + kMaxReportedErrors, many.end());
+  EXPECT_EQ(ErrorReportLines(InputError(many)).size(), kMaxReportedErrors);
 }
 
 TEST(JsonInputDescribe, DumpsShortValuesAndCutsLongOnes) {
@@ -114,6 +200,33 @@ TEST(JsonInputObjectReader, FinishReportsTheFirstUnreadKeyInDocumentOrder) {
   ObjectReader reader(obj, "");
   reader.Find("alpha");
   EXPECT_EQ(ErrorOf([&] { reader.Finish(); }).pointer(), "/beta");
+}
+
+TEST(JsonInputObjectReader, FinishReportsEveryUnreadKeyWithTheNearestKnownOne) {
+  const json obj = {{"mas_kg", 1}, {"length_m", 2}, {"zzz", 3}, {"radus_m", 4}};
+  ObjectReader reader(obj, "/links/0");
+  double x = 0;
+  reader.OptionalNumber("mass_kg", &x);     // absent, but asked for: a candidate
+  reader.OptionalNumber("length_m", &x);
+  reader.OptionalNumber("radius_m", &x);
+  const std::vector<InputError> e = ErrorOf([&] { reader.Finish(); }).errors();
+  ASSERT_EQ(e.size(), 3u);
+  EXPECT_EQ(e[0].pointer(), "/links/0/mas_kg");
+  EXPECT_EQ(e[0].message(), "unknown key \"mas_kg\"");
+  EXPECT_EQ(e[0].hint(), "did you mean \"mass_kg\"?");
+  EXPECT_EQ(e[1].pointer(), "/links/0/radus_m");
+  EXPECT_EQ(e[1].hint(), "did you mean \"radius_m\"?");
+  EXPECT_EQ(e[2].pointer(), "/links/0/zzz");
+  EXPECT_EQ(e[2].hint(), "");  // nothing close
+}
+
+TEST(JsonInputObjectReader, AllowOnlySuggestsFromItsList) {
+  const json obj = {{"duraton_s", 1}, {"sed", 2}};
+  ObjectReader reader(obj, "");
+  const std::vector<InputError> e = ErrorOf([&] { reader.AllowOnly({"duration_s", "seed", "robot"}); }).errors();
+  ASSERT_EQ(e.size(), 2u);
+  EXPECT_EQ(e[0].text(), "/duraton_s: unknown key \"duraton_s\"; did you mean \"duration_s\"?");
+  EXPECT_EQ(e[1].text(), "/sed: unknown key \"sed\"; did you mean \"seed\"?");
 }
 
 TEST(JsonInputObjectReader, FinishAcceptsWhenEveryKeyWasRead) {

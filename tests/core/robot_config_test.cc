@@ -256,6 +256,46 @@ TEST(RobotConfigErrors, LinkCountMustMatchModuleCount) {
   EXPECT_EQ(RobotError(j).message(), "0 links for 2 modules: give one link per joint module");
 }
 
+// Every independent part of a robot is checked: all errors at once, in document order.
+std::vector<std::string> Texts(const InputError& e) {
+  std::vector<std::string> out;
+  for (const InputError& one : e.errors()) out.push_back(one.text());
+  return out;
+}
+
+TEST(RobotConfigErrors, EveryBadModuleLinkAndFieldIsReported) {
+  json j = TwoJoints();
+  j["modules"][0]["motr"] = json::object();
+  j["modules"][0]["inverter"] = {{"bus_voltage_V", -1}, {"pwm_frequency_Hz", 0}};
+  j["modules"][1]["type"] = "MRR3";
+  j["modules"][1]["encoder"] = {{"counts_per_rev", 2.5}};
+  j["links"][1] = {{"mass_kg", 0}, {"direction", {0, 0, 0}}};
+  j["payload_kg"] = 500;
+  EXPECT_THAT(Texts(RobotError(j, "/robot")),
+              ElementsAre("/robot/modules/0/motr: unknown key \"motr\"; did you mean \"motor\"?",
+                          "/robot/modules/0/inverter/bus_voltage_V: -1 must be greater than 0",
+                          "/robot/modules/0/inverter/pwm_frequency_Hz: 0 must be greater than 0",
+                          "/robot/modules/1/type: unknown module type \"MRR3\" (known: MRR1, MRR2)",
+                          "/robot/modules/1/encoder/counts_per_rev: expected a whole number, got 2.5",
+                          "/robot/links/1/mass_kg: 0 must be greater than 0",
+                          "/robot/links/1/direction: the link direction must not be the zero vector",
+                          // The cross-field checks still run: bad values left their defaults.
+                          "/robot/payload_kg: 500 is outside [0, 100]"));
+}
+
+TEST(RobotConfigErrors, CrossFieldChecksNeedTheTopLevelValues) {
+  json j = TwoJoints();
+  j["links"] = {json::object()};           // a count mismatch, found by Validate()
+  j["physics_rate_Hz"] = "fast";           // ... which is skipped: the rate is unreadable
+  EXPECT_THAT(Texts(RobotError(j)), ElementsAre("/physics_rate_Hz: expected a number, got string \"fast\""));
+  j.erase("physics_rate_Hz");
+  j["gravity_m_s2"] = -1;
+  j["modules"][1]["controller"] = {{"rate_Hz", 300}};
+  EXPECT_THAT(Texts(RobotError(j)), ElementsAre("/links: 1 links for 2 modules: give one link per joint module",
+                                                "/gravity_m_s2: -1 is outside [0, 100]",
+                                                "/modules/1/controller/rate_Hz: 300 Hz must divide the physics rate 1000 Hz"));
+}
+
 TEST(RobotConfigErrors, UnknownModuleType) {
   json j = TwoJoints();
   j["modules"][0]["type"] = "MRR3";
@@ -578,6 +618,24 @@ TEST(RunConfigErrors, UnknownKeysAndRobotErrorsCarryTheSource) {
   EXPECT_EQ(e.source(), "run.json");
   EXPECT_EQ(e.pointer(), "");
   EXPECT_THAT(e.message(), HasSubstr("expected an object"));
+}
+
+TEST(RunConfigErrors, EveryPartIsReportedAndJointsNeedTheRobotAndDuration) {
+  const InputError e = RunError({{"duraton_s", 1},
+                                 {"seed", -1},
+                                 {"joints", {{"3", SinePair(10)}, {"7", SinePair(10)}, {"2", {{"type", "spiral"}}}}},
+                                 {"monitor", {{"debounce_s", -2}, {"stuck_time_s", "x"}}}});
+  EXPECT_EQ(e.source(), "run.json");
+  EXPECT_THAT(Texts(e), ElementsAre("run.json: /duraton_s: unknown key \"duraton_s\"; did you mean \"duration_s\"?",
+                                    "run.json: /seed: expected a whole number >= 0, got -1",
+                                    "run.json: /joints/2/type: unknown trajectory type \"spiral\"; known types: "
+                                    "sine_pair, cosine_ramp, min_jerk, hold, csv",
+                                    "run.json: /joints/7: \"7\" is not a joint of robot mrr-config1 (joints 1..3)",
+                                    "run.json: /monitor/stuck_time_s: expected a number, got string \"x\"",
+                                    "run.json: /monitor/debounce_s: -2 is outside [0, 1000]"));
+  // A bad duration: the joints' ranges cannot be checked, so they are not.
+  EXPECT_THAT(Texts(RunError({{"duration_s", 0}, {"joints", {{"3", SinePair(500)}}}})),
+              ElementsAre("run.json: /duration_s: 0 is outside [0.002, 3600]"));
 }
 
 TEST(RunConfigErrors, PointerPrefixIsKept) {
