@@ -9,9 +9,9 @@
 #include "app/commands.h"
 #include "campaigns/campaign.h"
 #include "campaigns/runner.h"
-#include "core/detector_statistics.h"
-#include "core/power_monitor.h"
-#include "core/simulation.h"
+#include "core/monitors/detector_statistics.h"
+#include "core/monitors/power_monitor.h"
+#include "core/plant/simulation.h"
 
 namespace armfault {
 

@@ -15,7 +15,7 @@
 #include "app/commands.h"
 #include "campaigns/campaign.h"
 #include "campaigns/runner.h"
-#include "core/json_input.h"
+#include "core/base/json_input.h"
 #include "campaigns/campaign_summary.h"
 #include "reports/results_csv.h"
 

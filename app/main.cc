@@ -7,8 +7,8 @@
 
 #include "app/commands.h"
 #include "app/suggest.h"
-#include "core/json_input.h"
-#include "core/ode_runtime.h"
+#include "core/base/json_input.h"
+#include "core/plant/ode_runtime.h"
 
 int main(int argc, char** argv) {
   armfault::InitOde();  // before any thread starts

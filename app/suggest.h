@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "core/suggest.h"  // EditDistance, NearestWord (shared with the JSON readers)
+#include "core/base/suggest.h"  // EditDistance, NearestWord (shared with the JSON readers)
 
 namespace armfault {
 

@@ -5,7 +5,7 @@
 
 #include "app/commands.h"
 #include "campaigns/thesis.h"
-#include "core/json_input.h"
+#include "core/base/json_input.h"
 #include "reports/thesis_report.h"
 
 namespace armfault {

@@ -11,8 +11,8 @@
 #include "app/suggest.h"
 #include "campaigns/campaign.h"
 #include "campaigns/runner.h"
-#include "core/json_input.h"
-#include "core/power_monitor.h"
+#include "core/base/json_input.h"
+#include "core/monitors/power_monitor.h"
 #include "reports/trace_csv.h"
 
 namespace armfault {

@@ -5,10 +5,10 @@
 #include <iostream>
 
 #include "app/commands.h"
-#include "core/json_input.h"
-#include "core/power_monitor.h"
+#include "core/base/json_input.h"
+#include "core/monitors/power_monitor.h"
 #include "core/run_config.h"
-#include "core/simulation.h"
+#include "core/plant/simulation.h"
 #include "faults/fault.h"
 #include "reports/trace_csv.h"
 

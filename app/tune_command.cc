@@ -7,7 +7,7 @@
 #include "app/commands.h"
 #include "campaigns/runner.h"
 #include "campaigns/tuning.h"
-#include "core/json_input.h"
+#include "core/base/json_input.h"
 
 namespace armfault {
 

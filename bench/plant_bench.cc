@@ -3,11 +3,11 @@
 // Goal (plant issue): a full 10 s run of mrr-config1 costs at most 1.5x the bare stepping.
 #include <benchmark/benchmark.h>
 
-#include "core/monitor.h"
-#include "core/ode_runtime.h"
-#include "core/power_monitor.h"
+#include "core/monitors/monitor.h"
+#include "core/plant/ode_runtime.h"
+#include "core/monitors/power_monitor.h"
 #include "core/run_config.h"
-#include "core/simulation.h"
+#include "core/plant/simulation.h"
 
 namespace armfault {
 namespace {

@@ -5,9 +5,9 @@
 #include <map>
 #include <set>
 
-#include "core/rng.h"
+#include "core/base/rng.h"
 #include "core/run_config.h"
-#include "core/suggest.h"
+#include "core/base/suggest.h"
 #include "faults/fault.h"
 
 namespace armfault {

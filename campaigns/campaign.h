@@ -15,10 +15,10 @@
 #include <utility>
 #include <vector>
 
-#include "core/json_input.h"
-#include "core/power_monitor.h"
-#include "core/robot_config.h"
-#include "core/trajectory.h"
+#include "core/base/json_input.h"
+#include "core/monitors/power_monitor.h"
+#include "core/plant/robot_config.h"
+#include "core/plant/trajectory.h"
 #include "campaigns/campaign_summary.h"
 
 namespace armfault {

@@ -6,7 +6,7 @@
 #include <memory>
 
 #include "campaigns/runner.h"
-#include "core/json_input.h"
+#include "core/base/json_input.h"
 
 namespace armfault {
 

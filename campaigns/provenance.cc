@@ -6,7 +6,7 @@
 
 #include <openssl/sha.h>
 
-#include "core/json_input.h"
+#include "core/base/json_input.h"
 
 namespace armfault {
 

@@ -2,7 +2,7 @@
 
 #include <stdexcept>
 
-#include "core/json_input.h"
+#include "core/base/json_input.h"
 
 namespace armfault {
 

@@ -46,7 +46,7 @@ struct RunRecord {
   // alarmed: the strongest statistic against its threshold, the gate that never opened, or
   // what won instead. "" for a run scored right.
   std::string miss_reason;
-  // The monitor's decision statistics (DecisionStats JSON, core/detector_statistics.h): what
+  // The monitor's decision statistics (DecisionStats JSON, core/monitors/detector_statistics.h): what
   // `armfault tune` re-scores thresholds from. Null for a run that could not be set up.
   nlohmann::json decision;
 };

@@ -8,8 +8,8 @@
 #include <fstream>
 #include <optional>
 
-#include "core/power_monitor.h"
-#include "core/rng.h"
+#include "core/monitors/power_monitor.h"
+#include "core/base/rng.h"
 #include "core/run_config.h"
 #include "faults/fault.h"
 

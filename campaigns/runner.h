@@ -15,7 +15,7 @@
 
 #include "campaigns/campaign.h"
 #include "campaigns/run_record.h"
-#include "core/simulation.h"
+#include "core/plant/simulation.h"
 
 namespace armfault {
 

@@ -5,9 +5,9 @@
 #include <cmath>
 #include <memory>
 
-#include "core/power_monitor.h"
+#include "core/monitors/power_monitor.h"
 #include "core/run_config.h"
-#include "core/simulation.h"
+#include "core/plant/simulation.h"
 #include "faults/fault.h"
 
 namespace armfault {

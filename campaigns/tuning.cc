@@ -16,7 +16,7 @@
 #include "campaigns/campaign_summary.h"
 #include "campaigns/provenance.h"
 #include "campaigns/run_record.h"
-#include "core/json_input.h"
+#include "core/base/json_input.h"
 
 namespace armfault {
 

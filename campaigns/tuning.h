@@ -1,6 +1,6 @@
 // Threshold tuning from a campaign's stored decision statistics, without simulating again
 // (`armfault tune DIR`). Every run of results.jsonl carries the held statistics of the power
-// monitor's swept detectors (core/detector_statistics.h); re-scoring a threshold setting is
+// monitor's swept detectors (core/monitors/detector_statistics.h); re-scoring a threshold setting is
 // exact: the same decision rule the monitor ran, on the same numbers.
 //
 // Outputs (docs/tuning.md): the rates of every setting of a grid of worn limits, the ROC
@@ -17,8 +17,8 @@
 #include <string>
 #include <vector>
 
-#include "core/detector_statistics.h"
-#include "core/power_monitor.h"
+#include "core/monitors/detector_statistics.h"
+#include "core/monitors/power_monitor.h"
 
 namespace armfault {
 

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "core/json_input.h"
+#include "core/base/json_input.h"
 
 namespace armfault {
 

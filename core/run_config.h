@@ -11,10 +11,10 @@
 #include <memory>
 #include <string>
 
-#include "core/power_monitor.h"
-#include "core/robot_config.h"
-#include "core/simulation.h"
-#include "core/trajectory.h"
+#include "core/monitors/power_monitor.h"
+#include "core/plant/robot_config.h"
+#include "core/plant/simulation.h"
+#include "core/plant/trajectory.h"
 
 namespace armfault {
 

@@ -7,7 +7,7 @@
 #include <memory>
 #include <string>
 
-#include "core/json_input.h"
+#include "core/base/json_input.h"
 #include "faults/fault.h"
 
 namespace armfault {

@@ -15,10 +15,10 @@
 #include <string>
 #include <vector>
 
-#include "core/hardware_condition.h"
-#include "core/json_input.h"
-#include "core/robot_config.h"
-#include "core/simulation.h"
+#include "core/plant/hardware_condition.h"
+#include "core/base/json_input.h"
+#include "core/plant/robot_config.h"
+#include "core/plant/simulation.h"
 
 namespace armfault {
 

@@ -3,7 +3,7 @@
 // friction power against what the healthy friction model gives on the same motion.
 #include <cmath>
 
-#include "core/friction.h"
+#include "core/plant/friction.h"
 #include "faults/family_support.h"
 
 namespace armfault {

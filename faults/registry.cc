@@ -1,5 +1,5 @@
 // The fault families: one line each. A new family is a new file plus a line here.
-#include "core/suggest.h"
+#include "core/base/suggest.h"
 #include "faults/family_support.h"
 
 namespace armfault {

@@ -10,7 +10,7 @@
 #include <stdexcept>
 #include <utility>
 
-#include "core/json_input.h"
+#include "core/base/json_input.h"
 
 namespace armfault {
 

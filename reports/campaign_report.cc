@@ -12,8 +12,8 @@
 #include "campaigns/provenance.h"
 #include "campaigns/runner.h"
 #include "campaigns/tuning.h"
-#include "core/json_input.h"
-#include "core/power_monitor.h"
+#include "core/base/json_input.h"
+#include "core/monitors/power_monitor.h"
 #include "reports/svg_plot.h"
 
 namespace armfault {

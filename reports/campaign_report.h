@@ -30,7 +30,7 @@
 #include "campaigns/campaign.h"
 #include "campaigns/run_record.h"
 #include "campaigns/thesis.h"
-#include "core/monitor.h"
+#include "core/monitors/monitor.h"
 
 namespace armfault {
 

@@ -6,7 +6,7 @@
 #include <ostream>
 #include <vector>
 
-#include "core/simulation.h"
+#include "core/plant/simulation.h"
 
 namespace armfault {
 

@@ -7,9 +7,12 @@ cd "$(dirname "$0")/.."
 # Test-only: chromium (report page), slurm-wlm and munge (tools/slurm_check.sh runs a real Slurm),
 # python3-yaml (tests/deploy/deploy_test.sh parses the Kubernetes YAML), python3-jsonschema
 # (tests/campaigns/schema_test.py checks campaigns/campaign.schema.json).
+# The Python package (python/): pybind11 and python3-dev to build it, NumPy and pandas for its
+# arrays and DataFrames, pytest for its tests. zlib1g-dev: `armfault export` writes gzip CSV.
 packages=(build-essential cmake pkg-config libode-dev libeigen3-dev libtbb-dev nlohmann-json3-dev
-          libcli11-dev libssl-dev libgtest-dev libgmock-dev libbenchmark-dev chromium slurm-wlm munge
-          python3-yaml python3-jsonschema)
+          libcli11-dev libssl-dev zlib1g-dev libgtest-dev libgmock-dev libbenchmark-dev chromium slurm-wlm
+          munge python3-yaml python3-jsonschema python3-dev pybind11-dev python3-pybind11 python3-numpy
+          python3-pandas python3-pytest)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -13,7 +13,7 @@
 #include "campaigns/run_record.h"
 #include "campaigns/runner.h"
 #include "campaigns/tuning.h"
-#include "core/detector_statistics.h"
+#include "core/monitors/detector_statistics.h"
 #include "tests/core/test_support.h"
 
 namespace armfault {

@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "core/json_input.h"
-#include "core/simulation.h"
+#include "core/base/json_input.h"
+#include "core/plant/simulation.h"
 
 namespace armfault::testing_support {
 

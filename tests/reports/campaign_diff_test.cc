@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "core/json_input.h"
+#include "core/base/json_input.h"
 
 namespace armfault {
 namespace {

@@ -18,7 +18,7 @@
 #include "campaigns/campaign_summary.h"
 #include "campaigns/provenance.h"
 #include "campaigns/runner.h"
-#include "core/json_input.h"
+#include "core/base/json_input.h"
 #include "tests/core/test_support.h"
 
 namespace armfault {

@@ -1,0 +1,33 @@
+#include "core/base/suggest.h"
+
+#include <algorithm>
+
+namespace armfault {
+
+size_t EditDistance(const std::string& a, const std::string& b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diagonal = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+std::string NearestWord(const std::string& word, const std::vector<std::string>& candidates) {
+  std::string best;
+  size_t best_distance = 0;
+  for (const std::string& c : candidates) {
+    const size_t d = EditDistance(word, c);
+    if (best.empty() || d < best_distance) best = c, best_distance = d;
+  }
+  const size_t allowed = std::max<size_t>(1, (word.size() + 2) / 3);
+  return !best.empty() && best_distance <= allowed ? best : std::string();
+}
+
+}  // namespace armfault

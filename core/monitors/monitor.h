@@ -1,0 +1,116 @@
+// The standard monitor interface: what any health monitor may read (the joint controller's
+// signals) and what it must produce (a stream of verdicts plus per-window efficiencies).
+// Scoring and threshold tuning read only MonitorOutput, so any monitor that implements
+// HealthMonitor is scored the same way as the power-efficiency monitor.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "core/plant/simulation.h"
+
+namespace armfault {
+
+// The signals one joint's controller has at a tick, and nothing else: a monitor never sees
+// the simulator's truth. Units: rad, rad/s, N m, A, V.
+struct JointSignals {
+  double q_ref_rad = 0, qd_ref_rad_s = 0;  // reference the controller tracks
+  double q_meas_rad = 0;                   // encoder (link side)
+  double qd_est_rad_s = 0;                 // controller's velocity estimate
+  double tau_sensor_Nm = 0;                // joint torque sensor (after the ADC)
+  double i_cmd_A = 0;                      // commanded current (after the DAC)
+  double i_supply_meas_A = 0;              // driver input current, mean over the control period
+  double v_bus_meas_V = 0;                 // driver input (bus) voltage
+  // winding temperature sensor, only where the robot config declares one; NaN otherwise
+  double winding_temp_C = std::numeric_limits<double>::quiet_NaN();
+};
+JointSignals SignalsOf(const JointTick& tick);
+
+// What a monitor recorded on one robot unit during a healthy commissioning run: the signals
+// of every joint at every controller tick, nothing else. See core/monitors/commissioning.cc.
+struct CommissioningData {
+  bool ok = true;
+  std::string failure_reason;  // set when !ok
+  double control_dt_s = 0;
+  std::vector<double> t_s;                         // tick times
+  std::vector<std::vector<JointSignals>> signals;  // [tick][joint]
+};
+
+enum class HealthState { kHealthy, kWorn, kDefective };
+const char* HealthStateName(HealthState s);
+
+// One timestamped verdict about one joint. Emitted when the monitor's view of the joint
+// changes (state, family) and when a magnitude estimate is refined while alarmed.
+struct Verdict {
+  double t_s = 0;
+  int joint = 0;  // 1-based
+  HealthState state = HealthState::kHealthy;
+  bool alarm = false;          // state != healthy, after debounce
+  std::string family;          // candidate fault family, "unknown", or "" when healthy
+  std::string magnitude_name;  // e.g. "kt_factor", "friction_factor"; "" if none
+  double magnitude = 0;        // estimate in the family's own parameter
+  double confidence = 0;       // 0..1
+};
+
+// Energies [J] and efficiencies of one window of one joint: a stretch of motion in one
+// direction, bounded by zero (below the rest threshold) joint velocity. Efficiencies that
+// are not defined for the window's power flow are NaN (null in JSON). See docs/monitor.md.
+struct EfficiencyWindow {
+  int joint = 0;  // 1-based
+  double t_start_s = 0, t_end_s = 0;
+  int direction = 0;        // sign of the joint velocity
+  std::string flow;         // "forward" (motor drives the load), "reverse" (load drives), "mixed"
+  bool used = false;        // long and energetic enough to judge
+  double out_J = 0;         // integral tau_s dq (+ coupling correction)
+  double rotor_J = 0;       // integral ratio K_T i_cmd dq: rotor power from the command
+  double friction_J = 0;    // integral f_hat dq: modelled friction
+  double mesh_in_J = 0;     // rotor_J - friction_J: power into the harmonic drive
+  double mesh_loss_J = 0;   // expected mesh loss from the measured torque
+  double supply_J = 0;      // integral U_d I_d dt
+  double electrical_loss_J = 0;  // expected copper + inverter + quiescent
+  double eta = 0, eta_m = 0, eta_e = 0;             // measured (eq 4-8, 4-21, 4-23)
+  double eta_expected = 0, eta_m_expected = 0, eta_e_expected = 0;  // healthy, same motion
+};
+
+struct MonitorOutput {
+  std::vector<Verdict> verdicts;          // time order
+  std::vector<EfficiencyWindow> windows;  // time order of their end
+};
+
+// The run-level diagnosis scoring uses: the first alarm gives detection and its time; the
+// last verdict of that joint (the most informed) gives family, joint and magnitude.
+struct Diagnosis {
+  bool detected = false;
+  double detection_time_s = 0;
+  int joint = 0;
+  std::string family;
+  std::string magnitude_name;
+  double magnitude = 0;
+  double confidence = 0;
+  HealthState state = HealthState::kHealthy;
+};
+Diagnosis Diagnose(const MonitorOutput& output);
+
+nlohmann::json ToJson(const Verdict& v);
+nlohmann::json ToJson(const EfficiencyWindow& w);
+nlohmann::json ToJson(const Diagnosis& d);
+// {"diagnosis", "verdicts", "windows"}: what `trace --monitor-out` writes.
+nlohmann::json ToJson(const MonitorOutput& output);
+
+// A health monitor in the loop: Observe() is called at every controller tick with every
+// joint's signals, in time order; Finish() once at the end of the run.
+class HealthMonitor {
+ public:
+  virtual ~HealthMonitor() = default;
+  virtual void Observe(double t_s, const std::vector<JointSignals>& joints) = 0;
+  virtual void Finish(double t_end_s) = 0;
+  virtual const MonitorOutput& output() const = 0;
+};
+
+// Adapts a monitor to the simulation's tick observer: passes on only the signals.
+TickObserver ObserveWith(HealthMonitor* monitor, TickObserver also = nullptr);
+
+}  // namespace armfault

@@ -1,0 +1,215 @@
+// MonitorConfig <-> JSON, driven by one table so parsing, checks and output cannot drift.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <set>
+
+#include "core/monitors/power_monitor.h"
+
+namespace armfault {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+struct NumberField {
+  const char* key;
+  double MonitorConfig::*member;
+  double min, max;  // inclusive
+};
+struct IntField {
+  const char* key;
+  int MonitorConfig::*member;
+  int min, max;
+};
+enum class Direction { kBelow, kAbove, kMagnitude };
+struct LimitField {
+  const char* key;
+  StateLimits MonitorConfig::*member;
+  Direction direction;  // kBelow: healthy 1, falls; kAbove: healthy 1, rises; kMagnitude: |x| rises from 0
+};
+
+const std::vector<NumberField>& NumberFields() {
+  static const std::vector<NumberField> f = {
+      {"rest_velocity_rad_s", &MonitorConfig::rest_velocity_rad_s, 1e-6, 10},
+      {"min_window_s", &MonitorConfig::min_window_s, 0, 1e3},
+      {"min_window_energy_J", &MonitorConfig::min_window_energy_J, 0, 1e6},
+      {"electrical_time_constant_s", &MonitorConfig::electrical_time_constant_s, 0.01, 1e3},
+      {"min_rotor_energy_J", &MonitorConfig::min_rotor_energy_J, 0, 1e6},
+      {"min_copper_energy_J", &MonitorConfig::min_copper_energy_J, 0, 1e6},
+      {"significance", &MonitorConfig::significance, 0, 100},
+      {"debounce_s", &MonitorConfig::debounce_s, 0, 1e3},
+      {"overpower_W", &MonitorConfig::overpower_W, 0, 1e6},
+      {"overpower_time_s", &MonitorConfig::overpower_time_s, 0, 1e3},
+      {"dead_drive_current_A", &MonitorConfig::dead_drive_current_A, 0, 1e4},
+      {"dead_drive_time_s", &MonitorConfig::dead_drive_time_s, 0, 1e3},
+      {"stuck_time_s", &MonitorConfig::stuck_time_s, 0, 1e3},
+      {"stuck_torque_span_Nm", &MonitorConfig::stuck_torque_span_Nm, 0, 1e6},
+      {"rail_time_s", &MonitorConfig::rail_time_s, 0, 1e3},
+      {"blocked_current_A", &MonitorConfig::blocked_current_A, 0, 1e4},
+      {"blocked_error_rad", &MonitorConfig::blocked_error_rad, 0, 10},
+      {"blocked_time_s", &MonitorConfig::blocked_time_s, 0, 1e3},
+      {"balance_filter_s", &MonitorConfig::balance_filter_s, 0.002, 10},
+      {"balance_time_constant_s", &MonitorConfig::balance_time_constant_s, 0.01, 1e3},
+      {"min_balance_moving_s", &MonitorConfig::min_balance_moving_s, 0, 1e3},
+      {"constant_power_uncertainty_W", &MonitorConfig::constant_power_uncertainty_W, 1e-3, 1e4},
+  };
+  return f;
+}
+const std::vector<IntField>& IntFields() {
+  static const std::vector<IntField> f = {{"mechanical_windows", &MonitorConfig::mechanical_windows, 1, 100}};
+  return f;
+}
+const std::vector<LimitField>& LimitFields() {
+  static const std::vector<LimitField> f = {
+      {"kt_factor", &MonitorConfig::kt_factor, Direction::kBelow},
+      {"friction_factor", &MonitorConfig::friction_factor, Direction::kAbove},
+      {"resistance_factor", &MonitorConfig::resistance_factor, Direction::kAbove},
+      {"sensor_drift_Nm", &MonitorConfig::sensor_drift_Nm, Direction::kMagnitude},
+  };
+  return f;
+}
+
+}  // namespace
+
+namespace {
+
+// The range checks of Validate(), each on its own, into `errors`. A limit whose object could
+// not be read (in `unread_limits`) is skipped: its defaults would be checked, not the file.
+void CheckRanges(const MonitorConfig& c, const std::string& pointer, const std::set<std::string>& unread_limits,
+                 ErrorList* errors) {
+  for (const auto& f : NumberFields()) {
+    errors->Try([&] { RequireInRange(c.*f.member, f.min, f.max, PointerJoin(pointer, f.key)); });
+  }
+  for (const auto& f : IntFields()) {
+    errors->Try([&] { RequireInRange(c.*f.member, f.min, f.max, PointerJoin(pointer, f.key)); });
+  }
+  for (const auto& f : LimitFields()) {
+    if (unread_limits.count(f.key)) continue;
+    const StateLimits& l = c.*f.member;
+    const std::string p = PointerJoin(pointer, f.key);
+    // defective is bounded by worn: checked only when worn is valid.
+    switch (f.direction) {
+      case Direction::kBelow:
+        if (errors->Try([&] { RequireInRange(l.worn, 0, 1, PointerJoin(p, "worn")); })) {
+          errors->Try([&] { RequireInRange(l.defective, 0, l.worn, PointerJoin(p, "defective")); });
+        }
+        break;
+      case Direction::kAbove:
+        if (errors->Try([&] { RequireInRange(l.worn, 1, kInf, PointerJoin(p, "worn")); })) {
+          errors->Try([&] { RequireInRange(l.defective, l.worn, kInf, PointerJoin(p, "defective")); });
+        }
+        break;
+      case Direction::kMagnitude:
+        if (errors->Try([&] { RequireInRange(l.worn, 0, kInf, PointerJoin(p, "worn")); })) {
+          errors->Try([&] { RequireInRange(l.defective, l.worn, kInf, PointerJoin(p, "defective")); });
+        }
+        break;
+    }
+  }
+}
+
+}  // namespace
+
+MonitorConfig MonitorConfigFromJson(const nlohmann::json& value, const std::string& pointer,
+                                    const std::string& source) {
+  MonitorConfig c;
+  ErrorList errors;  // every key on its own: all bad ones are reported together
+  std::set<std::string> unread_limits;
+  try {
+    ObjectReader reader(value, pointer);
+    std::vector<std::string> keys;
+    for (const auto& f : NumberFields()) keys.push_back(f.key);
+    for (const auto& f : IntFields()) keys.push_back(f.key);
+    for (const auto& f : LimitFields()) keys.push_back(f.key);
+    errors.Try([&] { reader.AllowOnly(keys); });
+    for (const auto& f : NumberFields()) errors.Try([&] { reader.OptionalNumber(f.key, &(c.*f.member)); });
+    for (const auto& f : IntFields()) errors.Try([&] { reader.OptionalInt(f.key, &(c.*f.member)); });
+    for (const auto& f : LimitFields()) {
+      const bool read = errors.Try([&] {
+        const nlohmann::json* v = reader.Find(f.key);
+        if (!v) return;
+        ObjectReader limits(*v, reader.PointerTo(f.key));
+        ErrorList limit_errors;
+        limit_errors.Try([&] { limits.AllowOnly({"worn", "defective"}); });
+        limit_errors.Try([&] { limits.OptionalNumber("worn", &(c.*f.member).worn); });
+        limit_errors.Try([&] { limits.OptionalNumber("defective", &(c.*f.member).defective); });
+        limit_errors.ThrowIfAny();
+      });
+      if (!read) unread_limits.insert(f.key);
+    }
+  } catch (const InputError& e) {
+    throw e.WithSource(source);  // not an object
+  }
+  CheckRanges(c, pointer, unread_limits, &errors);
+  if (!errors.empty()) throw InputError(errors.errors()).WithSource(source);
+  return c;
+}
+
+void Validate(const MonitorConfig& c, const std::string& pointer, const std::string& source) {
+  ErrorList errors;
+  CheckRanges(c, pointer, {}, &errors);
+  if (!errors.empty()) throw InputError(errors.errors()).WithSource(source);
+}
+
+nlohmann::json MonitorConfigToJson(const MonitorConfig& c) {
+  nlohmann::json j = nlohmann::json::object();
+  for (const auto& f : NumberFields()) j[f.key] = c.*f.member;
+  for (const auto& f : IntFields()) j[f.key] = c.*f.member;
+  for (const auto& f : LimitFields()) j[f.key] = {{"worn", (c.*f.member).worn}, {"defective", (c.*f.member).defective}};
+  return j;
+}
+
+}  // namespace armfault
+
+namespace armfault {
+
+namespace {
+// Scales at which an error shows in a statistic: the current at which switching loss is
+// judged, a typical joint torque, the self-heating a winding may add over ambient in a task
+// (docs/monitor.md, "Without commissioning").
+constexpr double kTypicalCurrent_A = 2.0;
+constexpr double kTypicalTorque_Nm = 6.0;
+constexpr double kSelfHeatingMargin_K = 10.0;
+// How strongly a torque-scale error reaches the friction factor: torque over friction of a
+// loaded joint; and the mesh loss over friction (μ |τ| / friction).
+constexpr double kTorqueOverFriction = 2.5;
+constexpr double kMeshOverFriction = 0.6;
+constexpr double kCopperPerK = 0.00393;   // copper resistance, per K
+constexpr double kMagnetPerK = 0.001;     // NdFeB K_T loss, per K
+}  // namespace
+
+MonitorConfig WidenedForTolerances(const MonitorConfig& config, const StatedTolerances& tol, const RobotConfig& robot) {
+  MonitorConfig c = config;
+  const double dT = std::max(std::fabs(tol.ambient_max_C - 20.0), std::fabs(tol.ambient_min_C - 20.0)) + kSelfHeatingMargin_K;
+  double dn = 0, drho = 0, dkappa = 0, ddrift = 0;
+  for (const ModuleParams& m : robot.modules) {
+    const double u = m.inverter.bus_voltage_V;
+    const double sw = 2.0 * u * m.inverter.switching_time_s * m.inverter.pwm_frequency_Hz;
+    const double constant_W = tol.quiescent_power * m.inverter.quiescent_power_W + tol.supply_current_offset_A * u +
+                              tol.switching_loss * sw * kTypicalCurrent_A;
+    const double r = m.motor.phase_resistance_ohm;
+    const double friction_Nm = m.drive.ratio * (m.friction.coulomb_Nm + m.friction.static_Nm);
+    // The electrical fit takes a constant power as a parameter of its own, pulled to the
+    // calibration within this uncertainty: a constant error no longer passes for n or rho.
+    c.constant_power_uncertainty_W = std::max(c.constant_power_uncertainty_W, constant_W);
+    dn = std::max(dn, tol.kt + tol.supply_current_gain + kMagnetPerK * dT);
+    drho = std::max(drho, tol.winding_resistance + kCopperPerK * dT + tol.supply_current_gain +
+                              tol.switch_resistance * m.inverter.switch_resistance_ohm / r);
+    dkappa = std::max(dkappa, tol.friction + kTorqueOverFriction * (tol.kt + tol.torque_sensor_gain + kMagnetPerK * dT) +
+                                  kMeshOverFriction * tol.mesh_loss + 0.5 * tol.rotor_inertia +
+                                  0.3 * tol.stribeck_velocity + tol.torque_sensor_offset_Nm / friction_Nm);
+    ddrift = std::max(ddrift, tol.torque_sensor_offset_Nm + tol.torque_sensor_gain * kTypicalTorque_Nm);
+  }
+  c.kt_factor.worn = std::max(0.02, c.kt_factor.worn - dn);
+  c.kt_factor.defective = std::max(0.01, std::min(c.kt_factor.worn, c.kt_factor.defective - dn));
+  c.resistance_factor.worn += drho;
+  c.resistance_factor.defective += drho;
+  c.friction_factor.worn += dkappa;
+  c.friction_factor.defective += dkappa;
+  c.sensor_drift_Nm.worn += ddrift;
+  c.sensor_drift_Nm.defective += ddrift;
+  return c;
+}
+
+}  // namespace armfault

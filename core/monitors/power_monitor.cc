@@ -1,0 +1,617 @@
+#include "core/monitors/power_monitor.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <deque>
+#include <limits>
+
+#include "core/plant/torque_sensor.h"
+
+namespace armfault {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// Weak priors that keep the fits defined without excitation: each parameter is pulled to
+// its healthy value with the weight of a little evidence (units: the regressor squared).
+constexpr double kElectricalPrior_W2 = 50.0;  // per-tick fit, residuals ~ 1 W
+// The weight that holds a parameter at its prior.
+constexpr double kHeldPrior = 1e12;
+// Scatter of one tick's electrical residual (supply-sensor noise, period averaging) [W].
+constexpr double kElectricalTickSigma_W = 0.5;
+// Mechanical fit, in the units of its 1/sigma^2-weighted normal equations: the friction
+// factor has the weight of one window with 1 J of friction known to 1 J; the drift a
+// stronger pull to 0, so that where windows cannot tell friction from drift (all in one
+// direction) the residual is put on friction.
+constexpr double kFrictionPrior = 1.0;
+constexpr double kDriftPrior = 10.0;
+// Mechanical energy uncertainty per window: fraction of the energy moved through the mesh,
+// plus a floor (encoder quantisation, torque noise, residual inertia at the window ends).
+constexpr double kMechanicalNoiseFraction = 0.03;
+constexpr double kMechanicalNoiseFloor_J = 0.05;
+// Above this friction factor the extra drag is a dragging brake, not wear.
+constexpr double kBrakeDragFrictionFactor = 4.0;
+
+// Memory of the torque-balance fit that carries the sensor offset: long enough to hold both
+// directions of motion of most tasks.
+constexpr double kSlowBalanceTimeConstant_s = 4.0;
+// Moving time each way in that fit before its offset is judged.
+constexpr double kMinOffsetMovingEachWay_s = 1.0;
+
+// Ticks over which the balance residual stays correlated (the low-pass memory, both sides).
+double CorrelationTicks(const MonitorConfig& c, double dt) { return std::max(1.0, 2.0 * c.balance_filter_s / dt); }
+
+// Copper resistance rises 0.393 %/K; an NdFeB magnet's flux (K_T) falls about 0.1 %/K.
+constexpr double kCopperPerK = 0.00393;
+constexpr double kMagnetLossPerK = 0.001;
+
+double NormalCdf(double z) { return 0.5 * std::erfc(-z / std::sqrt(2.0)); }
+
+// Deviation in standard errors; an exact (se 0) deviation counts as very significant.
+double Significance(double deviation, double se) {
+  if (se > 0) return deviation / se;
+  return deviation > 0 ? 1e9 : (deviation < 0 ? -1e9 : 0.0);
+}
+
+// Solves the 2x2 system (A) x = b; returns false if singular.
+bool Solve2(double a11, double a12, double a22, double b1, double b2, double* x1, double* x2,
+            double* inv11, double* inv22) {
+  const double det = a11 * a22 - a12 * a12;
+  if (!(std::fabs(det) > 1e-300)) return false;
+  *x1 = (a22 * b1 - a12 * b2) / det;
+  *x2 = (a11 * b2 - a12 * b1) / det;
+  *inv11 = a22 / det;
+  *inv22 = a11 / det;
+  return true;
+}
+
+// Solves the symmetric 3x3 system m θ = r (m: 00 01 02 11 12 22) by cofactors; `inv_diag`
+// gets the inverse's diagonal. Returns false if singular.
+bool Solve3(const std::array<double, 6>& m, const std::array<double, 3>& r, std::array<double, 3>* t,
+            std::array<double, 3>* inv_diag) {
+  const double c00 = m[3] * m[5] - m[4] * m[4], c01 = m[2] * m[4] - m[1] * m[5], c02 = m[1] * m[4] - m[2] * m[3];
+  const double c11 = m[0] * m[5] - m[2] * m[2], c12 = m[1] * m[2] - m[0] * m[4], c22 = m[0] * m[3] - m[1] * m[1];
+  const double det = m[0] * c00 + m[1] * c01 + m[2] * c02;
+  if (!(det > 0) || !std::isfinite(det)) return false;
+  const double inv = 1.0 / det;
+  (*t)[0] = (c00 * r[0] + c01 * r[1] + c02 * r[2]) * inv;
+  (*t)[1] = (c01 * r[0] + c11 * r[1] + c12 * r[2]) * inv;
+  (*t)[2] = (c02 * r[0] + c12 * r[1] + c22 * r[2]) * inv;
+  *inv_diag = {c00 * inv, c11 * inv, c22 * inv};
+  return true;
+}
+
+// The electrical balance y = U_d I_d - fixed losses = n P_r + rho P_copper + q, weighted least
+// squares with forgetting. Weak priors n = rho = 1 keep it defined at rest; q, a constant
+// power the calibration does not hold (quiescent draw, the current sensor's offset, warm-up),
+// is pulled to 0 with the weight its stated uncertainty gives it, so that it cannot pass for
+// a K_T or resistance change.
+struct ElectricalFit {
+  double forget = 1;
+  double constant_prior = 0;  // weight of the pull of q to 0, in ticks
+  std::array<double, 6> a{};  // of (P_r, P_copper, 1): 00 01 02 11 12 22
+  std::array<double, 3> b{};
+  double yy = 0, weight = 0;
+  double n = 1, n_se = 0, rho = 1, rho_se = 0, constant_W = 0;
+  void Add(double y, double p_rotor, double p_copper) {
+    const double x[3] = {p_rotor, p_copper, 1.0};
+    int k = 0;
+    for (int i = 0; i < 3; ++i) {
+      for (int j = i; j < 3; ++j, ++k) a[k] = forget * a[k] + x[i] * x[j];
+      b[i] = forget * b[i] + x[i] * y;
+    }
+    yy = forget * yy + y * y;
+    weight = forget * weight + 1.0;
+    if (!Fit(kElectricalPrior_W2)) return;
+    if (n > 1.0) {
+      // K_T cannot rise: supply power above the model is an extra loss. Refit with n = 1
+      // (rotor and copper power are nearly collinear in many motions).
+      const double se = n_se;
+      Fit(kHeldPrior);
+      n_se = se;
+    }
+  }
+  // Solves with prior weight `n_prior` on n = 1.
+  bool Fit(double n_prior) {
+    std::array<double, 6> m = a;
+    m[0] += n_prior;
+    m[3] += kElectricalPrior_W2;
+    m[5] += constant_prior;
+    const std::array<double, 3> r = {b[0] + n_prior, b[1] + kElectricalPrior_W2, b[2]};
+    std::array<double, 3> t, inv;
+    if (!Solve3(m, r, &t, &inv)) return false;
+    const double sse = yy - 2 * (t[0] * b[0] + t[1] * b[1] + t[2] * b[2]) + t[0] * t[0] * a[0] + 2 * t[0] * t[1] * a[1] +
+                       2 * t[0] * t[2] * a[2] + t[1] * t[1] * a[3] + 2 * t[1] * t[2] * a[4] + t[2] * t[2] * a[5];
+    const double sigma2 = std::max(0.0, sse) / std::max(1.0, weight - 3.0);
+    n = t[0];
+    rho = t[1];
+    constant_W = t[2];
+    n_se = std::sqrt(sigma2 * inv[0]);
+    rho_se = std::sqrt(sigma2 * inv[1]);
+    return true;
+  }
+};
+
+// One judged window as the mechanical fit uses it.
+struct MechanicalWindow {
+  double rotor_J, out_J, mesh_loss_J, friction_J, dq_rad, sigma_J;
+};
+
+// A candidate verdict before debounce.
+struct Candidate {
+  HealthState state = HealthState::kHealthy;
+  std::string family;
+  std::string magnitude_name;
+  double magnitude = 0;
+  double confidence = 0;
+  bool structural = false;  // from a tick-level detector: latched once committed
+};
+
+}  // namespace
+
+struct PowerEfficiencyMonitor::JointState {
+  JointState(const MonitorConfig& c, const JointKnowledge& k, double dt, long hold_span)
+      : balance_filter(c.balance_filter_s, dt, c.rest_velocity_rad_s, k.mechanical.stribeck_s2),
+        balance({false, false}, c.balance_time_constant_s, dt, CorrelationTicks(c, dt), k.balance_sigma_Nm),
+        balance_slow({false, true}, kSlowBalanceTimeConstant_s, dt, CorrelationTicks(c, dt), k.balance_sigma_Nm),
+        balance_since_alarm({false, true}, 0, dt, CorrelationTicks(c, dt), k.balance_sigma_Nm) {
+    electrical.forget = std::exp(-dt / c.electrical_time_constant_s);
+    electrical_fast.forget = std::exp(-dt / c.balance_time_constant_s);
+    // q's pull: as many ticks as make its standard error the stated uncertainty.
+    const double sd = std::max(1e-3, k.constant_power_sd_W);
+    electrical.constant_prior = electrical_fast.constant_prior =
+        kElectricalTickSigma_W * kElectricalTickSigma_W / (sd * sd);
+    for (SlidingMin& h : held) h = SlidingMin(hold_span);
+    for (SlidingMin& h : held_significance) h = SlidingMin(hold_span);
+  }
+  // current window
+  bool in_window = false;
+  EfficiencyWindow window;
+  double window_dq = 0;
+  // electrical balance: the K_T and resistance detectors' fit, and a fast one whose n is the
+  // torque gain of the torque balance
+  ElectricalFit electrical, electrical_fast;
+  double excitation_rotor_J = 0, excitation_copper_J = 0;
+  // tick-rate torque balance: friction alone, fast (the friction detector); friction and the
+  // sensor offset, slow (the drift detector, and the offset the fast fit removes); and one
+  // that grows from the friction or drift statistic's first crossing (the magnitude, free of
+  // the data before the change)
+  BalanceFilter balance_filter;
+  BalanceFit balance, balance_slow, balance_since_alarm;
+  bool balance_crossed = false;
+  // mechanical window fit (the thesis's view)
+  std::deque<MechanicalWindow> mech;
+  Estimates est;
+  // tick-level detectors
+  double overpower_s = 0;
+  double dead_s = 0;
+  double flat_s = 0, flat_dq = 0, flat_cmd_min = 0, flat_cmd_max = 0, flat_ref_min = 0, flat_ref_max = 0;
+  double rail_s = 0;
+  double blocked_s = 0;
+  // decision
+  std::array<SlidingMin, kDetectorCount> held, held_significance;
+  DetectorReadings readings;
+  Candidate structural;  // latched once a tick-level detector fires
+  std::string shown_family = "";  // family of the last verdict emitted ("" healthy)
+  HealthState shown_state = HealthState::kHealthy;
+  double last_emit_t = -1e9;
+  double last_emit_magnitude = 0;
+};
+
+PowerEfficiencyMonitor::PowerEfficiencyMonitor(const PowerMonitorModel& model) : model_(model) {
+  for (size_t j = 0; j < model.joints.size(); ++j) {
+    joints_.push_back(std::make_unique<JointState>(model.config, model.joints[j], model.control_dt_s, model.hold_span));
+  }
+}
+PowerEfficiencyMonitor::~PowerEfficiencyMonitor() = default;
+
+PowerEfficiencyMonitor::Estimates PowerEfficiencyMonitor::estimates(int joint) const {
+  return joints_.at(joint)->est;
+}
+const DetectorReadings& PowerEfficiencyMonitor::readings(int joint) const { return joints_.at(joint)->readings; }
+const std::string& PowerEfficiencyMonitor::structural_family(int joint) const {
+  return joints_.at(joint)->structural.family;
+}
+
+PowerMonitorModel MakePowerMonitorModel(const RobotConfig& robot, const MonitorConfig& config) {
+  Validate(config, "", "<monitor>");
+  PowerMonitorModel m;
+  m.config = config;
+  m.control_dt_s = 1.0 / robot.modules.at(0).controller.rate_Hz;
+  m.thresholds = ThresholdsOf(config);
+  m.hold_span = std::lround(config.debounce_s / m.control_dt_s) + 1;
+  std::vector<std::array<double, 3>> axes;
+  for (size_t i = 0; i < robot.modules.size(); ++i) {
+    const ModuleParams& p = robot.modules[i];
+    JointKnowledge k;
+    k.ratio = p.drive.ratio;
+    k.kt_Nm_per_A = p.motor.kt_Nm_per_A;
+    k.phase_resistance_ohm = p.motor.phase_resistance_ohm;
+    k.switch_resistance_ohm = p.inverter.switch_resistance_ohm;
+    k.switching_loss_W_per_A = p.inverter.bus_voltage_V * p.inverter.switching_time_s * p.inverter.pwm_frequency_Hz;
+    k.quiescent_W = p.inverter.quiescent_power_W;
+    k.mesh_loss_fraction = p.drive.mesh_loss_fraction;
+    k.friction = p.friction;
+    k.brake_holding_Nm = p.brake.holding_torque_Nm;
+    k.rotor_inertia_link_kg_m2 = p.motor.rotor_inertia_kg_m2 * p.drive.ratio * p.drive.ratio;
+    // Until commissioning, the unit is its datasheet.
+    k.electrical.quiescent_W = k.quiescent_W;
+    k.electrical.copper_W_per_A2 = 2.0 * k.phase_resistance_ohm;
+    k.electrical.conduction_W_per_A2 = 2.0 * k.switch_resistance_ohm;
+    k.electrical.switching_W_per_A = 2.0 * k.switching_loss_W_per_A;
+    MechanicalCalibration& mc = k.mechanical;
+    mc.rotor_inertia_kg_m2 = k.rotor_inertia_link_kg_m2;
+    mc.rotor_coupling_kg_m2 = p.motor.rotor_inertia_kg_m2 * p.drive.ratio;
+    mc.viscous_Nm_s = k.ratio * p.friction.viscous_Nm_s_per_rad;
+    mc.coulomb_Nm = k.ratio * p.friction.coulomb_Nm;
+    mc.stribeck_Nm = k.ratio * p.friction.static_Nm;
+    mc.stribeck_s2 = p.friction.stribeck_s2_per_rad2;
+    mc.mesh_loss_fraction = k.mesh_loss_fraction;
+    k.balance_sigma_Nm = std::max(0.05, p.torque_sensor.noise_Nm);
+    k.constant_power_sd_W = config.constant_power_uncertainty_W;
+    const std::array<double, 3> a = robot.links.at(i).joint_axis;
+    const double na = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+    for (const auto& b : axes) {
+      const double nb = std::sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
+      k.coupling.push_back((a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) / (na * nb));
+    }
+    axes.push_back(a);
+    const TorqueSensorParams& ts = p.torque_sensor;
+    k.sensor_min_Nm = TorqueFromAdcCode(ts, 0);
+    k.sensor_max_Nm = TorqueFromAdcCode(ts, static_cast<int>(std::lround(std::pow(2.0, ts.adc_bits))) - 1);
+    m.joints.push_back(k);
+  }
+  return m;
+}
+
+namespace {
+
+
+void FinishWindow(EfficiencyWindow* w) {
+  w->mesh_in_J = w->rotor_J - w->friction_J;
+  w->eta = w->eta_m = w->eta_e = w->eta_expected = w->eta_m_expected = w->eta_e_expected = kNaN;
+  if (w->out_J > 0 && w->mesh_in_J > 0) {
+    w->flow = "forward";
+    w->eta_m = w->out_J / w->mesh_in_J;
+    if (w->supply_J > 0) {
+      w->eta = w->out_J / w->supply_J;
+      w->eta_e = w->rotor_J / w->supply_J;
+    }
+    // A healthy joint delivering the same output: mesh input = output + mesh loss, rotor
+    // power = that + modelled friction, supply = rotor power + electrical losses.
+    const double mesh_in_h = w->out_J + w->mesh_loss_J;
+    const double rotor_h = mesh_in_h + w->friction_J;
+    w->eta_m_expected = w->out_J / mesh_in_h;
+    w->eta_e_expected = rotor_h / (rotor_h + w->electrical_loss_J);
+    w->eta_expected = w->out_J / (rotor_h + w->electrical_loss_J);
+  } else if (w->out_J < 0 && w->mesh_in_J < 0) {
+    w->flow = "reverse";
+    w->eta_m = w->mesh_in_J / w->out_J;
+    const double mesh_in_h = w->out_J + w->mesh_loss_J;  // the load's power less the mesh loss
+    w->eta_m_expected = mesh_in_h / w->out_J;
+    const double rotor_h = mesh_in_h + w->friction_J;
+    if (w->supply_J < 0 && w->rotor_J < 0) {
+      w->eta_e = w->supply_J / w->rotor_J;
+      w->eta = w->supply_J / w->out_J;
+    }
+    if (rotor_h < 0 && rotor_h + w->electrical_loss_J < 0) {
+      w->eta_e_expected = (rotor_h + w->electrical_loss_J) / rotor_h;
+      w->eta_expected = (rotor_h + w->electrical_loss_J) / w->out_J;
+    }
+  } else {
+    w->flow = "mixed";
+  }
+}
+
+}  // namespace
+
+void PowerEfficiencyMonitor::Observe(double t_s, const std::vector<JointSignals>& signals) {
+  const MonitorConfig& c = model_.config;
+  const int n = static_cast<int>(model_.joints.size());
+  if (static_cast<int>(signals.size()) != n) return;
+  if (ticks_++ == 0) {
+    previous_ = signals;
+    t_prev_ = t_s;
+    return;
+  }
+  const double dt = t_s - t_prev_;
+  if (!(dt > 0)) return;
+
+  for (int j = 0; j < n; ++j) {
+    const JointKnowledge& k = model_.joints[j];
+    JointState& s = *joints_[j];
+    const JointSignals& now = signals[j];
+    const JointSignals& prev = previous_[j];
+    const double dq = now.q_meas_rad - prev.q_meas_rad;
+    const double i = prev.i_cmd_A;  // the command held over the period just ended
+    const double tau_mean = 0.5 * (now.tau_sensor_Nm + prev.tau_sensor_Nm);
+    // A declared winding-temperature sensor lets the monitor follow copper resistance and
+    // magnet strength from the temperature its calibration holds at (docs/monitor.md).
+    const bool has_temp = std::isfinite(now.winding_temp_C);
+    const double dT = has_temp ? now.winding_temp_C - k.electrical.reference_temp_C : 0.0;
+    const double kt_scale = 1.0 - kMagnetLossPerK * dT;
+    const double rotor_torque = kt_scale * k.ratio * k.kt_Nm_per_A * i;  // perceived, at the link
+    const double p_supply = now.v_bus_meas_V * now.i_supply_meas_A;
+    const double p_rotor = k.electrical.rotor_gain * rotor_torque * dq / dt;
+    const double p_copper = (1.0 + kCopperPerK * dT) * k.electrical.Copper(i);
+    const double p_fixed = k.electrical.Fixed(i);
+
+    // --- tick-rate torque balance (core/monitors/torque_balance.h) ---
+    // Coupling (eq 4-14, 4-15): the rotor turns with the parallel lower joints, so their
+    // acceleration I_m γ c_l q̈_l is rotor torque the sensor never sees.
+    const FilteredTerms& terms = s.balance_filter.Push(rotor_torque, dq / dt, tau_mean);
+    double coupling_torque = 0;
+    for (int l = 0; l < j; ++l) {
+      if (k.coupling[l] != 0) {
+        coupling_torque += k.coupling[l] * k.mechanical.rotor_coupling_kg_m2 * joints_[l]->balance_filter.terms().accel_rad_s2;
+      }
+    }
+    // --- electrical balance, every tick ---
+    const double y = p_supply - p_fixed;
+    s.electrical.Add(y, p_rotor, p_copper);
+    s.electrical_fast.Add(y, p_rotor, p_copper);
+    const double forget = s.electrical.forget;
+    s.excitation_rotor_J = forget * s.excitation_rotor_J + std::fabs(p_rotor) * dt;
+    s.excitation_copper_J = forget * s.excitation_copper_J + p_copper * dt;
+    s.est.kt_factor = s.electrical.n;
+    s.est.kt_factor_se = s.electrical.n_se;
+    s.est.resistance_factor = s.electrical.rho;
+    s.est.resistance_factor_se = s.electrical.rho_se;
+
+    // The torque gain is the K_T factor the fast electrical fit sees (a magnet cannot
+    // strengthen, so never above 1).
+    const BalanceRow row = RowOf(k.mechanical, terms, coupling_torque);
+    const double gain = std::min(1.0, s.electrical_fast.n);
+    s.balance_slow.Add(row, gain, 0.0);
+    // The fast fit keeps the calibrated offset: within one direction of motion an offset
+    // change cannot be told from friction, and friction is the commoner wear.
+    s.balance.Add(row, gain, 0.0);
+    if (s.balance_crossed) s.balance_since_alarm.Add(row, std::min(1.0, s.electrical.n), 0.0);
+    {
+      const BalanceFit::Estimate& b = s.balance.estimate();
+      const BalanceFit::Estimate& m = s.balance_since_alarm.estimate();
+      const BalanceFit::Estimate& sl = s.balance_slow.estimate();
+      const bool grown = s.balance_crossed && m.moving_s >= c.min_balance_moving_s;
+      s.est.friction_factor = grown ? m.friction_factor : b.friction_factor;
+      s.est.friction_factor_se = b.friction_factor_se;
+      s.est.sensor_drift_Nm = grown ? m.offset_Nm : sl.offset_Nm;
+      s.est.sensor_drift_se = sl.offset_se;
+      s.est.torque_gain = gain;
+      s.est.torque_gain_se = s.electrical_fast.n_se;
+      s.est.balance_moving_s = b.moving_s;
+    }
+
+    // --- windows bounded by zero velocity ---
+    const double v = now.qd_est_rad_s;
+    const int dir = std::fabs(v) < c.rest_velocity_rad_s ? 0 : (v > 0 ? 1 : -1);
+    bool close = false;
+    if (s.in_window || dir != 0) {
+      if (!s.in_window) {
+        s.in_window = true;
+        s.window = EfficiencyWindow();
+        s.window.joint = j + 1;
+        s.window.t_start_s = t_prev_;
+        s.window.direction = dir;
+        s.window_dq = 0;
+      }
+      EfficiencyWindow& w = s.window;
+      w.out_J += (tau_mean + coupling_torque) * dq;
+      w.rotor_J += rotor_torque * dq;
+      w.friction_J += k.mechanical.FrictionNm(v) * dq;
+      w.mesh_loss_J += k.mechanical.mesh_loss_fraction * std::fabs(tau_mean + coupling_torque) * std::fabs(dq);
+      w.supply_J += p_supply * dt;
+      w.electrical_loss_J += (p_copper + p_fixed) * dt;
+      w.t_end_s = t_s;
+      s.window_dq += dq;
+      close = dir != w.direction;
+    }
+    if (close) {
+      s.in_window = false;
+      EfficiencyWindow& w = s.window;
+      FinishWindow(&w);
+      w.used = w.t_end_s - w.t_start_s >= c.min_window_s && std::fabs(w.out_J) >= c.min_window_energy_J &&
+               std::fabs(w.mesh_in_J) >= c.min_window_energy_J && w.flow != "mixed";
+      output_.windows.push_back(w);
+      if (w.used) {
+        MechanicalWindow m;
+        m.rotor_J = w.rotor_J;
+        m.out_J = w.out_J;
+        m.mesh_loss_J = w.mesh_loss_J;
+        m.friction_J = w.friction_J;
+        m.dq_rad = s.window_dq;
+        m.sigma_J = kMechanicalNoiseFloor_J +
+                    kMechanicalNoiseFraction * (std::fabs(w.out_J) + w.mesh_loss_J + std::fabs(w.friction_J));
+        s.mech.push_back(m);
+        while (static_cast<int>(s.mech.size()) > c.mechanical_windows) s.mech.pop_front();
+        // Mechanical fit: y = n E_rotor - E_out - mesh loss = k E_friction - d dq.
+        double a11 = kFrictionPrior, a12 = 0, a22 = kDriftPrior;
+        double b1 = kFrictionPrior, b2 = 0;
+        for (const MechanicalWindow& mw : s.mech) {
+          const double wgt = 1.0 / (mw.sigma_J * mw.sigma_J);
+          const double yw = s.est.kt_factor * mw.rotor_J - mw.out_J - mw.mesh_loss_J;
+          const double x1 = mw.friction_J, x2 = -mw.dq_rad;
+          a11 += wgt * x1 * x1;
+          a12 += wgt * x1 * x2;
+          a22 += wgt * x2 * x2;
+          b1 += wgt * x1 * yw;
+          b2 += wgt * x2 * yw;
+        }
+        double kf, d, inv11, inv22;
+        if (Solve2(a11, a12, a22, b1, b2, &kf, &d, &inv11, &inv22)) s.est.window_friction_factor = kf;
+        s.est.windows_in_fit = static_cast<int>(s.mech.size());
+      }
+    }
+
+    // --- tick-level detectors ---
+    Candidate structural;
+    // Inverter short: supply power far above what the commanded current can explain.
+    const double excess = p_supply - (std::max(0.0, p_rotor) + p_copper + p_fixed);
+    s.overpower_s = excess > c.overpower_W ? s.overpower_s + dt : 0.0;
+    // Dead drive: a large command but no copper loss in the supply: the over-current
+    // protection has opened the bridge (a short that tripped faster than it could be seen).
+    const bool dead = std::fabs(i) >= c.dead_drive_current_A && p_supply - k.electrical.quiescent_W < 0.25 * p_copper;
+    s.dead_s = dead ? s.dead_s + dt : 0.0;
+    // Stuck torque sensor: on a rail, or unchanged while the joint moves and the commanded
+    // torque swings (a live sensor would follow it).
+    const bool on_rail = now.tau_sensor_Nm >= k.sensor_max_Nm - 1e-9 || now.tau_sensor_Nm <= k.sensor_min_Nm + 1e-9;
+    s.rail_s = on_rail ? s.rail_s + dt : 0.0;
+    if (now.tau_sensor_Nm == prev.tau_sensor_Nm) {
+      if (s.flat_s == 0) {
+        s.flat_cmd_min = s.flat_cmd_max = rotor_torque, s.flat_dq = 0;
+        s.flat_ref_min = s.flat_ref_max = now.q_ref_rad;
+      }
+      s.flat_s += dt;
+      s.flat_dq += std::fabs(dq);
+      s.flat_ref_min = std::min(s.flat_ref_min, now.q_ref_rad);
+      s.flat_ref_max = std::max(s.flat_ref_max, now.q_ref_rad);
+      s.flat_cmd_min = std::min(s.flat_cmd_min, rotor_torque);
+      s.flat_cmd_max = std::max(s.flat_cmd_max, rotor_torque);
+    } else {
+      s.flat_s = 0;
+    }
+    // The joint moved, or was meant to stay put: a command swinging against a still reference
+    // is the load (the other joints) changing, which a live sensor follows; a brake fighting a
+    // moving reference is not that.
+    const bool flat_stuck = s.flat_s >= c.stuck_time_s && s.flat_cmd_max - s.flat_cmd_min >= c.stuck_torque_span_Nm &&
+                            (s.flat_dq >= 10 * c.rest_velocity_rad_s * c.stuck_time_s ||
+                             s.flat_ref_max - s.flat_ref_min < c.blocked_error_rad);
+    // Locked: at rest, far from a moving reference, with high current.
+    const bool blocked = dir == 0 && std::fabs(now.i_cmd_A) >= c.blocked_current_A &&
+                         std::fabs(now.q_ref_rad - now.q_meas_rad) >= c.blocked_error_rad;
+    s.blocked_s = blocked ? s.blocked_s + dt : 0.0;
+
+    if (s.overpower_s >= c.overpower_time_s) {
+      structural = {HealthState::kDefective, "inverter_short", "excess_power_W", excess, 1.0, true};
+    } else if (s.dead_s >= c.dead_drive_time_s) {
+      structural = {HealthState::kDefective, "inverter_short", "", 0, 1.0, true};
+    } else if (s.rail_s >= c.rail_time_s || flat_stuck) {
+      structural = {HealthState::kDefective, "torque_sensor_stuck", "stuck_reading_Nm", now.tau_sensor_Nm, 1.0, true};
+    } else if (s.blocked_s >= c.blocked_time_s) {
+      const double motor = std::fabs(k.ratio * k.kt_Nm_per_A * now.i_cmd_A);
+      if (std::fabs(now.tau_sensor_Nm) < 0.5 * motor) {
+        // The torque stays inside the module: the brake holds it. With the drive at its
+        // limit this is a lower bound of the drag.
+        const double drag = (motor - std::fabs(now.tau_sensor_Nm)) / (k.ratio * k.brake_holding_Nm);
+        structural = {HealthState::kDefective, "brake_lock", "drag_fraction", std::min(1.0, drag), 1.0, true};
+      } else {
+        structural = {HealthState::kDefective, "unknown", "", 0, 0.5, true};  // blocked outside the joint
+      }
+    }
+
+    if (!s.structural.structural && structural.structural) s.structural = structural;
+
+    // --- parametric detectors: deviation statistics, held over the debounce time ---
+    const Estimates& e = s.est;
+    const bool judge_n = s.excitation_rotor_J >= c.min_rotor_energy_J;
+    const bool judge_r = s.excitation_copper_J >= c.min_copper_energy_J;
+    const BalanceFit::Estimate& bal = s.balance.estimate();
+    const BalanceFit::Estimate& slow = s.balance_slow.estimate();
+    const bool judge_b = bal.moving_s >= c.min_balance_moving_s;
+    // An offset is told from friction only by motion both ways.
+    const bool judge_d = std::min(slow.positive_s, slow.negative_s) >= kMinOffsetMovingEachWay_s;
+    const std::array<double, kDetectorCount> deviation = {
+        judge_n ? 1 - e.kt_factor : kNoStatistic, judge_r ? e.resistance_factor - 1 : kNoStatistic,
+        judge_b ? bal.friction_factor - 1 : kNoStatistic, judge_d ? std::fabs(slow.offset_Nm) : kNoStatistic};
+    const std::array<double, kDetectorCount> significance = {
+        judge_n ? Significance(deviation[0], e.kt_factor_se) : kNoStatistic,
+        judge_r ? Significance(deviation[1], e.resistance_factor_se) : kNoStatistic,
+        judge_b ? Significance(deviation[2], bal.friction_factor_se) : kNoStatistic,
+        judge_d ? Significance(deviation[3], slow.offset_se) : kNoStatistic};
+    // The magnitude fit starts where the friction or drift statistic first crosses its limit.
+    if (!s.balance_crossed && ((judge_b && deviation[2] > model_.thresholds[2]) || (judge_d && deviation[3] > model_.thresholds[3]))) {
+      s.balance_crossed = true;
+      s.balance_since_alarm.Reset();
+    }
+    for (int d = 0; d < kDetectorCount; ++d) {
+      s.readings[d].held_quanta = s.held[d].Push(Quantize(deviation[d]));
+      s.readings[d].held_significance_quanta =
+          s.held_significance[d].Push(Quantize(significance[d], kSignificanceQuantum));
+      s.readings[d].family = Detectors()[d].family;
+    }
+    // Far beyond wear: a brake dragging on the shaft.
+    const bool drag = e.friction_factor > kBrakeDragFrictionFactor;
+    if (drag) s.readings[static_cast<int>(Detector::kFrictionFactor)].family = "brake_lock";
+
+    // --- the joint's verdict: a latched tick-level alarm, else the first alarming detector ---
+    Candidate shown;
+    if (s.structural.structural) {
+      shown = s.structural;
+    } else {
+      auto confidence = [](double margin, double se) { return se > 0 ? NormalCdf(margin / se) : 1.0; };
+      for (int d = 0; d < kDetectorCount && shown.state == HealthState::kHealthy; ++d) {
+        const DetectorReading& r = s.readings[d];
+        if (!Alarms(r.held_quanta, r.held_significance_quanta, model_.thresholds[d], c.significance)) continue;
+        switch (static_cast<Detector>(d)) {
+          case Detector::kKtFactor:
+            shown = {e.kt_factor < c.kt_factor.defective ? HealthState::kDefective : HealthState::kWorn, "kt_degradation",
+                     "kt_factor", e.kt_factor, confidence(c.kt_factor.worn - e.kt_factor, e.kt_factor_se), false};
+            break;
+          case Detector::kResistanceFactor:
+            shown = {e.resistance_factor > c.resistance_factor.defective ? HealthState::kDefective : HealthState::kWorn,
+                     "winding_resistance", "resistance_factor", e.resistance_factor,
+                     confidence(e.resistance_factor - c.resistance_factor.worn, e.resistance_factor_se), false};
+            break;
+          case Detector::kFrictionFactor:
+            if (drag) {
+              // Its torque ~ the extra Coulomb part.
+              shown = {HealthState::kDefective, "brake_lock", "drag_fraction",
+                       (e.friction_factor - 1) * (k.friction.coulomb_Nm + k.friction.static_Nm) / k.brake_holding_Nm, 1.0,
+                       false};
+            } else {
+              shown = {e.friction_factor > c.friction_factor.defective ? HealthState::kDefective : HealthState::kWorn,
+                       "friction_increase", "friction_factor", e.friction_factor,
+                       confidence(e.friction_factor - c.friction_factor.worn, e.friction_factor_se), false};
+            }
+            break;
+          case Detector::kSensorDrift:
+            shown = {std::fabs(e.sensor_drift_Nm) > c.sensor_drift_Nm.defective ? HealthState::kDefective : HealthState::kWorn,
+                     "torque_sensor_drift", "drift_Nm", e.sensor_drift_Nm,
+                     confidence(std::fabs(e.sensor_drift_Nm) - c.sensor_drift_Nm.worn, e.sensor_drift_se), false};
+            break;
+        }
+      }
+    }
+    // Emit on a change of family or state, and now and then to refine a standing magnitude.
+    const bool changed = shown.family != s.shown_family || shown.state != s.shown_state;
+    const bool refine = !changed && !shown.structural && shown.state != HealthState::kHealthy &&
+                        t_s - s.last_emit_t >= 0.5 &&
+                        std::fabs(shown.magnitude - s.last_emit_magnitude) >
+                            0.01 * std::max(1.0, std::fabs(s.last_emit_magnitude));
+    if (changed || refine) {
+      Verdict out;
+      out.t_s = t_s;
+      out.joint = j + 1;
+      out.state = shown.state;
+      out.alarm = shown.state != HealthState::kHealthy;
+      out.family = shown.family;
+      out.magnitude_name = shown.magnitude_name;
+      out.magnitude = shown.magnitude;
+      out.confidence = shown.confidence;
+      output_.verdicts.push_back(out);
+      s.shown_family = shown.family;
+      s.shown_state = shown.state;
+      s.last_emit_t = t_s;
+      s.last_emit_magnitude = shown.magnitude;
+    }
+  }
+  previous_ = signals;
+  t_prev_ = t_s;
+}
+
+void PowerEfficiencyMonitor::Finish(double t_end_s) {
+  // An open window at the end of the run ends at the run's end, not at zero velocity:
+  // its inertia term does not cancel, so it is recorded but not judged.
+  for (auto& sp : joints_) {
+    JointState& s = *sp;
+    if (!s.in_window) continue;
+    s.in_window = false;
+    s.window.t_end_s = t_end_s;
+    FinishWindow(&s.window);
+    s.window.used = false;
+    output_.windows.push_back(s.window);
+  }
+}
+
+}  // namespace armfault

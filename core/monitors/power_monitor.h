@@ -1,0 +1,198 @@
+// The power-efficiency health monitor (thesis chapter 4, extended to isolate and size faults).
+//
+// Inputs per controller tick and joint: JointSignals only (reference, encoder, velocity
+// estimate, torque sensor, commanded current, supply current, bus voltage).
+// Outputs: MonitorOutput (verdicts and per-window efficiencies).
+//
+// Per joint it keeps three estimators (all definitions in docs/monitor.md):
+//  - electrical balance, every tick, weighted least squares with forgetting:
+//      U_d I_d - P_inverter - P_quiescent = n P_rotor + rho P_copper
+//    with P_rotor = ratio K_T i_cmd dq/dt and P_copper = 2 R i_cmd^2: n estimates the K_T
+//    factor, rho the winding-resistance factor;
+//  - mechanical balance over windows bounded by zero velocity (inertia drops out, eq 4-18):
+//      n E_rotor - E_out - mesh_loss = k E_friction - d dq
+//    k estimates the friction factor, d a torque-sensor drift [N m];
+//  - tick-level detectors: supply over-power (inverter short), a torque reading that does
+//    not follow the commanded torque or sits on a rail (stuck sensor), commanded motion with
+//    a still encoder, high current and a torque that never reaches the sensor (brake).
+// Thresholds (health states, debounce, significance) are data: MonitorConfig.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/monitors/detector_statistics.h"
+#include "core/base/json_input.h"
+#include "core/monitors/monitor.h"
+#include "core/plant/robot_config.h"
+#include "core/monitors/torque_balance.h"
+
+namespace armfault {
+
+// Worn / defective limits of one estimated parameter. For a factor whose healthy value is
+// 1, "below" limits apply to falling parameters (K_T), "above" to rising ones (friction).
+struct StateLimits {
+  double worn = 0;
+  double defective = 0;
+};
+
+struct MonitorConfig {
+  // windows
+  double rest_velocity_rad_s = 0.02;   // |qd| below this: at rest (eq 4-11), no window
+  double min_window_s = 0.3;           // shorter windows are not judged
+  double min_window_energy_J = 0.5;    // |E_out| and |E_mesh_in| below this: not judged
+  int mechanical_windows = 3;          // windows in the mechanical fit
+  // electrical fit
+  double electrical_time_constant_s = 1.5;  // forgetting of the per-tick fit
+  double min_rotor_energy_J = 2.0;     // weighted sum of |P_rotor| dt needed to judge n
+  double min_copper_energy_J = 0.2;    // weighted sum of P_copper dt needed to judge rho
+  // decision
+  double significance = 3.0;           // (|deviation| - worn margin) / std error must exceed this
+  double debounce_s = 0.3;             // a candidate verdict must hold this long to alarm
+  StateLimits kt_factor{0.95, 0.75};          // below
+  StateLimits friction_factor{1.30, 1.80};    // above
+  StateLimits resistance_factor{1.40, 2.00};  // above
+  StateLimits sensor_drift_Nm{1.0, 3.0};      // |d| above
+  // tick-level detectors
+  double overpower_W = 40.0;           // supply power above the electrical model by this: short
+  double overpower_time_s = 0.002;
+  double dead_drive_current_A = 2.0;   // |i_cmd| at least this with no copper loss drawn ...
+  double dead_drive_time_s = 0.02;     // ... this long: the bridge is open (tripped)
+  double stuck_time_s = 0.2;           // reading unchanged this long ...
+  double stuck_torque_span_Nm = 3.0;   // ... while the commanded torque moved this much
+  double rail_time_s = 0.05;           // reading at an ADC rail this long
+  double blocked_current_A = 3.0;      // |i_cmd| at least this ...
+  double blocked_error_rad = 0.02;     // ... tracking error at least this ...
+  double blocked_time_s = 0.2;         // ... with the joint at rest, this long
+  // tick-rate torque balance (friction and sensor offset, core/monitors/torque_balance.h)
+  double balance_filter_s = 0.03;      // T_f of the low-pass every balance term passes
+  double balance_time_constant_s = 0.5;  // forgetting of the fit the friction and drift detectors judge
+  double min_balance_moving_s = 0.3;   // moving time in that fit needed to judge
+  // 1 sigma of the supply's constant draw about the calibration [W] (quiescent, sensor offset)
+  double constant_power_uncertainty_W = 0.1;
+};
+
+// Tolerances a datasheet states for a unit (relative half-widths unless named otherwise): what
+// a monitor may know without commissioning. Not the values a unit drew.
+struct StatedTolerances {
+  double kt = 0, winding_resistance = 0, switch_resistance = 0, switching_loss = 0, quiescent_power = 0;
+  double mesh_loss = 0, rotor_inertia = 0, stribeck_velocity = 0, friction = 0;
+  double torque_sensor_gain = 0, torque_sensor_offset_Nm = 0;
+  double supply_current_gain = 0, supply_current_offset_A = 0, bus_voltage = 0;
+  double ambient_max_C = 20;  // warmest ambient the robot is specified for (datasheet values at 20 °C)
+  double ambient_min_C = 20;
+};
+
+// The limits a monitor without commissioning must use on a unit known only within `tol`:
+// each swept detector's worn and defective limits move out by the bias the stated tolerances
+// can put on its statistic (docs/monitor.md, "Without commissioning"). `robot` gives the
+// nominal scales (quiescent power, bus voltage, resistance, friction).
+MonitorConfig WidenedForTolerances(const MonitorConfig& config, const StatedTolerances& tol, const RobotConfig& robot);
+
+// The worn/defective limits a swept detector uses.
+StateLimits MonitorConfig::*LimitsOf(Detector detector);
+
+// Parses a monitor JSON object (every key optional, unknown keys rejected); Validate()s it.
+MonitorConfig MonitorConfigFromJson(const nlohmann::json& value, const std::string& pointer,
+                                    const std::string& source);
+nlohmann::json MonitorConfigToJson(const MonitorConfig& config);
+void Validate(const MonitorConfig& config, const std::string& pointer, const std::string& source);
+
+// The electrical balance the monitor believes of one unit (thesis eq 4-4 ... 4-8):
+//   U_d I_d = quiescent + rotor_gain P_r + (copper + conduction) i² + switching |i|
+// with P_r = γ K_T i q̇ from the datasheet K_T. From the datasheet, or fitted by commissioning.
+struct ElectricalCalibration {
+  double quiescent_W = 0;
+  double rotor_gain = 1.0;             // supply power per perceived rotor power
+  double copper_W_per_A2 = 0;          // 2 R: scales with the winding resistance
+  double conduction_W_per_A2 = 0;      // 2 R_sw: the switches' conduction loss
+  double switching_W_per_A = 0;        // 2 U_d t_sw f_pwm
+  double reference_temp_C = 20.0;      // winding temperature the values hold at (datasheet: 20 °C)
+  double Copper(double i) const { return copper_W_per_A2 * i * i; }
+  double Fixed(double i) const { return quiescent_W + conduction_W_per_A2 * i * i + switching_W_per_A * std::fabs(i); }
+};
+
+// What the monitor knows about one joint module: its datasheet (nominal) parameters, taken
+// from the robot config, and what commissioning on the unit taught it. The monitor never
+// sees the hardware condition of a run.
+struct JointKnowledge {
+  double ratio = 0;
+  double kt_Nm_per_A = 0;
+  double phase_resistance_ohm = 0;
+  double switch_resistance_ohm = 0;
+  double switching_loss_W_per_A = 0;   // U_d t_sw f_pwm per conducting leg
+  double quiescent_W = 0;
+  double mesh_loss_fraction = 0;
+  FrictionParams friction;             // nominal
+  double brake_holding_Nm = 0;         // motor side
+  double rotor_inertia_link_kg_m2 = 0; // I_m ratio^2: the rotor reflected to the link
+  std::vector<double> coupling;        // per lower joint: a_i . a_j at the zero pose
+  double sensor_min_Nm = 0, sensor_max_Nm = 0;  // readings at the ADC rails
+  // The unit as the monitor believes it: the datasheet's values until commissioning fits them.
+  bool commissioned = false;
+  ElectricalCalibration electrical;
+  MechanicalCalibration mechanical;
+  double balance_sigma_Nm = 0.05;      // healthy scatter of one tick's balance residual
+  // How far the supply power's constant part may lie from the calibration's [W] (1 sigma):
+  // the datasheet's spread of quiescent draw and current-sensor offset, or what is left of it
+  // after commissioning (warm-up of the electronics).
+  double constant_power_sd_W = 0.1;
+};
+
+// Immutable, shared by all runs of a robot.
+struct PowerMonitorModel {
+  MonitorConfig config;
+  std::vector<JointKnowledge> joints;
+  double control_dt_s = 0;
+  DetectorThresholds thresholds{};  // from the config's worn limits
+  long hold_span = 1;               // ticks a statistic must hold: debounce_s / control_dt_s + 1
+};
+PowerMonitorModel MakePowerMonitorModel(const RobotConfig& robot, const MonitorConfig& config);
+
+// The monitor model of one unit after commissioning: each joint's electrical and mechanical
+// calibration fitted (least squares, pulled to the datasheet) on signals the unit gave while
+// healthy (core/monitors/commissioning.cc). A failed or empty recording leaves the nominal model.
+PowerMonitorModel CommissionMonitorModel(const PowerMonitorModel& nominal, const CommissioningData& data);
+
+class PowerEfficiencyMonitor : public HealthMonitor {
+ public:
+  explicit PowerEfficiencyMonitor(const PowerMonitorModel& model);
+  ~PowerEfficiencyMonitor() override;
+  void Observe(double t_s, const std::vector<JointSignals>& joints) override;
+  void Finish(double t_end_s) override;
+  const MonitorOutput& output() const override { return output_; }
+
+  // Latest estimates of a joint (0-based), for tests and traces.
+  struct Estimates {
+    double kt_factor = 1, kt_factor_se = 0;
+    double resistance_factor = 1, resistance_factor_se = 0;
+    double friction_factor = 1, friction_factor_se = 0;
+    double sensor_drift_Nm = 0, sensor_drift_se = 0;
+    int windows_in_fit = 0;      // windows in the (thesis-view) mechanical window fit
+    double window_friction_factor = 1;  // the window fit's friction factor
+    double torque_gain = 1, torque_gain_se = 0;  // the torque balance's a
+    double balance_moving_s = 0;  // moving time in the balance fit
+  };
+  Estimates estimates(int joint) const;
+  // The swept detectors' held statistics at the latest tick (see detector_statistics.h), and
+  // the family of a latched tick-level alarm ("" if none), of a joint (0-based).
+  const DetectorReadings& readings(int joint) const;
+  const std::string& structural_family(int joint) const;
+  int joint_count() const { return static_cast<int>(joints_.size()); }
+
+  struct JointState;  // per-joint run data (defined in the .cc)
+
+ private:
+  const PowerMonitorModel& model_;
+  std::vector<std::unique_ptr<JointState>> joints_;
+  std::vector<JointSignals> previous_;
+  double t_prev_ = 0;
+  long ticks_ = 0;
+  MonitorOutput output_;
+};
+
+}  // namespace armfault

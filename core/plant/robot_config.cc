@@ -1,0 +1,486 @@
+#include "core/plant/robot_config.h"
+
+#include <cmath>
+#include <limits>
+
+#include "core/base/json_input.h"
+
+namespace armfault {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// One numeric parameter of a params struct: its JSON key, member and allowed range.
+// Each struct's table drives parsing, validation and output, so they cannot drift apart.
+template <class T>
+struct Field {
+  const char* key;
+  double T::*member;
+  double min;
+  double max;
+  bool min_exclusive;
+  bool integer;
+};
+
+template <class T>
+using Fields = std::vector<Field<T>>;
+
+const Fields<MotorParams>& MotorFields() {
+  static const Fields<MotorParams> f = {
+      {"kt_Nm_per_A", &MotorParams::kt_Nm_per_A, 0, 10, true, false},
+      {"phase_resistance_ohm", &MotorParams::phase_resistance_ohm, 0, 100, true, false},
+      {"phase_inductance_H", &MotorParams::phase_inductance_H, 0, 1, true, false},
+      {"pole_pairs", &MotorParams::pole_pairs, 1, 50, false, true},
+      {"rotor_inertia_kg_m2", &MotorParams::rotor_inertia_kg_m2, 0, 1, true, false},
+      {"thermal_resistance_K_per_W", &MotorParams::thermal_resistance_K_per_W, 0, 1000, false, false},
+      {"thermal_time_constant_s", &MotorParams::thermal_time_constant_s, 0, 1e6, true, false},
+  };
+  return f;
+}
+const Fields<InverterParams>& InverterFields() {
+  static const Fields<InverterParams> f = {
+      {"bus_voltage_V", &InverterParams::bus_voltage_V, 0, 1000, true, false},
+      {"current_per_volt_A_per_V", &InverterParams::current_per_volt_A_per_V, 0, 100, true, false},
+      {"command_limit_A", &InverterParams::command_limit_A, 0, 1000, true, false},
+      {"current_loop_bandwidth_Hz", &InverterParams::current_loop_bandwidth_Hz, 0, 1e5, true, false},
+      {"switch_resistance_ohm", &InverterParams::switch_resistance_ohm, 0, 10, false, false},
+      {"switching_time_s", &InverterParams::switching_time_s, 0, 1e-3, false, false},
+      {"pwm_frequency_Hz", &InverterParams::pwm_frequency_Hz, 0, 1e6, true, false},
+      {"diode_drop_V", &InverterParams::diode_drop_V, 0, 10, false, false},
+      {"quiescent_power_W", &InverterParams::quiescent_power_W, 0, 1000, false, false},
+      {"overcurrent_trip_A", &InverterParams::overcurrent_trip_A, 0, 1e4, true, false},
+      {"supply_current_noise_A", &InverterParams::supply_current_noise_A, 0, 10, false, false},
+      {"supply_current_gain_error", &InverterParams::supply_current_gain_error, -0.5, 0.5, false, false},
+      {"supply_current_offset_error_A", &InverterParams::supply_current_offset_error_A, -10, 10, false, false},
+  };
+  return f;
+}
+const Fields<HarmonicDriveParams>& DriveFields() {
+  static const Fields<HarmonicDriveParams> f = {
+      {"ratio", &HarmonicDriveParams::ratio, 1, 10000, false, false},
+      {"mesh_loss_fraction", &HarmonicDriveParams::mesh_loss_fraction, 0, 0.9, false, false},
+  };
+  return f;
+}
+const Fields<FrictionParams>& FrictionFields() {
+  static const Fields<FrictionParams> f = {
+      {"viscous_Nm_s_per_rad", &FrictionParams::viscous_Nm_s_per_rad, 0, 10, false, false},
+      {"coulomb_Nm", &FrictionParams::coulomb_Nm, 0, 100, false, false},
+      {"static_Nm", &FrictionParams::static_Nm, 0, 100, false, false},
+      {"stribeck_s2_per_rad2", &FrictionParams::stribeck_s2_per_rad2, 0, 1e6, false, false},
+  };
+  return f;
+}
+const Fields<BrakeParams>& BrakeFields() {
+  static const Fields<BrakeParams> f = {
+      {"holding_torque_Nm", &BrakeParams::holding_torque_Nm, 0, 1000, false, false},
+  };
+  return f;
+}
+const Fields<TorqueSensorParams>& TorqueSensorFields() {
+  static const Fields<TorqueSensorParams> f = {
+      {"full_scale_Nm", &TorqueSensorParams::full_scale_Nm, 0, 1e5, true, false},
+      {"offset_Nm", &TorqueSensorParams::offset_Nm, -1e5, 1e5, false, false},
+      {"adc_range_V", &TorqueSensorParams::adc_range_V, 0, 100, true, false},
+      {"adc_bits", &TorqueSensorParams::adc_bits, 4, 24, false, true},
+      {"noise_Nm", &TorqueSensorParams::noise_Nm, 0, 100, false, false},
+      {"gain_error", &TorqueSensorParams::gain_error, -0.5, 0.5, false, false},
+      {"offset_error_Nm", &TorqueSensorParams::offset_error_Nm, -1e3, 1e3, false, false},
+  };
+  return f;
+}
+const Fields<EncoderParams>& EncoderFields() {
+  static const Fields<EncoderParams> f = {
+      {"counts_per_rev", &EncoderParams::counts_per_rev, 4, 1e8, false, true},
+  };
+  return f;
+}
+const Fields<ControllerParams>& ControllerFields() {
+  static const Fields<ControllerParams> f = {
+      {"rate_Hz", &ControllerParams::rate_Hz, 0, 1e5, true, false},
+      {"lambda_per_s", &ControllerParams::lambda_per_s, 0, 1e4, true, false},
+      {"kp_adaptive", &ControllerParams::kp_adaptive, 0, 1e3, false, false},
+      {"ku_robust_Nm", &ControllerParams::ku_robust_Nm, 0, 100, false, false},
+      {"epsilon_robust", &ControllerParams::epsilon_robust, 0, 100, true, false},
+      {"kt_hat_Nm_per_A", &ControllerParams::kt_hat_Nm_per_A, 0, 10, true, false},
+      {"b_hat", &ControllerParams::b_hat, 0, 10, false, false},
+      {"fc_hat_Nm", &ControllerParams::fc_hat_Nm, 0, 100, false, false},
+      {"fs_hat_Nm", &ControllerParams::fs_hat_Nm, 0, 100, false, false},
+      {"ft_hat", &ControllerParams::ft_hat, 0, 1e6, false, false},
+      {"im_hat_kg_m2", &ControllerParams::im_hat_kg_m2, 0, 1, false, false},
+      {"torque_filter_rad_s", &ControllerParams::torque_filter_rad_s, 0, 1e5, true, false},
+      {"velocity_window", &ControllerParams::velocity_window, 1, 64, false, true},
+      {"velocity_min_counts", &ControllerParams::velocity_min_counts, 1, 1e6, false, true},
+  };
+  return f;
+}
+
+// Each field is checked on its own, so one call reports every bad field and unknown key.
+template <class T>
+void ReadFields(ObjectReader& reader, const Fields<T>& fields, T* out) {
+  std::vector<std::string> keys;
+  for (const Field<T>& field : fields) keys.push_back(field.key);
+  ErrorList errors;
+  errors.Try([&] { reader.AllowOnly(keys); });
+  for (const Field<T>& field : fields) {
+    errors.Try([&] {
+      const nlohmann::json* v = reader.Find(field.key);
+      if (v == nullptr) return;
+      const std::string ptr = reader.PointerTo(field.key);
+      double x = field.integer ? AsInt(*v, ptr) : AsNumber(*v, ptr);
+      if (field.min_exclusive) {
+        RequireAbove(x, field.min, ptr);
+        RequireInRange(x, field.min, field.max, ptr);
+      } else {
+        RequireInRange(x, field.min, field.max, ptr);
+      }
+      out->*field.member = x;
+    });
+  }
+  errors.ThrowIfAny();
+}
+
+template <class T>
+void ReadGroup(ObjectReader& parent, const char* key, const Fields<T>& fields, T* out) {
+  if (const nlohmann::json* v = parent.Find(key)) {
+    ObjectReader reader(*v, parent.PointerTo(key));
+    ReadFields(reader, fields, out);
+  }
+}
+
+template <class T>
+nlohmann::json WriteFields(const Fields<T>& fields, const T& in) {
+  nlohmann::json out = nlohmann::json::object();
+  for (const Field<T>& field : fields) out[field.key] = in.*field.member;
+  return out;
+}
+
+std::array<double, 3> ReadVector3(const nlohmann::json& v, const std::string& pointer) {
+  if (!v.is_array() || v.size() != 3) {
+    throw InputError("", pointer, "expected an array of 3 numbers, got " + Describe(v));
+  }
+  std::array<double, 3> out{};
+  for (size_t i = 0; i < 3; ++i) out[i] = AsNumber(v[i], PointerJoin(pointer, i));
+  return out;
+}
+
+double Norm(const std::array<double, 3>& v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
+
+// Records its errors in `errors` and returns what it could read (the type's defaults where a
+// value is bad), so the robot's cross-field checks still see one module per joint. Throws only
+// when `value` is not an object.
+ModuleParams ModuleFromJson(const nlohmann::json& value, const std::string& pointer, ErrorList* errors) {
+  ObjectReader reader(value, pointer);
+  errors->Try([&] {
+    reader.AllowOnly({"type", "min_angle_deg", "max_angle_deg", "motor", "inverter", "drive", "friction", "brake",
+                      "torque_sensor", "encoder", "controller", "winding_temperature_sensor"});
+  });
+  std::string type = "MRR2";
+  ModuleParams m;
+  // An unknown type leaves the MRR2 defaults under the other keys, which are still checked.
+  errors->Try([&] {
+    reader.OptionalString("type", &type);
+    m = ModuleDefaults(type, reader.PointerTo("type"));
+  });
+  errors->Try([&] { reader.OptionalNumber("min_angle_deg", &m.min_angle_deg); });
+  errors->Try([&] { reader.OptionalNumber("max_angle_deg", &m.max_angle_deg); });
+  errors->Try([&] { ReadGroup(reader, "motor", MotorFields(), &m.motor); });
+  errors->Try([&] { ReadGroup(reader, "inverter", InverterFields(), &m.inverter); });
+  errors->Try([&] { ReadGroup(reader, "drive", DriveFields(), &m.drive); });
+  errors->Try([&] { ReadGroup(reader, "friction", FrictionFields(), &m.friction); });
+  errors->Try([&] { ReadGroup(reader, "brake", BrakeFields(), &m.brake); });
+  errors->Try([&] { ReadGroup(reader, "torque_sensor", TorqueSensorFields(), &m.torque_sensor); });
+  errors->Try([&] { ReadGroup(reader, "encoder", EncoderFields(), &m.encoder); });
+  errors->Try([&] { ReadGroup(reader, "controller", ControllerFields(), &m.controller); });
+  errors->Try([&] {
+    if (const nlohmann::json* v = reader.Find("winding_temperature_sensor")) {
+      if (!v->is_boolean()) {
+        throw InputError("", reader.PointerTo("winding_temperature_sensor"), "expected true or false, got " + Describe(*v));
+      }
+      m.winding_temperature_sensor = v->get<bool>();
+    }
+  });
+  return m;
+}
+
+// Like ModuleFromJson: errors go to `errors`, defaults stand in for bad values.
+LinkParams LinkFromJson(const nlohmann::json& value, const std::string& pointer, ErrorList* errors) {
+  ObjectReader reader(value, pointer);
+  errors->Try([&] {
+    reader.AllowOnly({"mass_kg", "length_m", "radius_m", "com_fraction", "direction", "joint_axis", "inertia_kg_m2"});
+  });
+  LinkParams link;
+  errors->Try([&] {
+    reader.OptionalNumber("mass_kg", &link.mass_kg);
+    RequireAbove(link.mass_kg, 0, reader.PointerTo("mass_kg"));
+  });
+  errors->Try([&] {
+    reader.OptionalNumber("length_m", &link.length_m);
+    RequireAtLeast(link.length_m, 0, reader.PointerTo("length_m"));
+  });
+  errors->Try([&] {
+    reader.OptionalNumber("radius_m", &link.radius_m);
+    RequireAbove(link.radius_m, 0, reader.PointerTo("radius_m"));
+  });
+  errors->Try([&] {
+    reader.OptionalNumber("com_fraction", &link.com_fraction);
+    RequireInRange(link.com_fraction, 0, 1, reader.PointerTo("com_fraction"));
+  });
+  const bool direction_read = errors->Try([&] {
+    if (const auto* v = reader.Find("direction")) link.direction = ReadVector3(*v, reader.PointerTo("direction"));
+  });
+  const bool axis_read = errors->Try([&] {
+    if (const auto* v = reader.Find("joint_axis")) link.joint_axis = ReadVector3(*v, reader.PointerTo("joint_axis"));
+  });
+  errors->Try([&] {
+    if (const auto* v = reader.Find("inertia_kg_m2")) {
+      link.inertia_kg_m2 = ReadVector3(*v, reader.PointerTo("inertia_kg_m2"));
+      link.has_inertia = true;
+      ErrorList moments;  // each moment on its own
+      for (size_t i = 0; i < 3; ++i) {
+        moments.Try([&] { RequireAbove(link.inertia_kg_m2[i], 0, PointerJoin(reader.PointerTo("inertia_kg_m2"), i)); });
+      }
+      moments.ThrowIfAny();
+    }
+  });
+  if (direction_read && Norm(link.direction) < 1e-9) {
+    errors->Add(InputError("", reader.PointerTo("direction"), "the link direction must not be the zero vector"));
+  }
+  if (axis_read && Norm(link.joint_axis) < 1e-9) {
+    errors->Add(InputError("", reader.PointerTo("joint_axis"), "the joint axis must not be the zero vector"));
+  }
+  return link;
+}
+
+std::string Known(const std::vector<std::string>& names) {
+  std::string out;
+  for (const auto& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out;
+}
+
+RobotConfig MrrConfig1() {
+  RobotConfig r;
+  r.name = "mrr-config1";
+  r.modules = {ModuleDefaults("MRR1", ""), ModuleDefaults("MRR2", ""), ModuleDefaults("MRR2", "")};
+  // Base module: vertical axis; upper modules: horizontal axes; at the zero pose link 2 stands
+  // upright and link 3 is horizontal, so the top joint lifts its link and tool against
+  // gravity as in the thesis experiments.
+  LinkParams l1;
+  l1.mass_kg = 2.5;   // link + MRR2 module 2 mounted on it (assumption)
+  l1.length_m = 0.20;
+  l1.radius_m = 0.05;
+  l1.direction = {0, 0, 1};
+  l1.joint_axis = {0, 0, 1};
+  LinkParams l2;
+  l2.mass_kg = 1.8;   // link + MRR2 module 3 (assumption)
+  l2.length_m = 0.30;
+  l2.radius_m = 0.045;
+  l2.direction = {0, 0, 1};  // upright: joint 2 carries the top link's moment, not its own
+  l2.joint_axis = {0, -1, 0};  // positive angles lift the link
+  LinkParams l3;
+  l3.mass_kg = 1.0;   // end link with flange (assumption)
+  l3.length_m = 0.25;
+  l3.radius_m = 0.035;
+  l3.direction = {1, 0, 0};
+  l3.joint_axis = {0, -1, 0};
+  r.links = {l1, l2, l3};
+  r.base_position_m = {0, 0, 0.15};
+  r.payload_kg = 2.0;  // tool at the flange: the top joint's load is mostly gravity (docs/assumptions.md)
+  return r;
+}
+
+// One hanging link, motor disconnected by the caller: the analytic-pendulum check.
+RobotConfig Pendulum() {
+  RobotConfig r;
+  r.name = "pendulum";
+  r.modules = {ModuleDefaults("MRR2", "")};
+  LinkParams l;
+  l.mass_kg = 1.0;
+  l.length_m = 0.5;
+  l.radius_m = 0.02;
+  l.direction = {0, 0, -1};
+  l.joint_axis = {0, 1, 0};
+  r.links = {l};
+  r.base_position_m = {0, 0, 1.0};
+  return r;
+}
+
+struct Preset {
+  const char* name;
+  RobotConfig (*make)();
+};
+const std::vector<Preset>& Presets() {
+  static const std::vector<Preset> presets = {{"mrr-config1", &MrrConfig1}, {"pendulum", &Pendulum}};
+  return presets;
+}
+
+}  // namespace
+
+ModuleParams ModuleDefaults(const std::string& type, const std::string& pointer) {
+  ModuleParams m;  // struct defaults are the MRR2 values
+  if (type == "MRR2") return m;
+  if (type == "MRR1") {
+    // Moog BN-42-33EU-03 frameless motor (peak 8.82 N m, 697 W): parameters not printed in the
+    // thesis are chosen for a 48 V-class winding of that size (docs/assumptions.md).
+    m.type = "MRR1";
+    m.min_angle_deg = -60;
+    m.max_angle_deg = 60;
+    m.motor.kt_Nm_per_A = 0.12;
+    m.motor.phase_resistance_ohm = 0.15;
+    m.motor.phase_inductance_H = 0.2e-3;
+    m.motor.pole_pairs = 4;
+    m.motor.thermal_resistance_K_per_W = 3.1;  // rated 42 W of copper loss heats it by 130 K
+    m.motor.thermal_time_constant_s = 1200;
+    m.motor.rotor_inertia_kg_m2 = 1.5e-4;
+    m.inverter.command_limit_A = 6.0;
+    m.friction = {0.0025, 0.05, 0.054, 15.0};
+    m.brake.holding_torque_Nm = 10.0;  // above the motor's 8.82 N m peak
+    m.encoder.counts_per_rev = 5000;
+    m.controller.kt_hat_Nm_per_A = 0.12;
+    m.controller.b_hat = 0.0055;
+    m.controller.fc_hat_Nm = 0.05;
+    m.controller.fs_hat_Nm = 0.054;
+    m.controller.im_hat_kg_m2 = 1.5e-4;
+    return m;
+  }
+  throw InputError("", pointer, "unknown module type \"" + type + "\" (known: MRR1, MRR2)");
+}
+
+std::vector<std::string> RobotPresetNames() {
+  std::vector<std::string> names;
+  for (const auto& p : Presets()) names.push_back(p.name);
+  return names;
+}
+
+RobotConfig RobotPreset(const std::string& name, const std::string& pointer) {
+  for (const auto& p : Presets()) {
+    if (name == p.name) return p.make();
+  }
+  throw InputError("", pointer, "unknown robot preset \"" + name + "\" (known: " + Known(RobotPresetNames()) + ")");
+}
+
+RobotConfig RobotFromJson(const nlohmann::json& value, const std::string& pointer) {
+  if (value.is_string()) {
+    RobotConfig r = RobotPreset(value.get<std::string>(), pointer);
+    Validate(r, pointer);
+    return r;
+  }
+  ObjectReader reader(value, pointer);
+  // Every part is read on its own and all errors are reported together (ErrorList).
+  ErrorList errors;
+  errors.Try([&] {
+    reader.AllowOnly({"name", "modules", "links", "base_position_m", "payload_kg", "gravity_m_s2", "physics_rate_Hz",
+                      "electrical_substeps"});
+  });
+  RobotConfig r;
+  errors.Try([&] { reader.OptionalString("name", &r.name); });
+  const nlohmann::json* modules = nullptr;
+  const nlohmann::json* links = nullptr;
+  errors.Try([&] { modules = &reader.Require("modules"); });
+  errors.Try([&] { links = &reader.Require("links"); });
+  if (modules && (!modules->is_array() || modules->empty())) {
+    errors.Add(InputError("", reader.PointerTo("modules"), "expected a non-empty array of modules, got " + Describe(*modules)));
+    modules = nullptr;
+  }
+  if (links && !links->is_array()) {
+    errors.Add(InputError("", reader.PointerTo("links"), "expected an array of links, got " + Describe(*links)));
+    links = nullptr;
+  }
+  // A module or link that is not even an object is replaced by the defaults, so the counts
+  // the cross-field checks compare stay those of the file.
+  for (size_t i = 0; modules && i < modules->size(); ++i) {
+    ModuleParams m;
+    errors.Try([&] { m = ModuleFromJson((*modules)[i], PointerJoin(reader.PointerTo("modules"), i), &errors); });
+    r.modules.push_back(m);
+  }
+  for (size_t i = 0; links && i < links->size(); ++i) {
+    LinkParams link;
+    errors.Try([&] { link = LinkFromJson((*links)[i], PointerJoin(reader.PointerTo("links"), i), &errors); });
+    r.links.push_back(link);
+  }
+  bool top_level_read = modules && links;
+  top_level_read &= errors.Try([&] {
+    if (const auto* v = reader.Find("base_position_m")) r.base_position_m = ReadVector3(*v, reader.PointerTo("base_position_m"));
+  });
+  top_level_read &= errors.Try([&] { reader.OptionalNumber("payload_kg", &r.payload_kg); });
+  top_level_read &= errors.Try([&] { reader.OptionalNumber("gravity_m_s2", &r.gravity_m_s2); });
+  top_level_read &= errors.Try([&] { reader.OptionalNumber("physics_rate_Hz", &r.physics_rate_Hz); });
+  top_level_read &= errors.Try([&] { reader.OptionalInt("electrical_substeps", &r.electrical_substeps); });
+  // The cross-field checks need the robot's own counts and rates; bad values inside a module
+  // or link left their defaults, which these checks accept.
+  if (top_level_read) errors.Try([&] { Validate(r, pointer); });
+  errors.ThrowIfAny();
+  return r;
+}
+
+void Validate(const RobotConfig& r, const std::string& pointer) {
+  if (r.modules.empty()) throw InputError("", PointerJoin(pointer, "modules"), "the robot has no modules");
+  ErrorList errors;  // the checks below are independent, except where noted
+  if (r.links.size() != r.modules.size()) {
+    errors.Add(InputError("", PointerJoin(pointer, "links"),
+                          std::to_string(r.links.size()) + " links for " + std::to_string(r.modules.size()) +
+                              " modules: give one link per joint module"));
+  }
+  errors.Try([&] { RequireInRange(r.payload_kg, 0, 100, PointerJoin(pointer, "payload_kg")); });
+  errors.Try([&] { RequireInRange(r.gravity_m_s2, 0, 100, PointerJoin(pointer, "gravity_m_s2")); });
+  const bool rate_ok = errors.Try([&] { RequireInRange(r.physics_rate_Hz, 100, 1e5, PointerJoin(pointer, "physics_rate_Hz")); });
+  errors.Try([&] { RequireInRange(r.electrical_substeps, 1, 1000, PointerJoin(pointer, "electrical_substeps")); });
+  for (size_t i = 0; i < r.modules.size(); ++i) {
+    const ModuleParams& m = r.modules[i];
+    const std::string mp = PointerJoin(PointerJoin(pointer, "modules"), i);
+    // An empty range makes the bounds' own checks moot: one error for the pair.
+    if (!(m.min_angle_deg < m.max_angle_deg)) {
+      errors.Add(InputError("", PointerJoin(mp, "max_angle_deg"),
+                            "the joint range [" + FormatNumber(m.min_angle_deg) + ", " +
+                                FormatNumber(m.max_angle_deg) + "] deg is empty"));
+    } else {
+      errors.Try([&] { RequireInRange(m.min_angle_deg, -360, 0, PointerJoin(mp, "min_angle_deg")); });
+      errors.Try([&] { RequireInRange(m.max_angle_deg, 0, 360, PointerJoin(mp, "max_angle_deg")); });
+    }
+    // The controller runs every k physics steps: the rates must divide (needs a valid physics rate).
+    double k = r.physics_rate_Hz / m.controller.rate_Hz;
+    if (rate_ok && (std::fabs(k - std::round(k)) > 1e-9 || k < 1)) {
+      errors.Add(InputError("", PointerJoin(PointerJoin(mp, "controller"), "rate_Hz"),
+                            FormatNumber(m.controller.rate_Hz) + " Hz must divide the physics rate " +
+                                FormatNumber(r.physics_rate_Hz) + " Hz"));
+    }
+  }
+  errors.ThrowIfAny();
+}
+
+nlohmann::json RobotToJson(const RobotConfig& r) {
+  nlohmann::json out;
+  out["name"] = r.name;
+  for (const ModuleParams& m : r.modules) {
+    nlohmann::json jm;
+    jm["type"] = m.type;
+    jm["min_angle_deg"] = m.min_angle_deg;
+    jm["max_angle_deg"] = m.max_angle_deg;
+    jm["motor"] = WriteFields(MotorFields(), m.motor);
+    jm["inverter"] = WriteFields(InverterFields(), m.inverter);
+    jm["drive"] = WriteFields(DriveFields(), m.drive);
+    jm["friction"] = WriteFields(FrictionFields(), m.friction);
+    jm["brake"] = WriteFields(BrakeFields(), m.brake);
+    jm["torque_sensor"] = WriteFields(TorqueSensorFields(), m.torque_sensor);
+    jm["encoder"] = WriteFields(EncoderFields(), m.encoder);
+    jm["controller"] = WriteFields(ControllerFields(), m.controller);
+    jm["winding_temperature_sensor"] = m.winding_temperature_sensor;
+    out["modules"].push_back(jm);
+  }
+  for (const LinkParams& l : r.links) {
+    nlohmann::json jl = {{"mass_kg", l.mass_kg},       {"length_m", l.length_m},
+                         {"radius_m", l.radius_m},     {"com_fraction", l.com_fraction},
+                         {"direction", l.direction},   {"joint_axis", l.joint_axis}};
+    if (l.has_inertia) jl["inertia_kg_m2"] = l.inertia_kg_m2;
+    out["links"].push_back(jl);
+  }
+  out["base_position_m"] = r.base_position_m;
+  out["payload_kg"] = r.payload_kg;
+  out["gravity_m_s2"] = r.gravity_m_s2;
+  out["physics_rate_Hz"] = r.physics_rate_Hz;
+  out["electrical_substeps"] = r.electrical_substeps;
+  return out;
+}
+
+}  // namespace armfault

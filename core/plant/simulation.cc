@@ -1,0 +1,570 @@
+#include "core/plant/simulation.h"
+
+#include <ode/ode.h>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "core/plant/brake.h"
+#include "core/plant/encoder.h"
+#include "core/plant/friction.h"
+#include "core/base/json_input.h"
+#include "core/plant/ode_runtime.h"
+#include "core/base/rng.h"
+#include "core/plant/torque_sensor.h"
+
+namespace armfault {
+
+namespace {
+
+constexpr double kMaxLinkSpeed_rad_s = 100.0;  // far beyond any drive: the run has diverged
+// Copper resistance rises 0.393 %/K; an NdFeB magnet's flux (K_T) falls about 0.1 %/K.
+constexpr double kCopperPerK = 0.00393;
+constexpr double kMagnetLossPerK = 0.001;
+
+Eigen::Vector3d Vec(const std::array<double, 3>& a) { return Eigen::Vector3d(a[0], a[1], a[2]); }
+
+// Inertia of a link about its centre of mass in zero-pose world axes.
+Eigen::Matrix3d LinkInertia(const LinkParams& l, const Eigen::Vector3d& dir, const Eigen::Vector3d& axis) {
+  double along, perp1, perp2;
+  if (l.has_inertia) {
+    along = l.inertia_kg_m2[0];
+    perp1 = l.inertia_kg_m2[1];
+    perp2 = l.inertia_kg_m2[2];
+  } else {  // solid cylinder
+    along = 0.5 * l.mass_kg * l.radius_m * l.radius_m;
+    perp1 = perp2 = l.mass_kg * (3.0 * l.radius_m * l.radius_m + l.length_m * l.length_m) / 12.0;
+  }
+  // perp1 along the joint axis component orthogonal to the link, perp2 completes the frame.
+  Eigen::Vector3d e1 = axis - axis.dot(dir) * dir;
+  if (e1.norm() < 1e-9) e1 = dir.unitOrthogonal();
+  e1.normalize();
+  const Eigen::Vector3d e2 = dir.cross(e1);
+  return along * dir * dir.transpose() + perp1 * e1 * e1.transpose() + perp2 * e2 * e2.transpose();
+}
+
+Eigen::Matrix3d PointInertia(double mass, const Eigen::Vector3d& r) {
+  return mass * (r.squaredNorm() * Eigen::Matrix3d::Identity() - r * r.transpose());
+}
+
+Eigen::Vector3d ToEigen(const dReal* v) { return Eigen::Vector3d(v[0], v[1], v[2]); }
+
+// Rotor body geometry (see core/plant/simulation.h): the planet's axis is this far from the joint
+// axis; only the ratio of the wheel radii matters to the dynamics, the offset just has to
+// keep the gear row well scaled. The token mass (ODE needs one) and the offset move the
+// link's inertia by m e^2 = 2.5e-6 kg m^2 and its gravity moment by 5e-4 N m: negligible.
+constexpr double kRotorOffset_m = 0.05;
+constexpr double kRotorMass_kg = 0.001;
+
+void SetBodyPose(dBodyID b, const Eigen::Vector3d& pos, const Eigen::Matrix3d& rot) {
+  dBodySetPosition(b, pos.x(), pos.y(), pos.z());
+  dMatrix3 R;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) R[4 * r + c] = rot(r, c);
+    R[4 * r + 3] = 0;
+  }
+  dBodySetRotation(b, R);
+}
+
+// The ODE side of one run: its own world and threading implementation; per joint a link
+// body with its hinge to the parent, and a rotor body with its hinge to the link, its gear
+// (transmission) to the parent and its dry-friction row (AMotor) against the parent.
+class OdeWorld {
+ public:
+  OdeWorld(const ArmModel& model, const std::vector<double>& q0, const std::vector<double>& qd0) {
+    EnsureOdeThreadData();
+    world_ = dWorldCreate();
+    const double g = model.config().gravity_m_s2;
+    dWorldSetGravity(world_, 0, 0, -g);
+    threading_ = dThreadingAllocateSelfThreadedImplementation();
+    dWorldSetStepThreadingImplementation(world_, dThreadingImplementationGetFunctions(threading_), threading_);
+    // Joint 1's stator and sun wheel: the world, as a body the transmission can attach to.
+    ground_ = dBodyCreate(world_);
+    dBodySetKinematic(ground_);
+
+    const int n = model.joint_count();
+    bodies_.resize(n);
+    rotors_.resize(n);
+    joints_.resize(n);
+    rotor_hinges_.resize(n);
+    drags_.resize(n);
+    rotor_feedback_.resize(n);
+    drag_feedback_.resize(n);
+    // Forward kinematics at the initial angles: X_i = X_{i-1} o (rotation about joint i).
+    Eigen::Matrix3d rot = Eigen::Matrix3d::Identity();
+    Eigen::Vector3d trans = Eigen::Vector3d::Zero();
+    Eigen::Vector3d omega = Eigen::Vector3d::Zero();
+    std::vector<Eigen::Vector3d> anchors(n), axes(n);
+    for (int i = 0; i < n; ++i) {
+      const JointModel& jm = model.joint(i);
+      anchors[i] = rot * jm.anchor_m + trans;
+      axes[i] = rot * jm.axis;
+      const Eigen::Matrix3d q_rot = Eigen::AngleAxisd(q0[i], jm.axis).toRotationMatrix();
+      trans = rot * (jm.anchor_m - q_rot * jm.anchor_m) + trans;
+      rot = rot * q_rot;
+      omega += qd0[i] * axes[i];
+      auto velocity_at = [&](const Eigen::Vector3d& p) {
+        Eigen::Vector3d v = Eigen::Vector3d::Zero();
+        for (int k = 0; k <= i; ++k) v += qd0[k] * axes[k].cross(p - anchors[k]);
+        return v;
+      };
+      dBodyID parent = i == 0 ? ground_ : bodies_[i - 1];
+
+      dBodyID b = dBodyCreate(world_);
+      dMass mass;
+      const Eigen::Matrix3d& I = jm.inertia_kg_m2;
+      dMassSetParameters(&mass, jm.mass_kg, 0, 0, 0, I(0, 0), I(1, 1), I(2, 2), I(0, 1), I(0, 2), I(1, 2));
+      dBodySetMass(b, &mass);
+      const Eigen::Vector3d com = rot * jm.com_m + trans;
+      SetBodyPose(b, com, rot);
+      const Eigen::Vector3d v = velocity_at(com);
+      dBodySetLinearVel(b, v.x(), v.y(), v.z());
+      dBodySetAngularVel(b, omega.x(), omega.y(), omega.z());
+      bodies_[i] = b;
+
+      dJointID j = dJointCreateHinge(world_, nullptr);
+      // Child first: the hinge rate is then (omega_child - omega_parent) . axis.
+      dJointAttach(j, b, i == 0 ? nullptr : bodies_[i - 1]);
+      dJointSetHingeAnchor(j, anchors[i].x(), anchors[i].y(), anchors[i].z());
+      dJointSetHingeAxis(j, axes[i].x(), axes[i].y(), axes[i].z());
+      joints_[i] = j;
+
+      // Rotor: isotropic I_m (no gyroscopic torque), spinning gamma q_dot relative to the
+      // parent, i.e. (gamma - 1) q_dot relative to the link that carries it.
+      dBodyID r = dBodyCreate(world_);
+      dMass rm;
+      const double im = jm.rotor_inertia_kg_m2;
+      dMassSetParameters(&rm, kRotorMass_kg, 0, 0, 0, im, im, im, 0, 0, 0);
+      dBodySetMass(r, &rm);
+      const Eigen::Vector3d centre = rot * jm.rotor_centre_m + trans;
+      SetBodyPose(r, centre, rot);
+      const Eigen::Vector3d vr = velocity_at(centre);
+      const Eigen::Vector3d wr = omega + (jm.ratio - 1.0) * qd0[i] * axes[i];
+      dBodySetLinearVel(r, vr.x(), vr.y(), vr.z());
+      dBodySetAngularVel(r, wr.x(), wr.y(), wr.z());
+      rotors_[i] = r;
+
+      dJointID rh = dJointCreateHinge(world_, nullptr);
+      dJointAttach(rh, r, b);  // rotor first: feedback f2/t2 is the rotor's wrench on the link
+      dJointSetHingeAnchor(rh, centre.x(), centre.y(), centre.z());
+      dJointSetHingeAxis(rh, axes[i].x(), axes[i].y(), axes[i].z());
+      dJointSetFeedback(rh, &rotor_feedback_[i]);
+      rotor_hinges_[i] = rh;
+
+      // Planet (rotor, radius e/gamma) on a sun wheel fixed to the parent (radius
+      // e (gamma-1)/gamma) centred on the joint axis.
+      dJointID gear = dJointCreateTransmission(world_, nullptr);
+      dJointAttach(gear, r, parent);
+      dJointSetTransmissionMode(gear, dTransmissionParallelAxes);
+      dJointSetTransmissionRatio(gear, 1.0 / (jm.ratio - 1.0));
+      dJointSetTransmissionAxis(gear, axes[i].x(), axes[i].y(), axes[i].z());
+      dJointSetTransmissionAnchor1(gear, centre.x(), centre.y(), centre.z());
+      dJointSetTransmissionAnchor2(gear, anchors[i].x(), anchors[i].y(), anchors[i].z());
+
+      // Dry friction on the rotor shaft: rate (omega_rotor - omega_parent) . z, target 0.
+      dJointID drag = dJointCreateAMotor(world_, nullptr);
+      dJointAttach(drag, r, parent);
+      dJointSetAMotorMode(drag, dAMotorUser);
+      dJointSetAMotorNumAxes(drag, 1);
+      dJointSetAMotorAxis(drag, 0, 2, axes[i].x(), axes[i].y(), axes[i].z());  // fixed in the parent
+      dJointSetAMotorParam(drag, dParamVel, 0.0);
+      dJointSetAMotorParam(drag, dParamFMax, 0.0);
+      dJointSetFeedback(drag, &drag_feedback_[i]);
+      drags_[i] = drag;
+    }
+  }
+  ~OdeWorld() {
+    dWorldDestroy(world_);  // destroys its bodies and joints
+    dThreadingFreeImplementation(threading_);
+  }
+  OdeWorld(const OdeWorld&) = delete;
+  OdeWorld& operator=(const OdeWorld&) = delete;
+
+  dWorldID world() const { return world_; }
+  dBodyID body(int i) const { return bodies_[i]; }
+  dBodyID rotor(int i) const { return rotors_[i]; }
+  dBodyID parent(int i) const { return i == 0 ? nullptr : bodies_[i - 1]; }  // null: the world
+  dJointID joint(int i) const { return joints_[i]; }
+  dJointID drag(int i) const { return drags_[i]; }
+  const dJointFeedback& rotor_feedback(int i) const { return rotor_feedback_[i]; }
+  const dJointFeedback& drag_feedback(int i) const { return drag_feedback_[i]; }
+
+  // Rotor speed relative to its stator (the parent) about the joint axis [rad/s].
+  double RotorRate(int i, const Eigen::Vector3d& axis) const {
+    double w = axis.dot(ToEigen(dBodyGetAngularVel(rotors_[i])));
+    if (i > 0) w -= axis.dot(ToEigen(dBodyGetAngularVel(bodies_[i - 1])));
+    return w;
+  }
+
+  double KineticEnergy() const { return KineticEnergyOf(bodies_) + KineticEnergyOf(rotors_); }
+  double PotentialEnergy(double g) const { return PotentialEnergyOf(bodies_, g) + PotentialEnergyOf(rotors_, g); }
+
+ private:
+  static double KineticEnergyOf(const std::vector<dBodyID>& bodies) {
+    double e = 0;
+    for (dBodyID b : bodies) {
+      dMass m;
+      dBodyGetMass(b, &m);
+      const Eigen::Vector3d v = ToEigen(dBodyGetLinearVel(b));
+      Eigen::Vector3d w_world = ToEigen(dBodyGetAngularVel(b));
+      dVector3 w_body;
+      dBodyVectorFromWorld(b, w_world.x(), w_world.y(), w_world.z(), w_body);
+      Eigen::Matrix3d I;
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) I(r, c) = m.I[4 * r + c];
+      const Eigen::Vector3d wb = ToEigen(w_body);
+      e += 0.5 * m.mass * v.squaredNorm() + 0.5 * wb.dot(I * wb);
+    }
+    return e;
+  }
+  static double PotentialEnergyOf(const std::vector<dBodyID>& bodies, double g) {
+    double e = 0;
+    for (dBodyID b : bodies) {
+      dMass m;
+      dBodyGetMass(b, &m);
+      e += m.mass * g * dBodyGetPosition(b)[2];
+    }
+    return e;
+  }
+
+  dWorldID world_ = nullptr;
+  dThreadingImplementationID threading_ = nullptr;
+  dBodyID ground_ = nullptr;
+  std::vector<dBodyID> bodies_, rotors_;
+  std::vector<dJointID> joints_, rotor_hinges_, drags_;
+  std::vector<dJointFeedback> rotor_feedback_, drag_feedback_;
+};
+
+// Per-joint data of one run.
+struct JointRuntime {
+  DriveState drive;
+  ControllerState controller;
+  Rng rng{0};
+  double q_initial = 0;
+  double q = 0, qd = 0;
+  double rotor_rate = 0;       // rotor speed relative to the stator [rad/s], after the last step
+  double tau_transmitted = 0;  // latest true transmitted torque (link side)
+  double viscous_torque = 0;   // viscous friction torque of the current physics step (motor side)
+  double i_cmd = 0;
+  double winding_temp_C = 20;
+  int last_adc_code = 0;
+  bool brake_engaged = false;
+  bool driver_enabled = true;
+  bool limit_stop = false;
+  // sums over the current control period
+  double sum_supply = 0, sum_copper = 0, sum_inverter = 0, sum_quiescent = 0, sum_friction = 0;
+  double sum_mech = 0, sum_emf = 0, sum_magnetic = 0, peak_current = 0;
+  double sum_torque = 0, sum_current_sq = 0, sum_brake = 0;
+  double brake_share = 0;  // brake's part of the dry-friction bound in the current step
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();  // joint axis (world) in the current step
+  std::array<double, 3> phase_current{};
+};
+
+double WrapPi(double a) { return std::remainder(a, 2.0 * M_PI); }
+
+std::string FormatFailure(double t, int joint, const std::string& what, double value) {
+  std::ostringstream s;
+  s << "simulation diverged at t=" << t << " s: joint " << joint + 1 << " " << what << " " << value;
+  return s.str();
+}
+
+}  // namespace
+
+ArmModel::ArmModel(RobotConfig config) : config_(std::move(config)) {
+  Validate(config_, "");
+  physics_dt_s_ = 1.0 / config_.physics_rate_Hz;
+  const double rate = config_.modules[0].controller.rate_Hz;
+  for (size_t i = 1; i < config_.modules.size(); ++i) {
+    if (config_.modules[i].controller.rate_Hz != rate) {
+      throw InputError("", "/modules/" + std::to_string(i) + "/controller/rate_Hz",
+                       "all joint controllers must run at the same rate (" + FormatNumber(rate) + " Hz)");
+    }
+  }
+  steps_per_tick_ = static_cast<int>(std::lround(config_.physics_rate_Hz / rate));
+  const double substep = physics_dt_s_ / config_.electrical_substeps;
+
+  Eigen::Vector3d anchor = Vec(config_.base_position_m);
+  const int n = static_cast<int>(config_.modules.size());
+  for (int i = 0; i < n; ++i) {
+    const ModuleParams& m = config_.modules[i];
+    const LinkParams& l = config_.links[i];
+    JointModel jm;
+    jm.params = m;
+    jm.drive = MakeDriveConstants(m, substep);
+    jm.controller = MakeControllerConstants(m);
+    jm.ratio = m.drive.ratio;
+    jm.rotor_inertia_kg_m2 = m.motor.rotor_inertia_kg_m2;
+    jm.axis = Vec(l.joint_axis).normalized();
+    jm.rotor_centre_m = anchor + kRotorOffset_m * jm.axis.unitOrthogonal();
+    const Eigen::Vector3d dir = Vec(l.direction).normalized();
+    jm.anchor_m = anchor;
+    const Eigen::Vector3d end = anchor + l.length_m * dir;
+    Eigen::Vector3d com = anchor + l.com_fraction * l.length_m * dir;
+    Eigen::Matrix3d inertia = LinkInertia(l, dir, jm.axis);
+    double mass = l.mass_kg;
+    if (i == n - 1 && config_.payload_kg > 0) {
+      const double mp = config_.payload_kg;
+      const Eigen::Vector3d c = (mass * com + mp * end) / (mass + mp);
+      inertia += PointInertia(mass, com - c) + PointInertia(mp, end - c);
+      mass += mp;
+      com = c;
+    }
+    jm.mass_kg = mass;
+    jm.com_m = com;
+    jm.inertia_kg_m2 = inertia;
+    joints_.push_back(jm);
+    anchor = end;
+  }
+}
+
+RunResult Simulate(const ArmModel& model, const RunSpec& spec, const TickObserver& observer) {
+  const int n = model.joint_count();
+  std::vector<JointRunOptions> options = spec.joints;
+  if (options.empty()) options.resize(n);
+  if (static_cast<int>(options.size()) != n) {
+    throw InputError("", "", "the run specifies " + std::to_string(options.size()) + " joints, the robot has " +
+                                 std::to_string(n));
+  }
+  std::vector<double> q0(n), qd0(n);
+  std::vector<JointRuntime> rt(n);
+  for (int j = 0; j < n; ++j) {
+    const JointRunOptions& o = options[j];
+    q0[j] = o.has_initial_angle ? o.initial_angle_rad : (o.trajectory ? o.trajectory->At(0).q_rad : 0.0);
+    qd0[j] = o.initial_velocity_rad_s;
+    rt[j].q_initial = rt[j].q = q0[j];
+    rt[j].qd = qd0[j];
+    rt[j].rotor_rate = model.joint(j).ratio * qd0[j];
+    rt[j].rng = Rng(MixSeed(spec.seed, static_cast<uint64_t>(j)));
+    rt[j].driver_enabled = o.powered;
+    rt[j].winding_temp_C = spec.ambient_C;
+    rt[j].brake_engaged = !o.powered && !o.brake_held_released;
+  }
+
+  OdeWorld ode(model, q0, qd0);
+  const double g = model.config().gravity_m_s2;
+  RunResult result;
+  result.energy.resize(n);
+  result.kinetic_start_J = ode.KineticEnergy();
+  result.potential_start_J = ode.PotentialEnergy(g);
+
+  std::vector<HardwareCondition> conditions(n);
+  std::vector<JointTick> ticks(n);
+  const double dt = model.physics_dt_s();
+  const double tc = model.control_dt_s();
+  const int steps = model.steps_per_tick();
+  const int substeps = model.config().electrical_substeps;
+  const long total_ticks = std::lround(spec.duration_s / tc);
+  const double ambient_C = spec.ambient_C;
+
+  for (long k = 0;; ++k) {
+    const double t = k * tc;
+    // --- controller tick: sensors -> controllers -> commands, and the tick record ---
+    if (spec.hardware) spec.hardware->Apply(t, &conditions);  // a sensor fault acts from its onset tick
+    for (int j = 0; j < n; ++j) {
+      const JointModel& jm = model.joint(j);
+      JointRuntime& r = rt[j];
+      JointTick& tick = ticks[j];
+      const JointRunOptions& o = options[j];
+      TrajectoryPoint ref;
+      if (o.trajectory) ref = o.trajectory->At(t);
+      else ref.q_rad = r.q_initial;
+
+      const TorqueSensorParams& ts = jm.params.torque_sensor;
+      const HardwareCondition& cond = conditions[j];
+      const double noise = r.rng.Normal();  // drawn every tick so streams stay aligned
+      switch (cond.torque_sensor_lead) {
+        case SensorLead::kHealthy:
+          // The unit's gauge errors act on the torque; a drift fault adds to the reading.
+          r.last_adc_code = TorqueSensorAdcCode(
+              ts, TorqueSensorVoltage(ts, (1.0 + ts.gain_error) * r.tau_transmitted + ts.offset_error_Nm + cond.torque_sensor_drift_Nm,
+                                      noise));
+          break;
+        case SensorLead::kSupply:
+        case SensorLead::kGround:
+          r.last_adc_code = TorqueSensorAdcCode(ts, StuckLeadVoltage(ts, cond.torque_sensor_lead));
+          break;
+        case SensorLead::kOpen:
+          break;  // the ADC input floats at its last held value
+      }
+      ControllerInputs ci;
+      ci.encoder_count = EncoderCount(jm.params.encoder, jm.ratio * r.q);
+      ci.torque_reading_Nm = TorqueFromAdcCode(ts, r.last_adc_code);
+      ci.reference = ref;
+      ControllerOutputs co;
+      if (r.driver_enabled) {
+        StepController(jm.controller, ci, &r.controller, &co);
+        r.i_cmd = co.current_command_A;
+      } else {
+        co.position_rad = ci.encoder_count * jm.controller.link_rad_per_count;
+        r.i_cmd = 0;
+      }
+
+      const double inv = k == 0 ? 0.0 : 1.0 / steps;
+      const double supply_noise = r.rng.Normal();
+      tick.q_ref_rad = ref.q_rad;
+      tick.qd_ref_rad_s = ref.qd_rad_s;
+      tick.q_meas_rad = co.position_rad;
+      tick.qd_est_rad_s = co.velocity_rad_s;
+      tick.tau_sensor_Nm = ci.torque_reading_Nm;
+      tick.i_cmd_A = r.i_cmd;
+      tick.q_rad = r.q;
+      tick.qd_rad_s = r.qd;
+      tick.tau_true_Nm = r.tau_transmitted;
+      tick.i_phase_a_A = r.phase_current[0];
+      tick.v_bus_meas_V = jm.params.inverter.bus_voltage_V;
+      tick.p_supply_W = r.sum_supply * inv;
+      tick.p_copper_W = r.sum_copper * inv;
+      tick.p_inverter_W = r.sum_inverter * inv;
+      tick.p_quiescent_W = r.sum_quiescent * inv;
+      tick.p_friction_W = r.sum_friction * inv;
+      tick.p_mech_out_W = r.sum_mech * inv;
+      tick.p_emf_W = r.sum_emf * inv;
+      tick.p_magnetic_W = r.sum_magnetic * inv;
+      tick.i_supply_A = tick.p_supply_W / jm.params.inverter.bus_voltage_V;
+      const InverterParams& inv_p = jm.params.inverter;
+      tick.i_supply_meas_A = (1.0 + inv_p.supply_current_gain_error) * tick.i_supply_A + inv_p.supply_current_offset_error_A +
+                             inv_p.supply_current_noise_A * supply_noise;
+      tick.winding_temp_C = r.winding_temp_C;
+      tick.winding_temp_meas_C = jm.params.winding_temperature_sensor ? r.winding_temp_C : std::nan("");
+      tick.peak_phase_current_A = r.peak_current;
+      tick.torque_motor_Nm = r.sum_torque * inv;
+      tick.current_sq_A2 = r.sum_current_sq * inv;
+      tick.brake_torque_Nm = r.sum_brake * inv;
+      tick.brake_engaged = r.brake_engaged;
+      tick.driver_enabled = r.driver_enabled && !r.drive.tripped;
+      tick.limit_stop = r.limit_stop;
+
+      JointEnergy& e = result.energy[j];
+      e.supply_J += r.sum_supply * dt;
+      e.copper_J += r.sum_copper * dt;
+      e.inverter_J += r.sum_inverter * dt;
+      e.quiescent_J += r.sum_quiescent * dt;
+      e.friction_J += r.sum_friction * dt;
+      e.mech_out_J += r.sum_mech * dt;
+      e.emf_J += r.sum_emf * dt;
+      e.magnetic_J += r.sum_magnetic * dt;
+      r.sum_supply = r.sum_copper = r.sum_inverter = r.sum_quiescent = r.sum_friction = 0;
+      r.sum_mech = r.sum_emf = r.sum_magnetic = r.peak_current = 0;
+      r.sum_torque = r.sum_current_sq = r.sum_brake = 0;
+    }
+    result.end_time_s = t;
+    if (observer) observer(Tick{t, &ticks});
+    for (int j = 0; j < n; ++j) {
+      if (!std::isfinite(rt[j].q) || !std::isfinite(rt[j].qd) || std::fabs(rt[j].qd) > kMaxLinkSpeed_rad_s) {
+        result.ok = false;
+        result.failure_reason = FormatFailure(t, j, "velocity [rad/s]", rt[j].qd);
+        return result;
+      }
+    }
+    if (k >= total_ticks) break;
+
+    // --- physics steps until the next tick ---
+    for (int s = 0; s < steps; ++s) {
+      const double ts = t + s * dt;
+      if (spec.hardware && s > 0) spec.hardware->Apply(ts, &conditions);  // s = 0: applied at the tick
+      for (int j = 0; j < n; ++j) {
+        const JointModel& jm = model.joint(j);
+        JointRuntime& r = rt[j];
+        const HardwareCondition& cond = conditions[j];
+        DriveInputs di;
+        di.current_command_A = r.i_cmd;
+        di.enabled = r.driver_enabled;
+        di.motor_angle_rad = jm.ratio * r.q;
+        di.motor_speed_rad_s = r.rotor_rate;
+        DriveOutputs dout;
+        // The winding's temperature scales its resistance and the magnet's flux (K_T).
+        HardwareCondition warm = cond;
+        const double above_20 = r.winding_temp_C - 20.0;
+        if (above_20 != 0.0) {
+          warm.resistance_factor *= 1.0 + kCopperPerK * above_20;
+          warm.kt_factor *= 1.0 - kMagnetLossPerK * above_20;
+        }
+        StepDrive(jm.drive, warm, di, substeps, &r.drive, &dout);
+        const MotorParams& motor = jm.params.motor;
+        r.winding_temp_C += dt / motor.thermal_time_constant_s *
+                            (ambient_C + motor.thermal_resistance_K_per_W * dout.p_copper_W - r.winding_temp_C);
+        r.sum_supply += dout.p_supply_W;
+        r.sum_copper += dout.p_copper_W;
+        r.sum_inverter += dout.p_inverter_W;
+        r.sum_quiescent += dout.p_quiescent_W;
+        r.sum_emf += dout.p_emf_W;
+        r.sum_magnetic += dout.p_magnetic_W;
+        r.peak_current = std::max(r.peak_current, dout.peak_phase_current_A);
+        r.sum_torque += dout.torque_Nm;
+        r.sum_current_sq += dout.current_sq_A2;
+        r.phase_current = dout.phase_current_A;
+
+        // Motor-side dry friction (Coulomb + Stribeck, brake, and the mesh loss referred to the
+        // rotor) as the rotor's bounded velocity row with target 0; motor torque less viscous
+        // friction as a couple between rotor and stator.
+        const FrictionParams& fp = jm.params.friction;
+        const double brake = BrakeTorqueLimitNm(jm.params.brake, cond, r.brake_engaged);
+        const double dry = BreakawayFrictionNm(fp, cond.friction_factor, r.qd) +
+                           jm.params.drive.mesh_loss_fraction * std::fabs(r.tau_transmitted) / jm.ratio + brake;
+        r.brake_share = dry > 0 ? brake / dry : 0.0;
+        r.viscous_torque = ViscousFrictionNm(fp, cond.friction_factor, r.qd);
+        dJointSetAMotorParam(ode.drag(j), dParamFMax, dry);
+        dVector3 axis;
+        dJointGetHingeAxis(ode.joint(j), axis);
+        r.axis = ToEigen(axis);
+        const Eigen::Vector3d couple = (dout.torque_Nm - r.viscous_torque) * r.axis;
+        dBodyAddTorque(ode.rotor(j), couple.x(), couple.y(), couple.z());
+        if (dBodyID stator = ode.parent(j)) dBodyAddTorque(stator, -couple.x(), -couple.y(), -couple.z());
+      }
+      dWorldStep(ode.world(), dt);
+      for (int j = 0; j < n; ++j) {
+        const JointModel& jm = model.joint(j);
+        JointRuntime& r = rt[j];
+        dJointID hinge = ode.joint(j);
+        dVector3 axis_v, anchor_v;
+        dJointGetHingeAxis(hinge, axis_v);
+        dJointGetHingeAnchor(hinge, anchor_v);
+        const Eigen::Vector3d axis = ToEigen(axis_v);
+        const double qd_new = dJointGetHingeAngleRate(hinge);
+        const double raw = dJointGetHingeAngle(hinge);
+        r.q += WrapPi(raw - WrapPi(r.q - r.q_initial));
+        r.qd = qd_new;
+        r.rotor_rate = ode.RotorRate(j, axis);
+        // What the harmonic drive passes on to the link: the moment about the joint axis of the
+        // rotor hinge's wrench on the link (the gear reaction through the planet's carrier).
+        const dJointFeedback& rf = ode.rotor_feedback(j);
+        const Eigen::Vector3d com = ToEigen(dBodyGetPosition(ode.body(j)));
+        r.tau_transmitted = (ToEigen(rf.t2) + (com - ToEigen(anchor_v)).cross(ToEigen(rf.f2))).dot(axis);
+        // The AMotor row is a pure torque on the rotor: the dry friction (motor side).
+        const double dry_torque = ToEigen(ode.drag_feedback(j).t1).dot(r.axis);
+        r.sum_mech += r.tau_transmitted * qd_new;
+        r.sum_friction += (r.viscous_torque - dry_torque) * r.rotor_rate;
+        // The dry elements share the constraint torque in proportion to their bounds (exact
+        // while slipping, when each is at its bound); the brake is reported link side.
+        r.sum_brake += jm.ratio * std::fabs(dry_torque) * r.brake_share;
+        const ModuleParams& m = jm.params;
+        if (!r.limit_stop && (r.q < m.min_angle_deg * M_PI / 180 || r.q > m.max_angle_deg * M_PI / 180)) {
+          // Limit switch: the joint controller disables the drive and engages the brake.
+          r.limit_stop = true;
+          r.driver_enabled = false;
+          r.brake_engaged = true;
+        }
+      }
+    }
+  }
+  result.kinetic_end_J = ode.KineticEnergy();
+  result.potential_end_J = ode.PotentialEnergy(g);
+  return result;
+}
+
+double StepBareOde(const ArmModel& model, double duration_s, bool friction_rows) {
+  const int n = model.joint_count();
+  OdeWorld ode(model, std::vector<double>(n, 0.0), std::vector<double>(n, 0.0));
+  for (int j = 0; friction_rows && j < n; ++j) {
+    const JointModel& jm = model.joint(j);
+    dJointSetAMotorParam(ode.drag(j), dParamFMax, BreakawayFrictionNm(jm.params.friction, 1.0, 1.0));
+  }
+  const long steps = std::lround(duration_s / model.physics_dt_s());
+  for (long s = 0; s < steps; ++s) dWorldStep(ode.world(), model.physics_dt_s());
+  double checksum = 0;
+  for (int j = 0; j < n; ++j) checksum += dJointGetHingeAngle(ode.joint(j));
+  return checksum;
+}
+
+}  // namespace armfault
