@@ -41,7 +41,7 @@ int BenchCommand(int repeats) {
   std::printf("ratio: %.2f\n", full / bare);
   std::printf("ratio against bare ODE with the friction rows: %.2f\n", full / bare_rows);
 
-  // The monitor alone: the same run's signals replayed through it and its decision recorder.
+  // The monitor alone: the same run's signals replayed through it and its decision tap.
   std::vector<double> times;
   std::vector<std::vector<JointSignals>> signals;
   RunCase(campaign, healthy, [&](const Tick& tick) {
@@ -51,16 +51,16 @@ int BenchCommand(int repeats) {
     signals.push_back(std::move(s));
   });
   const double monitor = SecondsPer(repeats, [&] {
-    PowerEfficiencyMonitor m(campaign.monitor_model);
-    DecisionRecorder decisions(m.joint_count(), 0.0);
+    const std::unique_ptr<HealthMonitor> m = campaign.monitor_model->NewMonitor();
+    const std::unique_ptr<DecisionTap> tap = m->NewDecisionTap(0.0);
     for (size_t k = 0; k < times.size(); ++k) {
-      m.Observe(times[k], signals[k]);
-      for (int j = 0; j < m.joint_count(); ++j) decisions.Record(times[k], j, m.readings(j), m.structural_family(j));
+      m->Observe(times[k], signals[k]);
+      if (tap) tap->AfterObserve(times[k]);
     }
-    m.Finish(times.back());
+    m->Finish(times.back());
   });
-  std::printf("monitor and its decision recorder alone: %.2f ms per run, %.1f %% of the run (%.2f us per tick)\n",
-              1e3 * monitor, 100 * monitor / full, 1e6 * monitor / static_cast<double>(times.size()));
+  std::printf("monitor (%s) and its decision tap alone: %.2f ms per run, %.1f %% of the run (%.2f us per tick)\n",
+              campaign.monitor_model->type().c_str(), 1e3 * monitor, 100 * monitor / full, 1e6 * monitor / static_cast<double>(times.size()));
 
   const int cores = tbb::this_task_arena::max_concurrency();
   const int n = static_cast<int>(std::max<size_t>(cases.size(), static_cast<size_t>(4 * cores)));

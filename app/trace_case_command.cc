@@ -112,19 +112,19 @@ int TraceCampaignCase(const TraceOptions& o) {
   // with the same knowledge (the unit's commissioned model).
   UnitMonitors units(campaign);
   const UnitMonitor unit = units.For(spec);
-  PowerEfficiencyMonitor monitor(unit.model ? *unit.model : campaign.monitor_model);
+  const std::unique_ptr<HealthMonitor> monitor = (unit.model ? unit.model : campaign.monitor_model)->NewMonitor();
   double end_s = 0;
-  const RunRecord record = RunCase(campaign, spec, ObserveWith(&monitor, [&](const Tick& tick) {
+  const RunRecord record = RunCase(campaign, spec, ObserveWith(monitor.get(), [&](const Tick& tick) {
                                      writer.Write(tick);
                                      end_s = tick.t_s;
                                    }),
                                    &units);
-  monitor.Finish(end_s);
+  monitor->Finish(end_s);
   file.close();
   if (!file) throw InputError(o.output, "", "error while writing the trace file");
 
   if (!o.monitor_output.empty()) {
-    nlohmann::json out = ToJson(monitor.output());
+    nlohmann::json out = ToJson(monitor->output());
     out["record"] = ToJson(record);
     std::ofstream mf(o.monitor_output, std::ios::binary);
     mf << out.dump(1) << "\n";

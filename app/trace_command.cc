@@ -57,16 +57,18 @@ nlohmann::json BuildRunJson(const TraceOptions& o, InputContext* context) {
   return run;
 }
 
-void PrintMonitorSummary(const PowerEfficiencyMonitor& monitor) {
-  const MonitorOutput& out = monitor.output();
+void PrintMonitorSummary(const HealthMonitor& any) {
+  const MonitorOutput& out = any.output();
   std::printf("monitor windows (used ones): joint, time [s], flow, eta, eta_m (expected), eta_e (expected)\n");
   for (const EfficiencyWindow& w : out.windows) {
     if (!w.used) continue;
     std::printf("  %d  %6.2f-%6.2f  %-8s  eta %6.3f  eta_m %6.3f (%6.3f)  eta_e %6.3f (%6.3f)\n", w.joint, w.t_start_s,
                 w.t_end_s, w.flow.c_str(), w.eta, w.eta_m, w.eta_m_expected, w.eta_e, w.eta_e_expected);
   }
-  for (int j = 0; j < static_cast<int>(monitor.joint_count()); ++j) {
-    const PowerEfficiencyMonitor::Estimates e = monitor.estimates(j);
+  // The power-efficiency monitor's estimates; another type shows its verdicts only.
+  const auto* power = dynamic_cast<const PowerEfficiencyMonitor*>(&any);
+  for (int j = 0; power && j < power->joint_count(); ++j) {
+    const PowerEfficiencyMonitor::Estimates e = power->estimates(j);
     std::printf("  joint %d estimates: kt_factor %.4f (se %.4f), resistance_factor %.3f (se %.3f), friction_factor "
                 "%.3f (se %.3f), sensor_drift %.3f N m (se %.3f), %d windows\n",
                 j + 1, e.kt_factor, e.kt_factor_se, e.resistance_factor, e.resistance_factor_se, e.friction_factor,
@@ -108,9 +110,14 @@ int RunTrace(const TraceOptions& o) {
   if (!file) throw InputError(o.output, "", "cannot open the trace file for writing");
   TraceCsvWriter writer(&file, n);
   std::vector<JointStats> stats(n);
-  const PowerMonitorModel monitor_model = MakePowerMonitorModel(run.robot, run.monitor);
-  PowerEfficiencyMonitor monitor(monitor_model);
-  const RunResult result = Simulate(model, spec, ObserveWith(&monitor, [&](const Tick& tick) {
+  std::shared_ptr<const MonitorModel> monitor_model;
+  try {
+    monitor_model = MakeRunMonitor(run);
+  } catch (const InputError& e) {
+    throw e.WithSource(context.source);
+  }
+  const std::unique_ptr<HealthMonitor> monitor = monitor_model->NewMonitor();
+  const RunResult result = Simulate(model, spec, ObserveWith(monitor.get(), [&](const Tick& tick) {
     writer.Write(tick);
     effects.Observe(tick);
     for (int j = 0; j < n; ++j) {
@@ -124,7 +131,7 @@ int RunTrace(const TraceOptions& o) {
       ++s.count;
     }
   }));
-  monitor.Finish(result.end_time_s);
+  monitor->Finish(result.end_time_s);
   file.close();
   if (!file) throw InputError(o.output, "", "error while writing the trace file");
 
@@ -158,10 +165,10 @@ int RunTrace(const TraceOptions& o) {
   }
   if (!o.monitor_output.empty()) {
     std::ofstream mf(o.monitor_output, std::ios::binary);
-    mf << ToJson(monitor.output()).dump(1) << "\n";
+    mf << ToJson(monitor->output()).dump(1) << "\n";
     if (!mf) throw InputError(o.monitor_output, "", "cannot write the monitor output");
   }
-  if (!o.quiet) PrintMonitorSummary(monitor);
+  if (!o.quiet) PrintMonitorSummary(*monitor);
   if (!result.ok) {
     std::fprintf(stderr, "armfault: run failed: %s\n", result.failure_reason.c_str());
     return 3;

@@ -39,10 +39,10 @@ void BM_FullRunWithMonitorExperiment1_10s(benchmark::State& state) {
   const RunConfig run = ThesisExperiment1();
   const ArmModel model(run.robot);
   const RunSpec spec = MakeRunSpec(run);
-  const PowerMonitorModel monitor_model = MakePowerMonitorModel(run.robot, run.monitor);
+  const std::shared_ptr<const MonitorModel> monitor_model = MakeRunMonitor(run);
   for (auto _ : state) {
-    PowerEfficiencyMonitor monitor(monitor_model);
-    benchmark::DoNotOptimize(Simulate(model, spec, ObserveWith(&monitor)).ok);
+    const std::unique_ptr<HealthMonitor> monitor = monitor_model->NewMonitor();
+    benchmark::DoNotOptimize(Simulate(model, spec, ObserveWith(monitor.get())).ok);
   }
 }
 BENCHMARK(BM_FullRunWithMonitorExperiment1_10s)->Unit(benchmark::kMillisecond);
@@ -61,12 +61,12 @@ void BM_MonitorOnlyPerTick(benchmark::State& state) {
     for (const JointTick& j : *tick.joints) s.push_back(SignalsOf(j));
     signals.push_back(s);
   });
-  const PowerMonitorModel monitor_model = MakePowerMonitorModel(run.robot, run.monitor);
+  const std::shared_ptr<const MonitorModel> monitor_model = MakeRunMonitor(run);
   for (auto _ : state) {
-    PowerEfficiencyMonitor monitor(monitor_model);
-    for (size_t k = 0; k < times.size(); ++k) monitor.Observe(times[k], signals[k]);
-    monitor.Finish(times.back());
-    benchmark::DoNotOptimize(monitor.output().windows.size());
+    const std::unique_ptr<HealthMonitor> monitor = monitor_model->NewMonitor();
+    for (size_t k = 0; k < times.size(); ++k) monitor->Observe(times[k], signals[k]);
+    monitor->Finish(times.back());
+    benchmark::DoNotOptimize(monitor->output().windows.size());
   }
   state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(times.size()));
 }

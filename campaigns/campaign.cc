@@ -597,7 +597,7 @@ Campaign CampaignFromJson(const nlohmann::json& value, const std::string& source
       }
     });
     errors.Try([&] {
-      if (const auto* m = reader.Find("monitor")) c.monitor = MonitorConfigFromJsonOrFile(*m, reader.PointerTo("monitor"), context);
+      if (const auto* m = reader.Find("monitor")) c.monitor = MonitorSpecFromJson(*m, reader.PointerTo("monitor"), context);
     });
     errors.Try([&] {
       if (const auto* f = reader.Find("floors")) c.floors = ParseFloors(*f, reader.PointerTo("floors"));
@@ -615,11 +615,17 @@ Campaign CampaignFromJson(const nlohmann::json& value, const std::string& source
     throw e.WithSource(source);  // errors that name a file (a monitor or CSV file) keep it
   }
 
-  // A monitor left with the datasheet must allow for the tolerances the datasheet states.
-  const MonitorConfig monitor = c.variation.has_tolerances && !c.commissioning
-                                    ? WidenedForTolerances(c.monitor, StatedOf(c), c.robot)
-                                    : c.monitor;
-  c.monitor_model = MakePowerMonitorModel(c.robot, monitor);
+  MonitorContext monitor_context;
+  monitor_context.robot = c.robot;
+  monitor_context.has_tolerances = c.variation.has_tolerances;
+  monitor_context.stated = StatedOf(c);
+  monitor_context.commissioning = c.commissioning;
+  monitor_context.input = context;
+  try {
+    c.monitor_model = MakeMonitorModel(c.monitor, monitor_context, "/monitor");
+  } catch (const InputError& e) {
+    throw e.WithSource(source);
+  }
   c.resolved = value;
   c.resolved["name"] = c.name;
   c.resolved["seed"] = c.seed;
@@ -627,7 +633,7 @@ Campaign CampaignFromJson(const nlohmann::json& value, const std::string& source
   c.resolved["duration_s"] = c.duration_s;
   c.resolved["healthy"] = c.healthy;
   c.resolved["repetitions"] = c.repetitions;
-  c.resolved["monitor"] = MonitorConfigToJson(c.monitor);  // as given: the widening is derived again on reading
+  c.resolved["monitor"] = c.monitor.ToJson();  // as given: the widening is derived again on reading
   if (c.variation.has_tolerances || value.contains("commissioning")) c.resolved["commissioning"] = c.commissioning;
   if (value.contains("include_not_excited")) c.resolved["include_not_excited"] = c.include_not_excited;
   if (!c.resolved.contains("faults")) c.resolved["faults"] = nlohmann::json::array();

@@ -17,6 +17,7 @@
 
 #include "core/base/json_input.h"
 #include "core/monitors/power_monitor.h"
+#include "core/monitors/registry.h"
 #include "core/plant/robot_config.h"
 #include "core/plant/trajectory.h"
 #include "campaigns/campaign_summary.h"
@@ -88,8 +89,11 @@ struct Campaign {
   // Score runs whose fault could not act (RunRecord::not_excited_reason) like any other; by
   // default they are listed apart and left out of every rate.
   bool include_not_excited = false;
-  MonitorConfig monitor;
-  PowerMonitorModel monitor_model;  // built once: what the monitor knows (the nominal robot)
+  // "monitor": its type and settings, and the model built once from them and the nominal
+  // robot (what the monitor knows), shared read-only by every run. A caller may put another
+  // model in its place (the Python package does, for a monitor written in Python).
+  MonitorSpec monitor;
+  std::shared_ptr<const MonitorModel> monitor_model;
   Floors floors;
   nlohmann::json resolved;  // the campaign with defaults filled in (written to campaign.json)
 };

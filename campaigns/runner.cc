@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "core/monitors/power_monitor.h"
+#include "core/monitors/registry.h"
 #include "core/base/rng.h"
 #include "core/run_config.h"
 #include "faults/fault.h"
@@ -74,7 +75,8 @@ UnitMonitor CommissionUnit(const Campaign& campaign, const CaseSpec& spec) {
       out.failure = result.failure_reason;
       return out;
     }
-    out.model = std::make_shared<const PowerMonitorModel>(CommissionMonitorModel(campaign.monitor_model, data));
+    out.model = campaign.monitor_model->Commissioned(data);
+    if (!out.model) out.model = campaign.monitor_model;  // a monitor that learns nothing from it
   } catch (const std::exception& e) {
     out.failure = e.what();
   }
@@ -87,7 +89,7 @@ UnitMonitors::UnitMonitors(const Campaign& campaign)
       units_(static_cast<size_t>(std::max(0, campaign.variation.units))) {}
 
 UnitMonitor UnitMonitors::For(const CaseSpec& spec) {
-  if (!campaign_.commissioning) return {std::shared_ptr<const PowerMonitorModel>(&campaign_.monitor_model, [](auto*) {}), ""};
+  if (!campaign_.commissioning) return {campaign_.monitor_model, ""};
   if (spec.unit < 0 || static_cast<size_t>(spec.unit) >= units_.size()) return CommissionUnit(campaign_, spec);
   const size_t u = static_cast<size_t>(spec.unit);
   std::call_once(once_[u], [&] { units_[u] = CommissionUnit(campaign_, spec); });
@@ -133,7 +135,7 @@ RunRecord RunCase(const Campaign& campaign, const CaseSpec& cs, const TickObserv
                          " failed: " + unit.failure;
       return r;
     }
-    const PowerMonitorModel& monitor_model = *unit.model;
+    const MonitorModel& monitor_model = *unit.model;
     const RobotConfig robot = CaseRobot(campaign, cs);
     const ArmModel model(robot);
     std::vector<std::shared_ptr<const Fault>> faults;
@@ -160,18 +162,26 @@ RunRecord RunCase(const Campaign& campaign, const CaseSpec& cs, const TickObserv
     }
     if (!faults.empty()) spec.hardware = std::make_shared<FaultSchedule>(faults);
     // The monitor knows the nominal robot (payload and friction as designed) and what it learnt
-    // on this unit while commissioning, not this run's truth.
-    PowerEfficiencyMonitor monitor(monitor_model);
+    // on this unit while commissioning, not this run's truth. The tap beside it (scoring's)
+    // knows the onset.
+    const std::unique_ptr<HealthMonitor> monitor = monitor_model.NewMonitor();
+    const std::unique_ptr<DecisionTap> tap = monitor->NewDecisionTap(r.onset_s);
     EffectRecorder effects(model, faults);
-    DecisionRecorder decisions(monitor.joint_count(), r.onset_s);
-    const RunResult result = Simulate(model, spec, ObserveWith(&monitor, [&](const Tick& tick) {
-                                        for (int j = 0; j < monitor.joint_count(); ++j) {
-                                          decisions.Record(tick.t_s, j, monitor.readings(j), monitor.structural_family(j));
-                                        }
-                                        effects.Observe(tick);
-                                        if (also) also(tick);
-                                      }));
-    monitor.Finish(result.end_time_s);
+    double first_tick_s = -1;  // the first tick at or after the onset
+    RunResult result;
+    try {
+      result = Simulate(model, spec, ObserveWith(monitor.get(), [&](const Tick& tick) {
+                          if (tap) tap->AfterObserve(tick.t_s);
+                          if (first_tick_s < 0 && tick.t_s >= r.onset_s) first_tick_s = tick.t_s;
+                          effects.Observe(tick);
+                          if (also) also(tick);
+                        }));
+      monitor->Finish(result.end_time_s);
+    } catch (const MonitorFailure& e) {
+      r.ok = false;
+      r.failure_reason = "monitor " + monitor_model.type() + " failed: " + e.what();
+      return r;
+    }
     r.ok = result.ok;
     r.failure_reason = result.failure_reason;
     if (!faults.empty()) {
@@ -179,28 +189,31 @@ RunRecord RunCase(const Campaign& campaign, const CaseSpec& cs, const TickObserv
       r.effect = effect.ToJson();
       r.not_excited_reason = NotExcitedReason(*faults[0], effect);
     }
-    r.decision = ToJson(decisions.stats());
-    // The decision rule `armfault tune` re-scores: alarms before the onset are false alarms;
-    // detection is the first alarm from the onset on.
-    const DecisionOutcome d = Decide(decisions.stats(), monitor_model.thresholds, monitor_model.config.significance);
-    r.alarm_before_onset = d.alarm_before_onset;
-    r.detected = d.detected;
-    if (result.ok) {
-      r.miss_reason = ExplainOutcome(decisions.stats(), monitor_model.thresholds, monitor_model.config.significance, d,
-                                     r.family, r.joint, monitor_model.config);
+    if (tap) r.decision = tap->Statistics();
+    // A monitor that breaks the contract (a joint that does not exist, a NaN, time running
+    // backwards) fails the run: its verdicts cannot be scored.
+    const std::string breach = CheckOutput(monitor->output(), static_cast<int>(robot.modules.size()),
+                                           result.end_time_s, FaultFamilyNames());
+    if (!breach.empty()) {
+      r.ok = false;
+      r.failure_reason = "monitor " + monitor_model.type() + " emitted a bad verdict: " + breach;
+      return r;
     }
-    if (d.detected) {
-      r.detection_time_s = d.detection_time_s;
-      if (!r.family.empty()) r.latency_s = d.detection_time_s - r.onset_s;
-      r.isolated_family = d.family;
-      r.isolated_joint = d.joint;
-      // The size: the joint's latest verdict of that family (refined while the alarm stands).
-      for (const Verdict& v : monitor.output().verdicts) {
-        if (v.joint != d.joint || v.family != d.family || !v.alarm) continue;
-        r.magnitude_name = v.magnitude_name;
-        if (!v.magnitude_name.empty()) r.magnitude_estimate = v.magnitude;
-        r.confidence = v.confidence;
-      }
+    // Scored from the verdicts alone, as for any monitor (core/monitors/monitor.h).
+    const RunScore score = ScoreVerdicts(monitor->output(), r.onset_s, first_tick_s);
+    r.alarm_before_onset = score.alarm_before_onset;
+    r.detected = score.detected;
+    if (result.ok) {
+      r.miss_reason = tap ? tap->Explain(score, r.family, r.joint) : ExplainFromVerdicts(score, r.family, r.joint);
+    }
+    if (score.detected) {
+      r.detection_time_s = score.detection_time_s;
+      if (!r.family.empty()) r.latency_s = score.detection_time_s - r.onset_s;
+      r.isolated_family = score.family;
+      r.isolated_joint = score.joint;
+      r.magnitude_name = score.magnitude_name;
+      r.magnitude_estimate = score.magnitude;
+      r.confidence = score.confidence;
     }
   } catch (const std::exception& e) {
     r.ok = false;

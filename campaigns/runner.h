@@ -50,7 +50,7 @@ RunnerResult RunCampaign(const Campaign& campaign, const RunnerOptions& options)
 // The monitor a unit's runs use: the campaign's (the datasheet, widened where tolerances are
 // stated) or, with commissioning, that model fitted on the unit's commissioning run.
 struct UnitMonitor {
-  std::shared_ptr<const PowerMonitorModel> model;
+  std::shared_ptr<const MonitorModel> model;
   std::string failure;  // non-empty: the unit's commissioning run failed, and why
 };
 

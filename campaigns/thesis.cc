@@ -97,7 +97,11 @@ ThesisResults RunThesisExperiments(unsigned long long seed) {
       nlohmann::json::array({{{"family", "brake_lock"}, {"joint", kTopJoint}, {"drag_fraction", 0.005}, {"onset_s", 0}}}));
 
   const ArmModel model(RobotPreset("mrr-config1"));
-  const PowerMonitorModel monitor_model = MakePowerMonitorModel(model.config(), ThesisWindows());
+  MonitorContext monitor_context;
+  monitor_context.robot = model.config();
+  MonitorSpec windows;  // the power-efficiency monitor with the thesis's windows
+  windows.settings = MonitorConfigToJson(ThesisWindows());
+  const std::shared_ptr<const MonitorModel> monitor_model = MakeMonitorModel(windows, monitor_context);
   tbb::parallel_for(size_t{0}, cases.size(), [&](size_t i) {
     const Case& c = cases[i];
     InputContext context;
@@ -107,13 +111,13 @@ ThesisResults RunThesisExperiments(unsigned long long seed) {
     std::vector<std::shared_ptr<const Fault>> faults;
     for (auto& f : MakeFaults(run.faults_json, "/faults", run.robot)) faults.push_back(std::move(f));
     if (!faults.empty()) spec.hardware = std::make_shared<FaultSchedule>(faults);
-    PowerEfficiencyMonitor monitor(monitor_model);
-    const RunResult result = Simulate(model, spec, ObserveWith(&monitor));
-    monitor.Finish(result.end_time_s);
+    const std::unique_ptr<HealthMonitor> monitor = monitor_model->NewMonitor();
+    const RunResult result = Simulate(model, spec, ObserveWith(monitor.get()));
+    monitor->Finish(result.end_time_s);
     ThesisRow& row = results.experiments[c.experiment].rows[c.row];
     row.ok = result.ok;
     row.failure = result.failure_reason;
-    Evaluate(monitor.output(), &row);
+    Evaluate(monitor->output(), &row);
   });
   for (ThesisExperiment& e : results.experiments) {
     for (ThesisRow& r : e.rows) {

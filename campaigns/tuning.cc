@@ -457,9 +457,18 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
                          "run the campaign into " + dir_name + " again (or merge its shards there), or remove the stale summary.json"}});
   }
   const CaseMatcher matcher(campaign);
-  const MonitorConfig& base = campaign.monitor_model.config;
+  // Only a monitor that publishes the statistics behind its alarms can be re-scored; the
+  // power-efficiency monitor does (DecisionStats). Another type is scored at its own point.
+  const auto* power = dynamic_cast<const PowerEfficiencyModel*>(campaign.monitor_model.get());
+  if (!power) {
+    throw InputError(campaign_path.string(), "/campaign/monitor/type",
+                     "monitor type \"" + campaign.monitor_model->type() +
+                         "\" publishes no decision statistics tune can re-score: its runs are scored at its own "
+                         "operating point (see summary.json); tune sweeps the power_efficiency monitor's thresholds");
+  }
+  const MonitorConfig& base = power->model().config;
   const SweepGrid grid = MakeSweepGrid(base, options.sweep);
-  const DetectorThresholds as_run = campaign.monitor_model.thresholds;
+  const DetectorThresholds as_run = power->model().thresholds;
 
   // Load the runs: per run, the first alarm of each detector at each axis value.
   FamilyTable families;

@@ -47,18 +47,10 @@ std::map<int, std::shared_ptr<const Trajectory>> JointTrajectoriesFromJson(
   return out;
 }
 
-MonitorConfig MonitorConfigFromJsonOrFile(const nlohmann::json& value, const std::string& pointer,
-                                          const InputContext& context) {
-  if (value.is_string()) {
-    std::filesystem::path path = value.get<std::string>();
-    if (path.is_relative() && !context.base_dir.empty()) path = std::filesystem::path(context.base_dir) / path;
-    return MonitorConfigFromJson(ReadJsonFile(path.string()), "", path.string());
-  }
-  if (!value.is_object()) {
-    throw InputError(context.source, pointer,
-                     "expected monitor thresholds (an object) or the name of a JSON file of them, got " + Describe(value));
-  }
-  return MonitorConfigFromJson(value, pointer, context.source);
+std::shared_ptr<const MonitorModel> MakeRunMonitor(const RunConfig& run) {
+  MonitorContext context;
+  context.robot = run.robot;
+  return MakeMonitorModel(run.monitor, context);
 }
 
 RunConfig RunConfigFromJson(const nlohmann::json& value, const std::string& pointer, const InputContext& context) {
@@ -102,7 +94,7 @@ RunConfig RunConfigFromJson(const nlohmann::json& value, const std::string& poin
     });
     errors.Try([&] {
       if (const auto* monitor = reader.Find("monitor")) {
-        run.monitor = MonitorConfigFromJsonOrFile(*monitor, reader.PointerTo("monitor"), context);
+        run.monitor = MonitorSpecFromJson(*monitor, reader.PointerTo("monitor"), context);
       }
     });
     errors.ThrowIfAny();

@@ -11,7 +11,7 @@
 #include <memory>
 #include <string>
 
-#include "core/monitors/power_monitor.h"
+#include "core/monitors/registry.h"
 #include "core/plant/robot_config.h"
 #include "core/plant/simulation.h"
 #include "core/plant/trajectory.h"
@@ -26,13 +26,11 @@ struct RunConfig {
   nlohmann::json trajectories_json = nlohmann::json::object();    // as given, for records
   // "faults": kept as given; the faults library (which core does not depend on) builds them.
   nlohmann::json faults_json = nlohmann::json::array();
-  MonitorConfig monitor;  // "monitor": thresholds, or the name of a JSON file of them
+  MonitorSpec monitor;  // "monitor": a monitor type and its settings, or a JSON file of them
 };
 
-// A "monitor" value: an object of thresholds, or a file name (relative to the input's
-// directory) holding one. Errors name the file and pointer.
-MonitorConfig MonitorConfigFromJsonOrFile(const nlohmann::json& value, const std::string& pointer,
-                                          const InputContext& context);
+// The monitor a run file names, built for its robot (no tolerances stated, no commissioning).
+std::shared_ptr<const MonitorModel> MakeRunMonitor(const RunConfig& run);
 
 // Parses the "joints" object of a run or campaign trajectory and checks each trajectory
 // against the joint's range over [0, duration_s]. Throws InputError with JSON pointers.

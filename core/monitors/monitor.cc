@@ -1,8 +1,19 @@
 #include "core/monitors/monitor.h"
 
+#include <algorithm>
 #include <cmath>
 
+#include "core/base/json_input.h"
+
 namespace armfault {
+
+namespace {
+std::string JoinNames(const std::vector<std::string>& names) {
+  std::string out;
+  for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out;
+}
+}  // namespace
 
 JointSignals SignalsOf(const JointTick& tick) {
   JointSignals s;
@@ -44,6 +55,93 @@ Diagnosis Diagnose(const MonitorOutput& output) {
     }
   }
   return d;
+}
+
+RunScore ScoreVerdicts(const MonitorOutput& output, double onset_s, double first_tick_s) {
+  RunScore score;
+  std::vector<const Verdict*> standing;  // per joint: its latest verdict before the onset
+  auto detect = [&](const Verdict& v, double t_s) {
+    score.detected = true;
+    score.detection_time_s = t_s;
+    score.joint = v.joint;
+    score.family = v.family;
+  };
+  for (const Verdict& v : output.verdicts) {
+    if (v.t_s < onset_s) {
+      if (v.alarm) score.alarm_before_onset = true;
+      if (standing.size() < static_cast<size_t>(std::max(0, v.joint))) standing.resize(static_cast<size_t>(v.joint));
+      if (v.joint >= 1) standing[static_cast<size_t>(v.joint - 1)] = &v;
+      continue;
+    }
+    if (!score.detected) {
+      // An alarm that stood at the onset is the first alarm from the onset on.
+      for (const Verdict* s : standing) {
+        if (s && s->alarm && first_tick_s >= 0 && first_tick_s <= v.t_s) {
+          detect(*s, first_tick_s);
+          break;
+        }
+      }
+    }
+    if (!score.detected && v.alarm) detect(v, v.t_s);
+  }
+  if (!score.detected && first_tick_s >= 0) {
+    for (const Verdict* s : standing) {
+      if (s && s->alarm) {
+        detect(*s, first_tick_s);
+        break;
+      }
+    }
+  }
+  if (!score.detected) return score;
+  // The size: the joint's latest verdict of that family, refined while the alarm stands.
+  for (const Verdict& v : output.verdicts) {
+    if (v.joint != score.joint || v.family != score.family || !v.alarm) continue;
+    score.magnitude_name = v.magnitude_name;
+    score.magnitude = v.magnitude_name.empty() ? std::nullopt : std::optional<double>(v.magnitude);
+    score.confidence = v.confidence;
+  }
+  return score;
+}
+
+std::string ExplainFromVerdicts(const RunScore& score, const std::string& family, int joint) {
+  const std::string named = score.detected ? score.family + " on joint " + std::to_string(score.joint) + " at " +
+                                                 FormatNumber(std::round(score.detection_time_s * 1e3) / 1e3) + " s"
+                                           : "";
+  if (family.empty()) {
+    if (score.alarm_before_onset) return "false alarm (the monitor alarmed on a healthy run)";
+    return score.detected ? "false alarm: " + named : "";
+  }
+  if (!score.detected) return "no alarm from the onset on (the monitor publishes no statistics to say how close it came)";
+  if (score.joint != joint) return "named the wrong joint: " + named;
+  if (score.family != family) return "named " + named + " instead";
+  return "";
+}
+
+std::string CheckOutput(const MonitorOutput& output, int joints, double t_end_s,
+                        const std::vector<std::string>& families) {
+  double t_prev_s = 0;
+  for (size_t k = 0; k < output.verdicts.size(); ++k) {
+    const Verdict& v = output.verdicts[k];
+    const std::string where = "verdict " + std::to_string(k + 1) + " (t_s " + FormatNumber(v.t_s) + ", joint " +
+                              std::to_string(v.joint) + "): ";
+    if (!std::isfinite(v.t_s)) return where + "time is not a finite number";
+    // Half a microsecond of slack: times pass through decimal text.
+    if (v.t_s < -5e-7 || v.t_s > t_end_s + 5e-7) {
+      return where + "time outside the run [0, " + FormatNumber(t_end_s) + "] s";
+    }
+    if (v.t_s < t_prev_s) return where + "time goes backwards (previous verdict at " + FormatNumber(t_prev_s) + " s)";
+    t_prev_s = v.t_s;
+    if (v.joint < 1 || v.joint > joints) return where + "joint out of range, expected 1.." + std::to_string(joints);
+    if (!std::isfinite(v.magnitude)) return where + "magnitude is not a finite number";
+    if (!std::isfinite(v.confidence) || v.confidence < 0 || v.confidence > 1) {
+      return where + "confidence " + FormatNumber(v.confidence) + " outside [0, 1]";
+    }
+    if (v.alarm != (v.state != HealthState::kHealthy)) return where + "alarm and state disagree";
+    if (v.alarm && v.family != "unknown" && std::find(families.begin(), families.end(), v.family) == families.end()) {
+      return where + "unknown fault family \"" + v.family + "\" (known: " + JoinNames(families) + ", unknown)";
+    }
+  }
+  return "";
 }
 
 namespace {

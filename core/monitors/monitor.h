@@ -7,6 +7,9 @@
 #include <nlohmann/json.hpp>
 
 #include <limits>
+#include <memory>
+#include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -94,20 +97,77 @@ struct Diagnosis {
 };
 Diagnosis Diagnose(const MonitorOutput& output);
 
+// How a run is scored, for every monitor alike, from its verdicts and the fault's onset (which
+// scoring knows and the monitor never does): an alarm before the onset is a false alarm; the
+// first alarm from the onset on is the detection (an alarm standing at the onset counts at
+// first_tick_s, the first controller tick at or after it), and its joint and family are the
+// isolation (ties at one instant: the lower joint); the size is that joint's latest alarm
+// verdict of that family. A healthy run has onset 0: any alarm is a false alarm.
+struct RunScore {
+  bool alarm_before_onset = false;
+  bool detected = false;
+  double detection_time_s = 0;
+  int joint = 0;
+  std::string family;
+  std::string magnitude_name;
+  std::optional<double> magnitude;
+  double confidence = 0;
+};
+RunScore ScoreVerdicts(const MonitorOutput& output, double onset_s, double first_tick_s);
+
+// Why a run was scored wrong, from the verdicts alone (for a monitor without a DecisionTap):
+// "no alarm", what was named instead, or what alarmed on a healthy run. "" when scored right.
+std::string ExplainFromVerdicts(const RunScore& score, const std::string& family, int joint);
+
+// Checks what a monitor emitted against the contract (docs/monitor-api.md): verdict times
+// finite, in [0, t_end_s] and in time order; joints 1..joints; an alarm names a family from
+// `families` or "unknown"; magnitudes and confidences finite, confidence in [0, 1]. Returns ""
+// or the first breach ("verdict 4: joint 0, expected 1..3"), which fails the run.
+std::string CheckOutput(const MonitorOutput& output, int joints, double t_end_s,
+                        const std::vector<std::string>& families);
+
 nlohmann::json ToJson(const Verdict& v);
 nlohmann::json ToJson(const EfficiencyWindow& w);
 nlohmann::json ToJson(const Diagnosis& d);
 // {"diagnosis", "verdicts", "windows"}: what `trace --monitor-out` writes.
 nlohmann::json ToJson(const MonitorOutput& output);
 
+// Thrown by a monitor (a plugin's error return, a Python exception) to fail the run it is in
+// with a reason; the campaign goes on.
+class MonitorFailure : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Scoring's tap on the statistics behind a monitor's alarms. The runner makes one per run and
+// calls AfterObserve() after every Observe(); the tap, not the monitor, knows the fault onset,
+// and keeps what `armfault tune` needs to re-score other thresholds without simulating again.
+class DecisionTap {
+ public:
+  virtual ~DecisionTap() = default;
+  virtual void AfterObserve(double t_s) = 0;
+  // The run's "decision" statistics (decisions.jsonl), in the monitor type's own format.
+  virtual nlohmann::json Statistics() const = 0;
+  // Why the run was scored as `score` when the truth is (family, joint) ("" when scored right;
+  // family "" and joint 0 for a healthy run): the closest statistic, the gate that never opened.
+  virtual std::string Explain(const RunScore& score, const std::string& family, int joint) const = 0;
+};
+
 // A health monitor in the loop: Observe() is called at every controller tick with every
-// joint's signals, in time order; Finish() once at the end of the run.
+// joint's signals, in time order; Finish() once at the end of the run. One instance per run,
+// used by one thread at a time: a monitor needs no locks.
 class HealthMonitor {
  public:
   virtual ~HealthMonitor() = default;
   virtual void Observe(double t_s, const std::vector<JointSignals>& joints) = 0;
   virtual void Finish(double t_end_s) = 0;
   virtual const MonitorOutput& output() const = 0;
+  // A monitor that publishes the statistics behind its alarms returns a tap on them; nullptr
+  // (the default): it is scored at its own operating point and `tune` cannot sweep it.
+  virtual std::unique_ptr<DecisionTap> NewDecisionTap(double onset_s) const {
+    (void)onset_s;
+    return nullptr;
+  }
 };
 
 // Adapts a monitor to the simulation's tick observer: passes on only the signals.

@@ -614,4 +614,41 @@ void PowerEfficiencyMonitor::Finish(double t_end_s) {
   }
 }
 
+namespace {
+
+// Records the detectors' held statistics after every tick (detector_statistics.h).
+class PowerEfficiencyTap : public DecisionTap {
+ public:
+  PowerEfficiencyTap(const PowerEfficiencyMonitor& monitor, const PowerMonitorModel& model, double onset_s)
+      : monitor_(monitor), model_(model), recorder_(monitor.joint_count(), onset_s) {}
+  void AfterObserve(double t_s) override {
+    for (int j = 0; j < monitor_.joint_count(); ++j) {
+      recorder_.Record(t_s, j, monitor_.readings(j), monitor_.structural_family(j));
+    }
+  }
+  nlohmann::json Statistics() const override { return ToJson(recorder_.stats()); }
+  std::string Explain(const RunScore& score, const std::string& family, int joint) const override {
+    DecisionOutcome d;
+    d.alarm_before_onset = score.alarm_before_onset;
+    d.detected = score.detected;
+    d.detection_time_s = score.detection_time_s;
+    d.joint = score.joint;
+    d.family = score.family;
+    return ExplainOutcome(recorder_.stats(), model_.thresholds, model_.config.significance, d, family, joint,
+                          model_.config);
+  }
+  const DecisionStats& stats() const { return recorder_.stats(); }
+
+ private:
+  const PowerEfficiencyMonitor& monitor_;
+  const PowerMonitorModel& model_;
+  DecisionRecorder recorder_;
+};
+
+}  // namespace
+
+std::unique_ptr<DecisionTap> PowerEfficiencyMonitor::NewDecisionTap(double onset_s) const {
+  return std::make_unique<PowerEfficiencyTap>(*this, model_, onset_s);
+}
+
 }  // namespace armfault

@@ -165,6 +165,8 @@ class PowerEfficiencyMonitor : public HealthMonitor {
   void Observe(double t_s, const std::vector<JointSignals>& joints) override;
   void Finish(double t_end_s) override;
   const MonitorOutput& output() const override { return output_; }
+  // Its swept detectors' held statistics (DecisionStats, core/monitors/detector_statistics.h).
+  std::unique_ptr<DecisionTap> NewDecisionTap(double onset_s) const override;
 
   // Latest estimates of a joint (0-based), for tests and traces.
   struct Estimates {

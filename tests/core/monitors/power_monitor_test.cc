@@ -43,7 +43,8 @@ MonitoredRun RunMonitored(const json& run_json, double payload_kg = -1, bool rec
   for (auto& f : MakeFaults(run.faults_json, "/faults", run.robot)) faults.push_back(std::move(f));
   RunSpec spec = MakeRunSpec(run);
   if (!faults.empty()) spec.hardware = std::make_shared<FaultSchedule>(faults);
-  const PowerMonitorModel monitor_model = MakePowerMonitorModel(run.robot, run.monitor);
+  const PowerMonitorModel monitor_model =
+      MakePowerMonitorModel(run.robot, MonitorConfigFromJson(run.monitor.settings, "/monitor", "<test>"));
   PowerEfficiencyMonitor monitor(monitor_model);
   MonitoredRun out;
   out.result = Simulate(model, spec, ObserveWith(&monitor, record ? out.rec.Observer() : TickObserver()));
@@ -302,9 +303,12 @@ TEST(MonitorConfigJson, RunFilesTakeThresholdsInlineOrFromAFile) {
   context.base_dir = dir.path().string();
   json run = ThesisExperiment1Json();
   run["monitor"] = "strict.json";
-  EXPECT_EQ(RunConfigFromJson(run, "", context).monitor.kt_factor.worn, 0.97);
+  EXPECT_EQ(RunConfigFromJson(run, "", context).monitor.settings["kt_factor"]["worn"], 0.97);
   run["monitor"] = {{"debounce_s", 1.5}};
-  EXPECT_EQ(RunConfigFromJson(run, "", context).monitor.debounce_s, 1.5);
+  EXPECT_EQ(RunConfigFromJson(run, "", context).monitor.settings["debounce_s"], 1.5);
+  run["monitor"] = {{"type", "power_efficiency"}, {"debounce_s", 1.5}};
+  EXPECT_EQ(RunConfigFromJson(run, "", context).monitor.type, "power_efficiency");
+  EXPECT_EQ(RunConfigFromJson(run, "", context).monitor.settings["debounce_s"], 1.5);
   run["monitor"] = {{"debounce_s", "x"}};
   const InputError e = ErrorOf([&] { RunConfigFromJson(run, "", context); });
   EXPECT_EQ(e.pointer(), "/monitor/debounce_s");

@@ -1,0 +1,135 @@
+// The monitor types: one row each. A new built-in monitor is a new file plus a row here.
+#include "core/monitors/registry.h"
+
+#include <filesystem>
+
+#include "core/base/suggest.h"
+
+namespace armfault {
+
+// Each type parses its settings (the "monitor" object without "type") into their resolved
+// JSON, throwing InputErrors with pointers, and builds its model from resolved settings.
+using ParseMonitorSettings = nlohmann::json (*)(const nlohmann::json& object, const std::string& pointer,
+                                                const InputContext& context);
+using BuildMonitorModel = std::shared_ptr<const MonitorModel> (*)(const nlohmann::json& settings,
+                                                                  const MonitorContext& context,
+                                                                  const std::string& pointer);
+
+// power_efficiency (below) and plugin (core/monitors/plugin_monitor.cc).
+nlohmann::json ParsePowerEfficiencySettings(const nlohmann::json& object, const std::string& pointer,
+                                            const InputContext& context);
+std::shared_ptr<const MonitorModel> BuildPowerEfficiencyModel(const nlohmann::json& settings,
+                                                              const MonitorContext& context, const std::string& pointer);
+
+namespace {
+
+struct MonitorType {
+  const char* type;
+  const char* description;
+  ParseMonitorSettings parse;
+  BuildMonitorModel build;
+};
+
+const MonitorType kMonitorTypes[] = {
+    {"power_efficiency", "the thesis's power-efficiency monitor, extended to isolate and size faults (docs/monitor.md)",
+     &ParsePowerEfficiencySettings, &BuildPowerEfficiencyModel},
+};
+
+const MonitorType* FindType(const std::string& type) {
+  for (const MonitorType& t : kMonitorTypes) {
+    if (type == t.type) return &t;
+  }
+  return nullptr;
+}
+
+std::vector<std::string> TypeNames() {
+  std::vector<std::string> names;
+  for (const MonitorType& t : kMonitorTypes) names.push_back(t.type);
+  return names;
+}
+
+}  // namespace
+
+nlohmann::json ParsePowerEfficiencySettings(const nlohmann::json& object, const std::string& pointer,
+                                            const InputContext& context) {
+  return MonitorConfigToJson(MonitorConfigFromJson(object, pointer, context.source));
+}
+
+std::shared_ptr<const MonitorModel> BuildPowerEfficiencyModel(const nlohmann::json& settings,
+                                                              const MonitorContext& context, const std::string& pointer) {
+  const MonitorConfig as_given = MonitorConfigFromJson(settings, pointer, context.input.source);
+  // A monitor left with the datasheet must allow for the tolerances the datasheet states.
+  const MonitorConfig used = context.has_tolerances && !context.commissioning
+                                 ? WidenedForTolerances(as_given, context.stated, context.robot)
+                                 : as_given;
+  return std::make_shared<PowerEfficiencyModel>(as_given, MakePowerMonitorModel(context.robot, used));
+}
+
+PowerEfficiencyModel::PowerEfficiencyModel(const MonitorConfig& as_given, PowerMonitorModel model)
+    : as_given_(as_given), model_(std::move(model)) {}
+
+std::shared_ptr<const MonitorModel> PowerEfficiencyModel::Commissioned(const CommissioningData& data) const {
+  return std::make_shared<PowerEfficiencyModel>(as_given_, CommissionMonitorModel(model_, data));
+}
+
+std::unique_ptr<HealthMonitor> PowerEfficiencyModel::NewMonitor() const {
+  return std::make_unique<PowerEfficiencyMonitor>(model_);
+}
+
+nlohmann::json MonitorSpec::ToJson() const {
+  if (type == "power_efficiency") return settings;
+  nlohmann::json out = {{"type", type}};
+  for (const auto& [key, value] : settings.items()) out[key] = value;
+  return out;
+}
+
+MonitorSpec MonitorSpecFromJson(const nlohmann::json& value, const std::string& pointer, const InputContext& context) {
+  if (value.is_string()) {
+    std::filesystem::path path = value.get<std::string>();
+    if (path.is_relative() && !context.base_dir.empty()) path = std::filesystem::path(context.base_dir) / path;
+    InputContext file;
+    file.source = path.string();
+    file.base_dir = path.parent_path().string();
+    return MonitorSpecFromJson(ReadJsonFile(path.string()), "", file);
+  }
+  if (!value.is_object()) {
+    throw InputError(context.source, pointer,
+                     "expected a monitor (an object, {\"type\": ..., settings}) or the name of a JSON file of one, got " +
+                         Describe(value));
+  }
+  MonitorSpec spec;
+  nlohmann::json settings = value;
+  if (const auto it = value.find("type"); it != value.end()) {
+    if (!it->is_string()) {
+      throw InputError(context.source, PointerJoin(pointer, "type"), "expected a monitor type name, got " + Describe(*it));
+    }
+    spec.type = it->get<std::string>();
+    settings.erase("type");
+  }
+  const MonitorType* type = FindType(spec.type);
+  if (!type) {
+    const std::string near = NearestWord(spec.type, TypeNames());
+    std::string known;
+    for (const std::string& n : TypeNames()) known += (known.empty() ? "" : ", ") + n;
+    throw InputError(context.source, PointerJoin(pointer, "type"),
+                     "unknown monitor type \"" + spec.type + "\" (known: " + known + ")",
+                     near.empty() ? "" : "did you mean \"" + near + "\"?");
+  }
+  spec.settings = type->parse(settings, pointer, context);
+  return spec;
+}
+
+std::shared_ptr<const MonitorModel> MakeMonitorModel(const MonitorSpec& spec, const MonitorContext& context,
+                                                     const std::string& pointer) {
+  const MonitorType* type = FindType(spec.type);
+  if (!type) throw InputError(context.input.source, pointer, "unknown monitor type \"" + spec.type + "\"");
+  return type->build(spec.settings, context, pointer);
+}
+
+std::vector<MonitorTypeInfo> MonitorTypes() {
+  std::vector<MonitorTypeInfo> out;
+  for (const MonitorType& t : kMonitorTypes) out.push_back({t.type, t.description});
+  return out;
+}
+
+}  // namespace armfault

@@ -1,0 +1,93 @@
+// The registry of monitor types: one table row per type (core/monitors/registry.cc). A campaign
+// or run file names its monitor,
+//     "monitor": {"type": "power_efficiency", ...that type's settings}
+// ("type" absent: power_efficiency, so every older file keeps working; a string: the name of a
+// JSON file holding that object). Every place that builds a monitor — the runner, `trace`,
+// `trace --run`, `thesis`, the report, the bench — asks here, and scoring reads only what the
+// monitor emits (MonitorOutput). See docs/monitor-api.md.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/base/json_input.h"
+#include "core/monitors/monitor.h"
+#include "core/monitors/power_monitor.h"
+#include "core/plant/robot_config.h"
+
+namespace armfault {
+
+// What a monitor may know before it sees a run: the robot as designed (datasheet values, not
+// a unit's draw), the tolerances the datasheet states, and whether each unit is commissioned
+// first. Never a run's truth.
+struct MonitorContext {
+  RobotConfig robot;                // nominal
+  bool has_tolerances = false;      // the campaign states datasheet tolerances ...
+  StatedTolerances stated;          // ... these (zeros when it does not)
+  bool commissioning = false;       // each unit runs a healthy commissioning motion first
+  InputContext input;               // where relative file names (a plugin library) resolve
+};
+
+// A configured monitor: built once per campaign or run file, immutable, shared read-only by
+// every run and thread (the model; the per-run state lives in the HealthMonitor it makes).
+class MonitorModel {
+ public:
+  virtual ~MonitorModel() = default;
+  virtual std::string type() const = 0;
+  // The model of one robot unit after the monitor watched that unit's healthy commissioning
+  // run (signals only). nullptr: this monitor learns nothing from commissioning.
+  virtual std::shared_ptr<const MonitorModel> Commissioned(const CommissioningData& data) const {
+    (void)data;
+    return nullptr;
+  }
+  // A fresh monitor for one run, used by one thread.
+  virtual std::unique_ptr<HealthMonitor> NewMonitor() const = 0;
+};
+
+// A "monitor" value, parsed: the type and its settings as resolved (defaults filled in), which
+// campaign.json and the campaign hash record.
+struct MonitorSpec {
+  std::string type = "power_efficiency";
+  nlohmann::json settings = nlohmann::json::object();
+  // The "monitor" value to write back: power_efficiency settings alone (the older shape, so a
+  // campaign's hash does not change), other types {"type": ..., settings...}.
+  nlohmann::json ToJson() const;
+};
+
+// Parses a "monitor" value (object, or a file name relative to context.base_dir). Unknown
+// types and bad settings are InputErrors naming the file, the pointer and the value.
+MonitorSpec MonitorSpecFromJson(const nlohmann::json& value, const std::string& pointer, const InputContext& context);
+
+// Builds the model of a parsed spec for a robot. Errors (a plugin that does not load) are
+// InputErrors naming `pointer` and the cause.
+std::shared_ptr<const MonitorModel> MakeMonitorModel(const MonitorSpec& spec, const MonitorContext& context,
+                                                     const std::string& pointer = "/monitor");
+
+// The registered types, in table order, with a one-line description each.
+struct MonitorTypeInfo {
+  std::string type;
+  std::string description;
+};
+std::vector<MonitorTypeInfo> MonitorTypes();
+
+// The built-in power-efficiency monitor as a registered type: its settings are MonitorConfig
+// (docs/monitor.md); without commissioning, on a campaign that states tolerances, its limits
+// widen by what those tolerances can bias (WidenedForTolerances).
+class PowerEfficiencyModel : public MonitorModel {
+ public:
+  PowerEfficiencyModel(const MonitorConfig& as_given, PowerMonitorModel model);
+  std::string type() const override { return "power_efficiency"; }
+  std::shared_ptr<const MonitorModel> Commissioned(const CommissioningData& data) const override;
+  std::unique_ptr<HealthMonitor> NewMonitor() const override;
+  const MonitorConfig& as_given() const { return as_given_; }  // the settings before widening
+  const PowerMonitorModel& model() const { return model_; }
+
+ private:
+  MonitorConfig as_given_;
+  PowerMonitorModel model_;
+};
+
+}  // namespace armfault
