@@ -71,6 +71,8 @@ class Progress {
   long first_done_ = 0, last_done_ = 0;
 };
 
+}  // namespace
+
 ShardSpec ResolveShard(const CampaignRunOptions& o) {
   ShardSpec s;
   auto parse_int = [](const std::string& text, const std::string& what) {
@@ -111,7 +113,6 @@ ShardSpec ResolveShard(const CampaignRunOptions& o) {
   return s;
 }
 
-}  // namespace
 
 namespace {
 

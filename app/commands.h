@@ -59,6 +59,33 @@ struct CampaignRunOptions {
 // Runs a campaign and writes DIR/{campaign.json, results.jsonl, summary.json, junit.xml}.
 // 0 all floors met, 1 a floor missed, 3 some runs failed.
 int RunCampaignCommand(const CampaignRunOptions& options);
+// The shard a command runs: --shard K/N, else SLURM_ARRAY_TASK_ID/COUNT, else
+// JOB_COMPLETION_INDEX with --shard-count, else the whole campaign. Errors name the option.
+struct ShardSpec;
+ShardSpec ResolveShard(const CampaignRunOptions& options);
+
+struct ExportOptions;
+struct ExportCommandOptions {
+  std::string campaign_file;
+  std::string output_dir = "export";
+  int threads = 0;
+  std::string shard;
+  int shard_count = 0;
+  std::string split;  // "TRAIN/VALIDATION/TEST" fractions; empty: no split
+  bool quiet = false;
+};
+// Writes DIR/{campaign.json, manifest.jsonl, manifest.csv, runs/*.csv.gz}; 0, or 3 if runs failed.
+int ExportCommand(const ExportCommandOptions& options);
+
+struct ScoreCommandOptions {
+  std::string dir;            // an export (manifest.jsonl) or run (results.jsonl) output directory
+  std::string verdicts_file;  // JSON Lines: run_id, t_s, joint, family, alarm, magnitude
+  std::string output_dir;     // default: DIR/scored
+};
+// Scores the verdicts and writes results.jsonl, results.csv, summary.json, junit.xml as `run`
+// does, with the same floors and exit status.
+int ScoreCommand(const ScoreCommandOptions& options);
+
 // Writes summary.json and junit.xml from DIR/results.jsonl; prints the floors; exit status.
 struct Campaign;
 int FinishCampaignOutputs(const std::string& dir, const Campaign& campaign);

@@ -43,6 +43,27 @@ int main(int argc, char** argv) {
   run_cmd->add_flag("--resume", campaign_run.resume, "continue an interrupted run in the same output directory");
   run_cmd->add_flag("-q,--quiet", campaign_run.quiet, "no progress output");
 
+  armfault::ExportCommandOptions export_options;
+  CLI::App* export_cmd = app.add_subcommand(
+      "export", "write every run's monitor signals (gzip CSV at the control rate) with the ground truth in a manifest, "
+                "for data-driven detectors");
+  export_cmd->add_option("campaign", export_options.campaign_file, "campaign JSON file")->required();
+  export_cmd->add_option("-o,--output-dir", export_options.output_dir, "output directory")->capture_default_str();
+  export_cmd->add_option("-j,--jobs", export_options.threads, "threads (0: all cores)")->capture_default_str();
+  export_cmd->add_option("--shard", export_options.shard, "export shard K of N (K/N), as `run --shard`");
+  export_cmd->add_option("--shard-count", export_options.shard_count, "shard count N with JOB_COMPLETION_INDEX");
+  export_cmd->add_option("--split", export_options.split,
+                         "train/validation/test fractions by seed, e.g. 0.6/0.2/0.2 (a \"split\" column in the manifest)");
+  export_cmd->add_flag("-q,--quiet", export_options.quiet, "no progress output");
+
+  armfault::ScoreCommandOptions score;
+  CLI::App* score_cmd = app.add_subcommand(
+      "score", "score verdicts made offline (JSON Lines: run_id, t_s, joint, family, alarm, magnitude) as a live "
+               "monitor is scored; writes summary.json and junit.xml with the campaign's floors");
+  score_cmd->add_option("dir", score.dir, "output directory of `armfault export` or `armfault run`")->required();
+  score_cmd->add_option("verdicts", score.verdicts_file, "verdicts JSON Lines file")->required();
+  score_cmd->add_option("-o,--output-dir", score.output_dir, "output directory (default: DIR/scored)");
+
   std::string validate_file;
   CLI::App* validate_cmd = app.add_subcommand("validate", "check a campaign file and print its run count");
   validate_cmd->add_option("campaign", validate_file, "campaign JSON file")->required();
@@ -119,6 +140,8 @@ int main(int argc, char** argv) {
     if (*thesis_cmd) return armfault::RunThesis(thesis);
     if (*run_cmd) return armfault::RunCampaignCommand(campaign_run);
     if (*validate_cmd) return armfault::ValidateCommand(validate_file);
+    if (*export_cmd) return armfault::ExportCommand(export_options);
+    if (*score_cmd) return armfault::ScoreCommand(score);
     if (*merge_cmd) return armfault::MergeCommand(merge);
     if (*bench_cmd) return armfault::BenchCommand(bench_repeats);
     if (*tune_cmd) return armfault::TuneCommand(tune);

@@ -114,6 +114,19 @@ nlohmann::json CampaignFileJson(const Campaign& campaign, const ShardSpec& shard
           {"campaign", campaign.resolved}};
 }
 
+void ApplyScore(const RunScore& score, RunRecord* r) {
+  r->alarm_before_onset = score.alarm_before_onset;
+  r->detected = score.detected;
+  if (!score.detected) return;
+  r->detection_time_s = score.detection_time_s;
+  if (!r->family.empty()) r->latency_s = score.detection_time_s - r->onset_s;
+  r->isolated_family = score.family;
+  r->isolated_joint = score.joint;
+  r->magnitude_name = score.magnitude_name;
+  r->magnitude_estimate = score.magnitude;
+  r->confidence = score.confidence;
+}
+
 RunRecord RunCase(const Campaign& campaign, const CaseSpec& cs, const TickObserver& also, UnitMonitors* units) {
   RunRecord r;
   r.case_index = cs.index;
@@ -201,19 +214,9 @@ RunRecord RunCase(const Campaign& campaign, const CaseSpec& cs, const TickObserv
     }
     // Scored from the verdicts alone, as for any monitor (core/monitors/monitor.h).
     const RunScore score = ScoreVerdicts(monitor->output(), r.onset_s, first_tick_s);
-    r.alarm_before_onset = score.alarm_before_onset;
-    r.detected = score.detected;
+    ApplyScore(score, &r);
     if (result.ok) {
       r.miss_reason = tap ? tap->Explain(score, r.family, r.joint) : ExplainFromVerdicts(score, r.family, r.joint);
-    }
-    if (score.detected) {
-      r.detection_time_s = score.detection_time_s;
-      if (!r.family.empty()) r.latency_s = score.detection_time_s - r.onset_s;
-      r.isolated_family = score.family;
-      r.isolated_joint = score.joint;
-      r.magnitude_name = score.magnitude_name;
-      r.magnitude_estimate = score.magnitude;
-      r.confidence = score.confidence;
     }
   } catch (const std::exception& e) {
     r.ok = false;

@@ -74,6 +74,9 @@ class UnitMonitors {
   std::vector<UnitMonitor> units_;
 };
 
+// Sets a record's diagnosis (detection, latency, isolation, size) from its score.
+void ApplyScore(const RunScore& score, RunRecord* record);
+
 // One case, fully: builds the varied robot, the faults and the monitor, simulates, diagnoses.
 // Never throws for a failing run: the record says "failed" with the reason. `units` (may be
 // null) shares the commissioned monitors between the runs of one unit.

@@ -3,16 +3,13 @@
 #include <cstdio>
 #include <optional>
 
+#include "core/base/csv.h"
+
 namespace armfault {
 
 namespace {
 
-std::string Quote(const std::string& s) {
-  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
-  std::string out = "\"";
-  for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return out + "\"";
-}
+std::string Quote(const std::string& s) { return CsvText(s); }
 
 std::string Number(double x) {
   char buf[32];

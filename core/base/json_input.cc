@@ -14,9 +14,12 @@ std::string FormatWhat(const std::string& source, const std::string& pointer,
                        const std::string& message) {
   std::string out;
   if (!source.empty()) out += source + ": ";
-  // An option or an environment variable has no document: its name says where.
-  const bool not_a_document = !source.empty() && pointer.empty() &&
-                              (source[0] == '-' || source.find_first_of("abcdefghijklmnopqrstuvwxyz./") == std::string::npos);
+  // An option or an environment variable has no document: its name says where. Neither does a
+  // line of a JSON Lines file: its number says where.
+  const bool not_a_document =
+      pointer.empty() && ((!source.empty() && (source[0] == '-' ||
+                                               source.find_first_of("abcdefghijklmnopqrstuvwxyz./") == std::string::npos)) ||
+                          message.rfind("line ", 0) == 0);
   if (!not_a_document) out += (pointer.empty() ? std::string("(document root)") : pointer) + ": ";
   out += message;
   return out;

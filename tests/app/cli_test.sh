@@ -354,7 +354,7 @@ expect_input_error "$tmp/diff_d/results.jsonl: (document root): no such file"
 cp "$tmp/diff_a/results.jsonl" "$tmp/diff_d/results.jsonl"
 printf '{"case": 52, "run_id": \n' >>"$tmp/diff_d/results.jsonl"
 run diff_bad_line "$armfault" diff "$tmp/diff_a" "$tmp/diff_d"
-expect_input_error "$tmp/diff_d/results.jsonl: (document root): line 53: "
+expect_input_error "$tmp/diff_d/results.jsonl: line 53: "
 run diff_bad_alpha "$armfault" diff "$tmp/diff_a" "$tmp/diff_a" --alpha 2
 expect_input_error "--alpha: 2 is outside (0, 1]"
 
@@ -504,6 +504,35 @@ else
 fi
 run commissioning_off_runs "$armfault" run "$tmp/commok.json" -o "$tmp/cok" -q
 expect_status 0
+
+# ------------------------------------------------------------------ export and score
+cat >"$tmp/exp.json" <<'JSON'
+{"name": "exp", "seed": 2, "duration_s": 3,
+ "trajectories": [{"name": "exp1", "joints": {"3": {"type": "sine_pair", "amplitude_deg": 25, "omega_rad_s": 1.2732}}}],
+ "faults": [{"family": "kt_degradation", "joint": 3, "kt_factor": 0.6, "onset_s": 1.0}],
+ "healthy": 1, "floors": {"detection_rate": 0.9}}
+JSON
+run export_writes_signals_and_manifest "$armfault" export "$tmp/exp.json" -o "$tmp/exp" --split 0.5/0.25/0.25 -q
+expect_status 0
+if [[ -f "$tmp/exp/runs/000000.csv.gz" && -f "$tmp/exp/runs/000001.csv.gz" && $(wc -l <"$tmp/exp/manifest.jsonl") -eq 2 ]] &&
+  zcat "$tmp/exp/runs/000000.csv.gz" | head -1 | grep -q "^t_s,q_ref_rad_j1,"; then pass; else
+  fail "export did not write two runs and a manifest: $(ls -R "$tmp/exp" | head -20)"
+fi
+# No verdict at all: the fault is missed, the floor fails (exit 1) as it would in `run`.
+: >"$tmp/none.jsonl"
+run score_without_verdicts_misses_the_floor "$armfault" score "$tmp/exp" "$tmp/none.jsonl" -o "$tmp/scored"
+expect_status 1
+expect_stdout_contains "floor detection_rate"
+expect_stdout_contains "next: armfault report $tmp/scored"
+id=$(head -1 "$tmp/exp/manifest.jsonl" | sed 's/.*"run_id":"\([^"]*\)".*/\1/')
+printf '{"run_id": "%s", "t_s": 1.5, "joint": 3, "family": "kt_degradation", "alarm": true, "magnitude": 0.6}\n' "$id" >"$tmp/one.jsonl"
+run score_meets_the_floor "$armfault" score "$tmp/exp" "$tmp/one.jsonl" -o "$tmp/scored"
+expect_status 0
+printf '{"run_id": "%s", "t_s": 7, "joint": 3, "family": "kt_degradation", "alarm": true, "magnitude": 0.6}\n' "$id" >"$tmp/late.jsonl"
+run score_rejects_a_time_outside_the_run "$armfault" score "$tmp/exp" "$tmp/late.jsonl" -o "$tmp/scored2"
+expect_input_error "$tmp/late.jsonl: line 1: t_s 7 outside the run [0, 3] s"
+run export_rejects_a_bad_split "$armfault" export "$tmp/exp.json" -o "$tmp/exp2" --split 0.9/0.2/0.1 -q
+expect_input_error "armfault: error: --split: expected TRAIN/VALIDATION/TEST fractions summing to 1"
 
 # ------------------------------------------------------------------ habits of the command line
 run usage_names_the_program "$armfault" --help

@@ -390,7 +390,7 @@ TEST(CampaignDiffTest, ReadRunRecordsNamesTheFileAndLine) {
     ReadRunRecords(in, "dir/results.jsonl", &b);
     FAIL() << "no error";
   } catch (const InputError& e) {
-    EXPECT_THAT(std::string(e.what()), HasSubstr("dir/results.jsonl: (document root): line 2: "));
+    EXPECT_THAT(std::string(e.what()), HasSubstr("dir/results.jsonl: line 2: "));
   }
   // Unknown keys (e.g. a newer "decision") are ignored.
   nlohmann::json extra = ToJson(r);

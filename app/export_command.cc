@@ -1,0 +1,63 @@
+// `armfault export CAMPAIGN`: labeled signals for data-driven detectors; `armfault score DIR
+// VERDICTS`: verdicts made offline, scored as a live monitor is (campaigns/export.h).
+#include <cstdio>
+#include <filesystem>
+
+#include "app/commands.h"
+#include "campaigns/campaign.h"
+#include "campaigns/export.h"
+#include "campaigns/runner.h"
+#include "core/base/json_input.h"
+
+namespace armfault {
+
+int ExportCommand(const ExportCommandOptions& o) {
+  const Campaign campaign = ReadCampaignFile(o.campaign_file);
+  if (o.threads < 0) throw InputError("-j", "", "expected a thread count >= 1 (0: all cores), got " + std::to_string(o.threads));
+  CampaignRunOptions shard;
+  shard.shard = o.shard;
+  shard.shard_count = o.shard_count;
+  ExportOptions eo;
+  eo.output_dir = o.output_dir;
+  eo.threads = o.threads;
+  eo.shard = ResolveShard(shard);
+  eo.split = ParseSplit(o.split);
+  long last_percent = -1;
+  if (!o.quiet) {
+    eo.progress = [&](long done, long total) {
+      const long percent = total > 0 ? 100 * done / total : 100;
+      if (percent / 10 == last_percent / 10 && done != total) return;
+      last_percent = percent;
+      std::fprintf(stderr, "export: %ld/%ld runs\n", done, total);
+    };
+  }
+  const ExportResult r = ExportCampaign(campaign, eo);
+  std::printf("exported %ld runs of %s (%ld failed) -> %s/manifest.jsonl, manifest.csv, runs/*.csv.gz\n", r.runs,
+              campaign.name.c_str(), r.failed, o.output_dir.c_str());
+  if (!o.quiet) {
+    std::printf("next: pandas.read_csv(\"%s/manifest.csv\") for the labels, pandas.read_csv(\"%s/runs/000000.csv.gz\") for a run;\n"
+                "      armfault score %s VERDICTS.jsonl  (scores verdicts your detector wrote)\n",
+                o.output_dir.c_str(), o.output_dir.c_str(), o.output_dir.c_str());
+  }
+  return r.failed > 0 ? 3 : 0;
+}
+
+int ScoreCommand(const ScoreCommandOptions& o) {
+  namespace fs = std::filesystem;
+  const fs::path campaign_path = fs::path(o.dir) / "campaign.json";
+  const nlohmann::json file = ReadJsonFile(campaign_path.string());
+  if (!file.is_object() || !file.contains("campaign")) {
+    throw InputError(campaign_path.string(), "", "not the campaign.json of an armfault output directory (no \"campaign\")");
+  }
+  const Campaign campaign = CampaignFromJson(file["campaign"], campaign_path.string(), o.dir);
+  const std::string out = o.output_dir.empty() ? (fs::path(o.dir) / "scored").string() : o.output_dir;
+  const ScoreResult r = ScoreExternalVerdicts(campaign, o.dir, o.verdicts_file, out);
+  std::printf("scored %ld verdicts on %ld runs (%ld runs without a verdict) -> %s\n", r.verdicts, r.runs,
+              r.runs_without_verdicts, out.c_str());
+  const int status = FinishCampaignOutputs(out, campaign);
+  std::printf("wrote %s/results.jsonl, results.csv, summary.json, junit.xml\nnext: armfault report %s\n", out.c_str(),
+              out.c_str());
+  return status;
+}
+
+}  // namespace armfault

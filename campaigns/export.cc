@@ -1,0 +1,413 @@
+#include "campaigns/export.h"
+
+#include <tbb/parallel_pipeline.h>
+#include <tbb/task_arena.h>
+#include <zlib.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "core/base/csv.h"
+#include "core/base/rng.h"
+#include "core/monitors/monitor.h"
+#include "core/plant/simulation.h"
+#include "faults/fault.h"
+
+namespace armfault {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// The keys of a run record that are the monitor's, not the truth: left out of the manifest.
+const char* const kMonitorKeys[] = {"detected",       "detection_time_s",   "latency_s",  "isolated_family",
+                                    "isolated_joint", "magnitude_name",     "magnitude_estimate",
+                                    "confidence",     "alarm_before_onset", "miss_reason", "decision"};
+
+std::string CaseFileName(long case_index) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "runs/%06ld.csv.gz", case_index);
+  return buf;
+}
+
+// Streams one run's signals into a gzip file through a temporary name (renamed when complete).
+class SignalsWriter {
+ public:
+  SignalsWriter(const fs::path& path, int joints) : path_(path), tmp_(path.string() + ".tmp") {
+    file_ = gzopen(tmp_.c_str(), "wb6");
+    if (!file_) throw InputError(tmp_.string(), "", "cannot write the file");
+    Append(SignalsCsvHeader(joints));
+  }
+  ~SignalsWriter() {
+    if (file_) gzclose(file_);
+  }
+  void Write(const Tick& tick) {
+    std::string& row = row_;
+    row.clear();
+    AppendCsvExact(&row, tick.t_s);
+    for (const JointTick& jt : *tick.joints) {
+      const JointSignals s = SignalsOf(jt);
+      for (double x : {s.q_ref_rad, s.qd_ref_rad_s, s.q_meas_rad, s.qd_est_rad_s, s.tau_sensor_Nm, s.i_cmd_A,
+                       s.i_supply_meas_A, s.v_bus_meas_V, s.winding_temp_C}) {
+        row += ',';
+        AppendCsvExact(&row, x);
+      }
+    }
+    row += '\n';
+    Append(row);
+    ++ticks_;
+  }
+  long ticks() const { return ticks_; }
+  void Close() {
+    const int status = gzclose(file_);
+    file_ = nullptr;
+    if (status != Z_OK || !ok_) throw InputError(tmp_.string(), "", "error while writing the file");
+    fs::rename(tmp_, path_);
+  }
+
+ private:
+  void Append(const std::string& text) {
+    if (gzwrite(file_, text.data(), static_cast<unsigned>(text.size())) != static_cast<int>(text.size())) ok_ = false;
+  }
+  fs::path path_, tmp_;
+  gzFile file_ = nullptr;
+  std::string row_;
+  long ticks_ = 0;
+  bool ok_ = true;
+};
+
+std::string Num(const nlohmann::json& v) {
+  if (!v.is_number()) return "";
+  std::string out;
+  AppendCsvExact(&out, v.get<double>());
+  return out;
+}
+
+std::string ManifestCsvHeader() {
+  return "case,run_id,split,signals,ticks,trajectory,group,family,joint,onset_s,magnitude_key,magnitude,profile,seed,"
+         "repetition,unit,ambient_C,status,reason,took_effect,excited,not_excited_reason\n";
+}
+
+std::string ManifestCsvRow(const nlohmann::json& m) {
+  auto text = [&](const char* key) { return m[key].is_string() ? CsvText(m[key].get<std::string>()) : std::string(); };
+  auto integer = [&](const char* key) { return m[key].is_number() ? m[key].dump() : std::string(); };
+  auto boolean = [](const nlohmann::json& v) { return v.is_boolean() ? std::string(v.get<bool>() ? "true" : "false") : ""; };
+  const nlohmann::json& variation = m["variation"];
+  const nlohmann::json& effect = m["effect"];
+  std::string row = m["case"].dump();
+  for (const std::string& cell :
+       {text("run_id"), text("split"), text("signals"), integer("ticks"), text("trajectory"), text("group"),
+        text("family"), integer("joint"), Num(m["onset_s"]), text("magnitude_key"), Num(m["magnitude"]),
+        text("profile"), integer("seed"), integer("repetition"),
+        variation.is_object() && variation.contains("unit") ? variation["unit"].dump() : std::string(),
+        variation.is_object() && variation.contains("ambient_C") ? Num(variation["ambient_C"]) : std::string(),
+        text("status"), text("reason"), effect.is_object() ? boolean(effect["took_effect"]) : std::string(),
+        boolean(m["excited"]), text("not_excited_reason")}) {
+    row += "," + cell;
+  }
+  return row + "\n";
+}
+
+// Opens `path` for writing through `path`.tmp (see Commit): a crash never leaves half a file.
+struct TmpFile {
+  explicit TmpFile(const fs::path& p) : path(p), tmp(p.string() + ".tmp"), out(tmp, std::ios::binary | std::ios::trunc) {
+    if (!out) throw InputError(tmp.string(), "", "cannot write the file");
+  }
+  void Commit() {
+    out.close();
+    if (!out) throw InputError(tmp.string(), "", "error while writing the file");
+    fs::rename(tmp, path);
+  }
+  fs::path path, tmp;
+  std::ofstream out;
+};
+
+}  // namespace
+
+const std::vector<std::string>& SignalColumnNames() {
+  static const std::vector<std::string> names = {"q_ref_rad",     "qd_ref_rad_s", "q_meas_rad",
+                                                 "qd_est_rad_s",  "tau_sensor_Nm", "i_cmd_A",
+                                                 "i_supply_meas_A", "v_bus_meas_V", "winding_temp_C"};
+  return names;
+}
+
+std::string SignalsCsvHeader(int joints) {
+  std::string header = "t_s";
+  for (int j = 1; j <= joints; ++j) {
+    for (const std::string& name : SignalColumnNames()) header += "," + name + "_j" + std::to_string(j);
+  }
+  return header + "\n";
+}
+
+SplitSpec ParseSplit(const std::string& text) {
+  SplitSpec s;
+  if (text.empty()) return s;
+  double parts[3];
+  char tail = 0;
+  if (std::sscanf(text.c_str(), "%lf/%lf/%lf%c", &parts[0], &parts[1], &parts[2], &tail) != 3 ||
+      std::any_of(parts, parts + 3, [](double p) { return !(p >= 0 && p <= 1); }) ||
+      std::fabs(parts[0] + parts[1] + parts[2] - 1) > 1e-9) {
+    throw InputError("--split", "", "expected TRAIN/VALIDATION/TEST fractions summing to 1 (e.g. 0.6/0.2/0.2), got \"" +
+                                        text + "\"");
+  }
+  s.enabled = true;
+  s.train = parts[0];
+  s.validation = parts[1];
+  s.test = parts[2];
+  return s;
+}
+
+std::string SplitOf(const SplitSpec& split, unsigned long long seed) {
+  if (!split.enabled) return "";
+  // A uniform draw in [0, 1) from the seed alone (53 bits of a mixed seed).
+  const double u = static_cast<double>(MixSeed(seed, 0x73706c6974ULL) >> 11) * 0x1.0p-53;
+  if (u < split.train) return "train";
+  if (u < split.train + split.validation) return "validation";
+  return "test";
+}
+
+ExportResult ExportCampaign(const Campaign& campaign, const ExportOptions& o) {
+  const fs::path dir(o.output_dir);
+  fs::create_directories(dir / "runs");
+  std::vector<CaseSpec> all = ExpandCases(campaign);
+  std::vector<const CaseSpec*> mine;
+  for (const CaseSpec& c : all) {
+    if (o.shard.Contains(c.index)) mine.push_back(&c);
+  }
+  const int joints = static_cast<int>(campaign.robot.modules.size());
+  TmpFile manifest(dir / "manifest.jsonl");
+  TmpFile manifest_csv(dir / "manifest.csv");
+  manifest_csv.out << ManifestCsvHeader();
+  ExportResult out;
+  long done = 0;
+  if (o.progress) o.progress(0, static_cast<long>(mine.size()));
+
+  UnitMonitors units(campaign);
+  const int threads = o.threads > 0 ? o.threads : tbb::this_task_arena::max_concurrency();
+  tbb::task_arena arena(threads);
+  arena.execute([&] {
+    size_t cursor = 0;
+    tbb::parallel_pipeline(
+        static_cast<size_t>(4 * threads),
+        tbb::make_filter<void, size_t>(tbb::filter_mode::serial_in_order,
+                                       [&](tbb::flow_control& fc) -> size_t {
+                                         if (cursor >= mine.size()) fc.stop();
+                                         return cursor++;
+                                       }) &
+            tbb::make_filter<size_t, nlohmann::json>(
+                tbb::filter_mode::parallel,
+                [&](size_t k) {
+                  const CaseSpec& cs = *mine[k];
+                  const std::string file = CaseFileName(cs.index);
+                  SignalsWriter writer(dir / file, joints);
+                  double end_s = 0;
+                  const RunRecord r = RunCase(campaign, cs, [&](const Tick& tick) {
+                    writer.Write(tick);
+                    end_s = tick.t_s;
+                  }, &units);
+                  writer.Close();
+                  nlohmann::json m = ToJson(r);
+                  for (const char* key : kMonitorKeys) m.erase(key);
+                  m["split"] = o.split.enabled ? nlohmann::json(SplitOf(o.split, r.seed)) : nlohmann::json(nullptr);
+                  m["signals"] = file;
+                  m["ticks"] = writer.ticks();
+                  m["end_s"] = RoundToMicroseconds(end_s);
+                  m["profile"] = r.fault.is_object() ? nlohmann::json(r.fault.value("profile", "abrupt")) : nlohmann::json(nullptr);
+                  return m;
+                }) &
+            tbb::make_filter<nlohmann::json, void>(tbb::filter_mode::serial_in_order, [&](const nlohmann::json& m) {
+              manifest.out << m.dump() << "\n";
+              manifest_csv.out << ManifestCsvRow(m);
+              if (m["status"] != "ok") ++out.failed;
+              ++out.runs;
+              ++done;
+              if (o.progress) o.progress(done, static_cast<long>(mine.size()));
+            }));
+  });
+  WriteAtomically(dir / "campaign.json", CampaignFileJson(campaign, o.shard).dump(2) + "\n");
+  manifest.Commit();
+  manifest_csv.Commit();
+  return out;
+}
+
+namespace {
+
+// A truth record from a manifest line (monitor keys absent) or a results.jsonl line (its
+// monitor's outcome dropped).
+RunRecord TruthOf(nlohmann::json line) {
+  if (!line.is_object()) throw std::runtime_error("expected a JSON object");
+  for (const char* key : kMonitorKeys) {
+    if (!line.contains(key)) line[key] = nullptr;
+  }
+  line["detected"] = false;
+  line["confidence"] = 0;
+  line["alarm_before_onset"] = false;
+  RunRecord r = RunRecordFromJson(line);
+  r.detection_time_s.reset();
+  r.latency_s.reset();
+  r.isolated_family.clear();
+  r.isolated_joint = 0;
+  r.magnitude_name.clear();
+  r.magnitude_estimate.reset();
+  r.miss_reason.clear();
+  r.decision = nullptr;
+  return r;
+}
+
+Verdict VerdictFromJson(const nlohmann::json& j, std::string* run_id) {
+  if (!j.is_object()) throw std::runtime_error("expected a JSON object, got " + Describe(j));
+  ObjectReader reader(j, "");
+  reader.AllowOnly({"run_id", "t_s", "joint", "family", "alarm", "magnitude", "state", "magnitude_name", "confidence"});
+  *run_id = reader.RequireString("run_id");
+  Verdict v;
+  v.t_s = reader.RequireNumber("t_s");
+  v.joint = reader.RequireInt("joint");
+  const nlohmann::json* alarm = reader.Find("alarm");
+  if (!alarm || !alarm->is_boolean()) {
+    throw InputError("", "/alarm", "expected true or false, got " + (alarm ? Describe(*alarm) : std::string("nothing")));
+  }
+  v.alarm = alarm->get<bool>();
+  v.state = v.alarm ? HealthState::kWorn : HealthState::kHealthy;
+  if (const nlohmann::json* state = reader.Find("state")) {
+    const std::string s = state->is_string() ? state->get<std::string>() : "";
+    if (s == "healthy") v.state = HealthState::kHealthy;
+    else if (s == "worn") v.state = HealthState::kWorn;
+    else if (s == "defective") v.state = HealthState::kDefective;
+    else throw InputError("", "/state", "expected \"healthy\", \"worn\" or \"defective\", got " + Describe(*state));
+    if ((v.state != HealthState::kHealthy) != v.alarm) throw InputError("", "/state", "disagrees with \"alarm\"");
+  }
+  if (const nlohmann::json* family = reader.Find("family"); family && !family->is_null()) {
+    if (!family->is_string()) throw InputError("", "/family", "expected a fault family name, got " + Describe(*family));
+    v.family = family->get<std::string>();
+  }
+  if (const nlohmann::json* m = reader.Find("magnitude"); m && !m->is_null()) {
+    if (!m->is_number()) throw InputError("", "/magnitude", "expected a number or null, got " + Describe(*m));
+    v.magnitude = m->get<double>();
+  }
+  if (const nlohmann::json* name = reader.Find("magnitude_name"); name && !name->is_null()) {
+    if (!name->is_string()) throw InputError("", "/magnitude_name", "expected a name, got " + Describe(*name));
+    v.magnitude_name = name->get<std::string>();
+  }
+  v.confidence = v.alarm ? 1.0 : 0.0;
+  if (const nlohmann::json* c = reader.Find("confidence"); c && !c->is_null()) {
+    if (!c->is_number()) throw InputError("", "/confidence", "expected a number in [0, 1], got " + Describe(*c));
+    v.confidence = c->get<double>();
+  }
+  return v;
+}
+
+}  // namespace
+
+ScoreResult ScoreExternalVerdicts(const Campaign& campaign, const std::string& dir_name, const std::string& verdicts_path,
+                                  const std::string& output_dir) {
+  const fs::path dir(dir_name);
+  // The truth: an export's manifest, or the records of a run.
+  fs::path truth_path = dir / "manifest.jsonl";
+  if (!fs::exists(truth_path)) truth_path = dir / "results.jsonl";
+  if (!fs::exists(truth_path)) {
+    throw InputError(dir.string(), "", "neither manifest.jsonl (armfault export) nor results.jsonl (armfault run) is here");
+  }
+  std::vector<RunRecord> runs;
+  std::map<std::string, size_t> by_id;
+  {
+    std::ifstream in(truth_path, std::ios::binary);
+    std::string line;
+    long n = 0;
+    while (std::getline(in, line)) {
+      ++n;
+      try {
+        runs.push_back(TruthOf(nlohmann::json::parse(line)));
+      } catch (const std::exception& e) {
+        throw InputError(truth_path.string(), "", "line " + std::to_string(n) + ": " + e.what());
+      }
+      if (!by_id.emplace(runs.back().run_id, runs.size() - 1).second) {
+        throw InputError(truth_path.string(), "", "line " + std::to_string(n) + ": run_id \"" + runs.back().run_id +
+                                                      "\" appears twice");
+      }
+    }
+  }
+  const ArmModel arm(campaign.robot);
+  const double tick_s = arm.control_dt_s();
+  const int joints = arm.joint_count();
+  const std::vector<std::string> families = FaultFamilyNames();
+
+  // The verdicts, per run, in time order (a tool may write runs interleaved).
+  std::vector<MonitorOutput> outputs(runs.size());
+  ScoreResult result;
+  {
+    std::ifstream in(verdicts_path, std::ios::binary);
+    if (!in) throw InputError(verdicts_path, "", "cannot read the file");
+    std::string line;
+    long n = 0;
+    while (std::getline(in, line)) {
+      ++n;
+      if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+      auto fail = [&](const std::string& message) {
+        throw InputError(verdicts_path, "", "line " + std::to_string(n) + ": " + message);
+      };
+      std::string run_id;
+      Verdict v;
+      try {
+        v = VerdictFromJson(nlohmann::json::parse(line), &run_id);
+      } catch (const InputError& e) {
+        fail((e.pointer().empty() ? "" : e.pointer() + ": ") + e.message());
+      } catch (const std::exception& e) {
+        fail(e.what());
+      }
+      const auto it = by_id.find(run_id);
+      if (it == by_id.end()) fail("unknown run_id \"" + run_id + "\" (not a run of " + truth_path.string() + ")");
+      const double end_s = campaign.duration_s;
+      if (!std::isfinite(v.t_s) || v.t_s < 0 || v.t_s > end_s + 5e-7) {
+        fail("t_s " + FormatNumber(v.t_s) + " outside the run [0, " + FormatNumber(end_s) + "] s");
+      }
+      if (v.joint < 1 || v.joint > joints) {
+        fail("joint " + std::to_string(v.joint) + " does not exist (1.." + std::to_string(joints) + ")");
+      }
+      if (v.alarm && v.family != "unknown" && std::find(families.begin(), families.end(), v.family) == families.end()) {
+        std::string known;
+        for (const std::string& f : families) known += f + ", ";
+        fail("unknown fault family \"" + v.family + "\" (known: " + known + "unknown)");
+      }
+      if (!std::isfinite(v.magnitude)) fail("magnitude is not a finite number");
+      if (!(v.confidence >= 0 && v.confidence <= 1)) fail("confidence " + FormatNumber(v.confidence) + " outside [0, 1]");
+      outputs[it->second].verdicts.push_back(v);
+      ++result.verdicts;
+    }
+  }
+
+  const fs::path out_dir(output_dir);
+  fs::create_directories(out_dir);
+  std::ostringstream lines;
+  for (size_t k = 0; k < runs.size(); ++k) {
+    RunRecord& r = runs[k];
+    std::vector<Verdict>& verdicts = outputs[k].verdicts;
+    std::stable_sort(verdicts.begin(), verdicts.end(), [](const Verdict& a, const Verdict& b) { return a.t_s < b.t_s; });
+    if (verdicts.empty()) ++result.runs_without_verdicts;
+    // The first controller tick at or after the onset (ticks at k * period, as Simulate has them).
+    double first_tick_s = -1;
+    if (r.ok) {
+      long tick = static_cast<long>(std::ceil(r.onset_s / tick_s));
+      while (tick > 0 && (tick - 1) * tick_s >= r.onset_s) --tick;
+      while (tick * tick_s < r.onset_s) ++tick;
+      first_tick_s = tick * tick_s;
+    }
+    if (r.ok) {
+      const RunScore score = ScoreVerdicts(outputs[k], r.onset_s, first_tick_s);
+      ApplyScore(score, &r);
+      r.miss_reason = ExplainFromVerdicts(score, r.family, r.joint);
+    }
+    lines << ToJson(r).dump() << "\n";
+    ++result.runs;
+  }
+  // The campaign as `run` writes it, then the records: the summary, JUnit and report read them.
+  WriteAtomically(out_dir / "campaign.json", CampaignFileJson(campaign, ShardSpec{}).dump(2) + "\n");
+  WriteAtomically(out_dir / "results.jsonl", lines.str());
+  return result;
+}
+
+}  // namespace armfault

@@ -1,0 +1,72 @@
+// Labeled data for data-driven detectors, and scoring of verdicts made offline.
+//
+// `armfault export CAMPAIGN -o DIR` runs every case of a campaign (sharded like `run`) and
+// writes, per run, what a monitor may read — every joint's JointSignals at every controller
+// tick — with the ground truth in a manifest:
+//   DIR/campaign.json        the resolved campaign (as `run` writes it)
+//   DIR/manifest.jsonl       one line per run, case order: run_id, split, signals file, fault
+//                            (family, joint, onset_s, magnitude, profile), unit, variation drawn,
+//                            took-effect measure, not_excited_reason, status
+//   DIR/manifest.csv         the same, flat (scalar columns only), for pandas
+//   DIR/runs/<case>.csv.gz   t_s, then <field>_j<joint> for every JointSignals field and joint;
+//                            numbers in shortest round-trip form (exact doubles), empty = NaN
+// See docs/monitor-api.md, "Export and score".
+//
+// `armfault score DIR VERDICTS` reads verdicts made by any tool (JSON Lines: run_id, t_s,
+// joint, family, alarm, magnitude, and optionally state, magnitude_name, confidence) and scores
+// them against DIR's truth (an export's manifest.jsonl, or a run's results.jsonl) exactly as a
+// live monitor is scored (ScoreVerdicts), writing results.jsonl for the summary, JUnit and
+// report.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "campaigns/campaign.h"
+#include "campaigns/run_record.h"
+#include "campaigns/runner.h"
+
+namespace armfault {
+
+// The JointSignals fields in column order, with units in their names.
+const std::vector<std::string>& SignalColumnNames();
+// The CSV header of a run's signals: "t_s,q_ref_rad_j1,...".
+std::string SignalsCsvHeader(int joints);
+
+// Train / validation / test fractions; a run's split is a function of its seed alone, so
+// every run of a seed lands in the same split whatever the shard.
+struct SplitSpec {
+  bool enabled = false;
+  double train = 0.6, validation = 0.2, test = 0.2;
+};
+// Parses "0.6/0.2/0.2" (fractions summing to 1); errors name --split and the value.
+SplitSpec ParseSplit(const std::string& text);
+std::string SplitOf(const SplitSpec& split, unsigned long long seed);
+
+struct ExportOptions {
+  std::string output_dir = "export";
+  int threads = 0;
+  ShardSpec shard;
+  SplitSpec split;
+  std::function<void(long done, long total)> progress;
+};
+struct ExportResult {
+  long runs = 0;
+  long failed = 0;
+};
+ExportResult ExportCampaign(const Campaign& campaign, const ExportOptions& options);
+
+// Scores the verdicts in `verdicts_path` against the runs of `dir` (an export or a run output
+// directory of `campaign`) and writes `output_dir`/{campaign.json, results.jsonl}. Every bad
+// line (not JSON, an unknown run_id, a time outside its run, a joint that does not exist, an
+// unknown family, a non-finite magnitude) is an InputError naming the file and line.
+struct ScoreResult {
+  long runs = 0;
+  long verdicts = 0;
+  long runs_without_verdicts = 0;
+};
+ScoreResult ScoreExternalVerdicts(const Campaign& campaign, const std::string& dir, const std::string& verdicts_path,
+                                  const std::string& output_dir);
+
+}  // namespace armfault

@@ -1,0 +1,210 @@
+// `armfault export` and `armfault score`: the exported signals are exactly what the monitor saw
+// (replaying them through the built-in monitor and scoring its verdicts offline gives the live
+// run's diagnosis), the manifest carries the truth, shards and splits are stable, and bad
+// verdict files are rejected with their line.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <zlib.h>
+
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "campaigns/campaign.h"
+#include "campaigns/export.h"
+#include "campaigns/runner.h"
+#include "core/monitors/power_monitor.h"
+#include "tests/core/test_support.h"
+
+namespace armfault {
+namespace {
+
+using nlohmann::json;
+using testing::HasSubstr;
+using testing_support::ErrorOf;
+using testing_support::ScratchDir;
+
+Campaign Small() {
+  return CampaignFromJson(json::parse(R"({
+    "name": "export", "seed": 11, "duration_s": 4,
+    "trajectories": [{"name": "exp1", "joints": {"3": {"type": "sine_pair", "amplitude_deg": 25, "omega_rad_s": 1.2732}}}],
+    "faults": [{"family": "kt_degradation", "joint": 3, "kt_factor": 0.6, "onset_s": 1.0},
+               {"family": "friction_increase", "joint": 3, "friction_factor": 2.5, "onset_s": 1.5, "profile": "incipient",
+                "ramp_s": 0.5},
+               {"family": "kt_degradation", "joint": 1, "kt_factor": 0.6, "onset_s": 1.0}],
+    "healthy": 2
+  })"),
+                          "c.json", ".");
+}
+
+std::string Gunzip(const std::string& path) {
+  gzFile f = gzopen(path.c_str(), "rb");
+  EXPECT_NE(f, nullptr) << path;
+  std::string out;
+  char buf[65536];
+  int n;
+  while ((n = gzread(f, buf, sizeof buf)) > 0) out.append(buf, static_cast<size_t>(n));
+  gzclose(f);
+  return out;
+}
+
+std::vector<json> ReadLines(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::vector<json> out;
+  std::string line;
+  while (std::getline(in, line)) out.push_back(json::parse(line));
+  return out;
+}
+
+// Parses an exported run back into ticks of JointSignals.
+void ReadSignals(const std::string& csv, int joints, std::vector<double>* t_s, std::vector<std::vector<JointSignals>>* ticks) {
+  std::istringstream in(csv);
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line + "\n", SignalsCsvHeader(joints));
+  while (std::getline(in, line)) {
+    std::vector<double> v;
+    std::stringstream cells(line);
+    std::string cell;
+    while (std::getline(cells, cell, ',')) v.push_back(cell.empty() ? std::nan("") : std::stod(cell));
+    if (line.back() == ',') v.push_back(std::nan(""));
+    ASSERT_EQ(v.size(), 1 + 9 * static_cast<size_t>(joints));
+    t_s->push_back(v[0]);
+    std::vector<JointSignals> s(joints);
+    for (int j = 0; j < joints; ++j) {
+      const double* x = &v[1 + 9 * j];
+      s[j] = {x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], x[8]};
+    }
+    ticks->push_back(s);
+  }
+}
+
+TEST(Export, SignalsReplayedOfflineScoreAsTheLiveRun) {
+  const Campaign c = Small();
+  ScratchDir dir("export");
+  ExportOptions o;
+  o.output_dir = (dir.path() / "x").string();
+  o.threads = 2;
+  const ExportResult r = ExportCampaign(c, o);
+  ASSERT_EQ(r.runs, 5);
+  EXPECT_EQ(r.failed, 0);
+  const std::vector<json> manifest = ReadLines(dir.path() / "x" / "manifest.jsonl");
+  ASSERT_EQ(manifest.size(), 5u);
+  // The truth, and nothing of the monitor's.
+  EXPECT_EQ(manifest[0]["family"], "kt_degradation");
+  EXPECT_EQ(manifest[0]["joint"], 3);
+  EXPECT_EQ(manifest[0]["onset_s"], 1.0);
+  EXPECT_EQ(manifest[0]["magnitude"], 0.6);
+  EXPECT_EQ(manifest[0]["profile"], "abrupt");
+  EXPECT_EQ(manifest[1]["profile"], "incipient");
+  EXPECT_EQ(manifest[2]["excited"], false);  // joint 1 stands still in exp1
+  EXPECT_TRUE(manifest[3]["family"].is_null());
+  EXPECT_FALSE(manifest[0].contains("detected"));
+  EXPECT_FALSE(manifest[0].contains("decision"));
+  EXPECT_EQ(manifest[0]["signals"], "runs/000000.csv.gz");
+  EXPECT_EQ(manifest[0]["ticks"], 2001);  // 4 s at 500 Hz, both ends
+  std::ifstream csv(dir.path() / "x" / "manifest.csv");
+  std::string header;
+  std::getline(csv, header);
+  EXPECT_THAT(header, HasSubstr("case,run_id,split,signals,ticks"));
+
+  // Replay every run's exported signals through the built-in monitor, write its verdicts as an
+  // offline tool would, and score them: the diagnosis of the live run, field for field.
+  const auto& power = dynamic_cast<const PowerEfficiencyModel&>(*c.monitor_model);
+  std::ostringstream verdicts;
+  const int joints = static_cast<int>(c.robot.modules.size());
+  for (const json& m : manifest) {
+    std::vector<double> t_s;
+    std::vector<std::vector<JointSignals>> ticks;
+    ReadSignals(Gunzip((dir.path() / "x" / m["signals"].get<std::string>()).string()), joints, &t_s, &ticks);
+    ASSERT_EQ(t_s.size(), m["ticks"].get<size_t>());
+    PowerEfficiencyMonitor monitor(power.model());
+    for (size_t k = 0; k < t_s.size(); ++k) monitor.Observe(t_s[k], ticks[k]);
+    monitor.Finish(t_s.back());
+    for (const Verdict& v : monitor.output().verdicts) {
+      verdicts << json{{"run_id", m["run_id"]}, {"t_s", v.t_s},           {"joint", v.joint},
+                       {"family", v.family},    {"alarm", v.alarm},       {"magnitude", v.magnitude},
+                       {"magnitude_name", v.magnitude_name}, {"confidence", v.confidence}, {"state", HealthStateName(v.state)}}
+                      .dump()
+               << "\n";
+    }
+  }
+  const std::string verdicts_path = dir.Write("verdicts.jsonl", verdicts.str());
+  const ScoreResult s = ScoreExternalVerdicts(c, (dir.path() / "x").string(), verdicts_path, (dir.path() / "s").string());
+  EXPECT_EQ(s.runs, 5);
+  const std::vector<json> scored = ReadLines(dir.path() / "s" / "results.jsonl");
+  const std::vector<CaseSpec> cases = ExpandCases(c);
+  int detected = 0;
+  for (size_t k = 0; k < cases.size(); ++k) {
+    const json live = ToJson(RunCase(c, cases[k]));
+    for (const char* key : {"run_id", "family", "joint", "onset_s", "excited", "detected", "detection_time_s", "latency_s",
+                            "isolated_family", "isolated_joint", "magnitude_name", "magnitude_estimate",
+                            "alarm_before_onset", "status", "effect", "variation"}) {
+      EXPECT_EQ(scored[k][key], live[key]) << key << " of " << live["run_id"];
+    }
+    detected += live["detected"].get<bool>();
+  }
+  EXPECT_GE(detected, 2);  // the comparison is not between two empty diagnoses
+}
+
+TEST(Export, ShardsPartitionTheRunsAndTheSplitFollowsTheSeed) {
+  const Campaign c = Small();
+  ScratchDir dir("export_shards");
+  ExportOptions whole;
+  whole.output_dir = (dir.path() / "all").string();
+  whole.split = ParseSplit("0.5/0.25/0.25");
+  ExportCampaign(c, whole);
+  std::map<std::string, json> by_id;
+  for (const json& m : ReadLines(dir.path() / "all" / "manifest.jsonl")) by_id[m["run_id"]] = m;
+  size_t seen = 0;
+  for (int k = 0; k < 2; ++k) {
+    ExportOptions part = whole;
+    part.output_dir = (dir.path() / ("s" + std::to_string(k))).string();
+    part.shard = {k, 2};
+    ExportCampaign(c, part);
+    for (const json& m : ReadLines(dir.path() / ("s" + std::to_string(k)) / "manifest.jsonl")) {
+      ++seen;
+      EXPECT_EQ(m, by_id.at(m["run_id"]));
+      EXPECT_EQ(m["split"], SplitOf(whole.split, m["seed"].get<unsigned long long>()));
+      const std::string file = m["signals"];
+      EXPECT_EQ(Gunzip((dir.path() / ("s" + std::to_string(k)) / file).string()),
+                Gunzip((dir.path() / "all" / file).string()));
+    }
+  }
+  EXPECT_EQ(seen, by_id.size());
+  EXPECT_THAT(ErrorOf([] { ParseSplit("0.6/0.2"); }).message(), HasSubstr("got \"0.6/0.2\""));
+  EXPECT_THAT(ErrorOf([] { ParseSplit("0.6/0.3/0.2"); }).message(), HasSubstr("summing to 1"));
+}
+
+TEST(Score, BadVerdictLinesNameTheLine) {
+  const Campaign c = Small();
+  ScratchDir dir("score_bad");
+  ExportOptions o;
+  o.output_dir = (dir.path() / "x").string();
+  ExportCampaign(c, o);
+  const std::string id = ReadLines(dir.path() / "x" / "manifest.jsonl")[0]["run_id"];
+  auto error = [&](const std::string& bad) {
+    const std::string good = json{{"run_id", id}, {"t_s", 1.5}, {"joint", 3}, {"family", "kt_degradation"},
+                                  {"alarm", true}, {"magnitude", 0.6}}.dump();
+    const std::string path = dir.Write("v.jsonl", good + "\n" + bad + "\n");
+    return ErrorOf([&] { ScoreExternalVerdicts(c, (dir.path() / "x").string(), path, (dir.path() / "s").string()); }).what();
+  };
+  EXPECT_THAT(error(R"({"run_id": "nope", "t_s": 1, "joint": 3, "family": "", "alarm": false, "magnitude": 0})"),
+              HasSubstr("v.jsonl: line 2: unknown run_id \"nope\""));
+  EXPECT_THAT(error(json{{"run_id", id}, {"t_s", 9.0}, {"joint", 3}, {"family", ""}, {"alarm", false}, {"magnitude", 0}}.dump()),
+              HasSubstr("line 2: t_s 9 outside the run [0, 4] s"));
+  EXPECT_THAT(error(json{{"run_id", id}, {"t_s", 2.0}, {"joint", 3}, {"family", "gremlins"}, {"alarm", true}, {"magnitude", 1}}.dump()),
+              HasSubstr("line 2: unknown fault family \"gremlins\""));
+  EXPECT_THAT(error(json{{"run_id", id}, {"t_s", 2.0}, {"joint", 0}, {"family", ""}, {"alarm", false}, {"magnitude", 0}}.dump()),
+              HasSubstr("line 2: joint 0 does not exist (1..3)"));
+  EXPECT_THAT(error(json{{"run_id", id}, {"t_s", 2.0}, {"joint", 1}, {"family", ""}, {"alarm", "yes"}, {"magnitude", 0}}.dump()),
+              HasSubstr("line 2: /alarm: expected true or false"));
+  EXPECT_THAT(error("{not json"), HasSubstr("line 2: "));
+  EXPECT_THAT(error(json{{"run_id", id}, {"t_s", 2.0}, {"joint", 1}, {"alarm", false}, {"magnitud", 0}}.dump()),
+              HasSubstr("line 2: /magnitud"));
+  // Nothing written in place of a good output.
+  EXPECT_FALSE(std::filesystem::exists(dir.path() / "s" / "results.jsonl"));
+}
+
+}  // namespace
+}  // namespace armfault
