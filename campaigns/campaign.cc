@@ -707,68 +707,85 @@ void DrawVariation(const Campaign& c, Rng* rng, CaseSpec* cs) {
 
 }  // namespace
 
+namespace {
+
+// Runs of one fault entry: its value combinations x joints x repetitions.
+long EntryRuns(const Campaign& c, const FaultEntry& e) {
+  long n = static_cast<long>(e.joints.size()) * c.repetitions;
+  for (const auto& [key, sweep] : e.keys) n *= static_cast<long>(sweep.count());
+  return n;
+}
+
+}  // namespace
+
+CaseSpec CaseAt(const Campaign& c, long index) {
+  const long total = CaseCount(c);
+  if (index < 0 || index >= total) {
+    throw std::out_of_range("case " + std::to_string(index) + " of a campaign of " + std::to_string(total) + " runs");
+  }
+  long per_trajectory = c.healthy;
+  for (const FaultEntry& e : c.faults) per_trajectory += EntryRuns(c, e);
+  const size_t t = static_cast<size_t>(index / per_trajectory);
+  long r = index % per_trajectory;
+  const std::string& tname = c.trajectories[t].name;
+  CaseSpec cs;
+  cs.index = index;
+  cs.trajectory = t;
+  for (size_t ei = 0; ei < c.faults.size(); ++ei) {
+    const FaultEntry& e = c.faults[ei];
+    const long n = EntryRuns(c, e);
+    if (r >= n) {
+      r -= n;
+      continue;
+    }
+    // r = (values x joints + joint) x repetitions + repetition; values: last key fastest.
+    const int rep = static_cast<int>(r % c.repetitions);
+    r /= c.repetitions;
+    const int joint = e.joints[static_cast<size_t>(r % static_cast<long>(e.joints.size()))];
+    long combination = r / static_cast<long>(e.joints.size());
+    std::vector<size_t> at(e.keys.size(), 0);
+    for (size_t k = e.keys.size(); k-- > 0;) {
+      const long count = static_cast<long>(e.keys[k].second.count());
+      at[k] = static_cast<size_t>(combination % count);
+      combination /= count;
+    }
+    cs.repetition = rep;
+    std::string values, group = e.family;
+    for (size_t k = 0; k < e.keys.size(); ++k) {
+      const Sweep& s = e.keys[k].second;
+      std::string text = s.uniform ? "U[" + FormatNumber(s.low) + "," + FormatNumber(s.high) + "]" : ValueText(s.values[at[k]]);
+      if (s.uniform || s.values.size() > 1) values += (values.empty() ? "" : ",") + e.keys[k].first + "=" + text;
+      if (!kTimingKeys.count(e.keys[k].first)) group += " " + e.keys[k].first + "=" + text;
+    }
+    group += " joint=" + std::to_string(joint);
+    cs.run_id = tname + "/" + e.family + "#" + std::to_string(ei) + "/" + (values.empty() ? "-" : values) + "/j" +
+                std::to_string(joint) + "/r" + std::to_string(rep);
+    cs.group = group;
+    cs.seed = MixSeed(c.seed, Fnv1a(cs.run_id));
+    Rng rng(MixSeed(cs.seed, 0x7a71a710ULL));
+    nlohmann::json fault = {{"family", e.family}, {"joint", joint}};
+    for (size_t k = 0; k < e.keys.size(); ++k) {
+      const Sweep& s = e.keys[k].second;
+      fault[e.keys[k].first] = s.uniform ? nlohmann::json(s.low + (s.high - s.low) * rng.Uniform()) : s.values[at[k]];
+    }
+    cs.fault = fault;
+    DrawVariation(c, &rng, &cs);
+    return cs;
+  }
+  // The healthy runs, after every fault entry.
+  cs.run_id = tname + "/healthy/" + std::to_string(r);
+  cs.seed = MixSeed(c.seed, Fnv1a(cs.run_id));
+  Rng rng(MixSeed(cs.seed, 0x7a71a710ULL));
+  cs.fault = nullptr;
+  DrawVariation(c, &rng, &cs);
+  return cs;
+}
+
 std::vector<CaseSpec> ExpandCases(const Campaign& c) {
   std::vector<CaseSpec> cases;
-  cases.reserve(static_cast<size_t>(CaseCount(c)));
-  for (size_t t = 0; t < c.trajectories.size(); ++t) {
-    const std::string& tname = c.trajectories[t].name;
-    for (size_t ei = 0; ei < c.faults.size(); ++ei) {
-      const FaultEntry& e = c.faults[ei];
-      std::vector<size_t> at(e.keys.size(), 0);
-      while (true) {
-        for (int joint : e.joints) {
-          for (int rep = 0; rep < c.repetitions; ++rep) {
-            CaseSpec cs;
-            cs.index = static_cast<long>(cases.size());
-            cs.trajectory = t;
-            cs.repetition = rep;
-            std::string values, group = e.family;
-            for (size_t k = 0; k < e.keys.size(); ++k) {
-              const Sweep& s = e.keys[k].second;
-              std::string text = s.uniform ? "U[" + FormatNumber(s.low) + "," + FormatNumber(s.high) + "]"
-                                           : ValueText(s.values[at[k]]);
-              if (s.uniform || s.values.size() > 1) values += (values.empty() ? "" : ",") + e.keys[k].first + "=" + text;
-              if (!kTimingKeys.count(e.keys[k].first)) group += " " + e.keys[k].first + "=" + text;
-            }
-            group += " joint=" + std::to_string(joint);
-            cs.run_id = tname + "/" + e.family + "#" + std::to_string(ei) + "/" + (values.empty() ? "-" : values) +
-                        "/j" + std::to_string(joint) + "/r" + std::to_string(rep);
-            cs.group = group;
-            cs.seed = MixSeed(c.seed, Fnv1a(cs.run_id));
-            Rng rng(MixSeed(cs.seed, 0x7a71a710ULL));
-            nlohmann::json fault = {{"family", e.family}, {"joint", joint}};
-            for (size_t k = 0; k < e.keys.size(); ++k) {
-              const Sweep& s = e.keys[k].second;
-              fault[e.keys[k].first] = s.uniform ? nlohmann::json(s.low + (s.high - s.low) * rng.Uniform()) : s.values[at[k]];
-            }
-            cs.fault = fault;
-            DrawVariation(c, &rng, &cs);
-            cases.push_back(std::move(cs));
-          }
-        }
-        // odometer, last key fastest
-        size_t k = e.keys.size();
-        while (k > 0) {
-          --k;
-          if (++at[k] < e.keys[k].second.count()) break;
-          at[k] = 0;
-          if (k == 0) { k = SIZE_MAX; break; }
-        }
-        if (e.keys.empty() || k == SIZE_MAX) break;
-      }
-    }
-    for (int h = 0; h < c.healthy; ++h) {
-      CaseSpec cs;
-      cs.index = static_cast<long>(cases.size());
-      cs.trajectory = t;
-      cs.run_id = tname + "/healthy/" + std::to_string(h);
-      cs.seed = MixSeed(c.seed, Fnv1a(cs.run_id));
-      Rng rng(MixSeed(cs.seed, 0x7a71a710ULL));
-      cs.fault = nullptr;
-      DrawVariation(c, &rng, &cs);
-      cases.push_back(std::move(cs));
-    }
-  }
+  const long n = CaseCount(c);
+  cases.reserve(static_cast<size_t>(n));
+  for (long k = 0; k < n; ++k) cases.push_back(CaseAt(c, k));
   return cases;
 }
 

@@ -131,7 +131,12 @@ RobotConfig CaseRobot(const Campaign& campaign, const CaseSpec& spec);
 // The stated tolerances the monitor may know (with the friction spread and ambient range).
 StatedTolerances StatedOf(const Campaign& campaign);
 
-// All cases in order. Memory: one small record per case.
+// Case `index` (0 <= index < CaseCount) from the campaign and the index alone: its mixed-radix
+// position in trajectory x (fault entry: values x joint x repetition, then healthy runs).
+// Nothing is held per case, so counting, shard selection, resume and merge stay flat in
+// memory whatever the campaign's size. Throws std::out_of_range outside [0, CaseCount).
+CaseSpec CaseAt(const Campaign& campaign, long index);
+// All cases in order (CaseAt of every index): for small campaigns and tests.
 std::vector<CaseSpec> ExpandCases(const Campaign& campaign);
 // The number of cases, without expanding.
 long CaseCount(const Campaign& campaign);

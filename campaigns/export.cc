@@ -174,35 +174,31 @@ std::string SplitOf(const SplitSpec& split, unsigned long long seed) {
 ExportResult ExportCampaign(const Campaign& campaign, const ExportOptions& o) {
   const fs::path dir(o.output_dir);
   fs::create_directories(dir / "runs");
-  std::vector<CaseSpec> all = ExpandCases(campaign);
-  std::vector<const CaseSpec*> mine;
-  for (const CaseSpec& c : all) {
-    if (o.shard.Contains(c.index)) mine.push_back(&c);
-  }
+  const long mine = o.shard.Size(CaseCount(campaign));  // cases by index: nothing held per case
   const int joints = static_cast<int>(campaign.robot.modules.size());
   TmpFile manifest(dir / "manifest.jsonl");
   TmpFile manifest_csv(dir / "manifest.csv");
   manifest_csv.out << ManifestCsvHeader();
   ExportResult out;
   long done = 0;
-  if (o.progress) o.progress(0, static_cast<long>(mine.size()));
+  if (o.progress) o.progress(0, mine);
 
   UnitMonitors units(campaign);
   const int threads = o.threads > 0 ? o.threads : tbb::this_task_arena::max_concurrency();
   tbb::task_arena arena(threads);
   arena.execute([&] {
-    size_t cursor = 0;
+    long cursor = 0;
     tbb::parallel_pipeline(
         static_cast<size_t>(4 * threads),
-        tbb::make_filter<void, size_t>(tbb::filter_mode::serial_in_order,
-                                       [&](tbb::flow_control& fc) -> size_t {
-                                         if (cursor >= mine.size()) fc.stop();
-                                         return cursor++;
-                                       }) &
-            tbb::make_filter<size_t, nlohmann::json>(
+        tbb::make_filter<void, long>(tbb::filter_mode::serial_in_order,
+                                     [&](tbb::flow_control& fc) -> long {
+                                       if (cursor >= mine) fc.stop();
+                                       return cursor++;
+                                     }) &
+            tbb::make_filter<long, nlohmann::json>(
                 tbb::filter_mode::parallel,
-                [&](size_t k) {
-                  const CaseSpec& cs = *mine[k];
+                [&](long k) {
+                  const CaseSpec cs = CaseAt(campaign, o.shard.CaseIndex(k));
                   const std::string file = CaseFileName(cs.index);
                   SignalsWriter writer(dir / file, joints);
                   double end_s = 0;
@@ -226,7 +222,7 @@ ExportResult ExportCampaign(const Campaign& campaign, const ExportOptions& o) {
               if (m["status"] != "ok") ++out.failed;
               ++out.runs;
               ++done;
-              if (o.progress) o.progress(done, static_cast<long>(mine.size()));
+              if (o.progress) o.progress(done, mine);
             }));
   });
   WriteAtomically(dir / "campaign.json", CampaignFileJson(campaign, o.shard).dump(2) + "\n");

@@ -59,16 +59,16 @@ void RequireOneCampaign(const std::vector<CampaignClaim>& claims) {
   }
 }
 
-CaseMatcher::CaseMatcher(const Campaign& campaign) {
-  for (const CaseSpec& spec : ExpandCases(campaign)) cases_.emplace_back(spec.run_id, spec.seed);
-}
+CaseMatcher::CaseMatcher(const Campaign& campaign) : campaign_(campaign), count_(CaseCount(campaign)) {}
 
 std::string CaseMatcher::Mismatch(const RunRecord& r) const {
-  if (r.case_index < 0 || r.case_index >= static_cast<long>(cases_.size())) {
+  if (r.case_index < 0 || r.case_index >= count_) {
     return "case " + std::to_string(r.case_index) + " (run \"" + r.run_id + "\") is not one of the campaign's " +
-           std::to_string(cases_.size()) + " cases";
+           std::to_string(count_) + " cases";
   }
-  const auto& [run_id, seed] = cases_[static_cast<size_t>(r.case_index)];
+  const CaseSpec spec = CaseAt(campaign_, r.case_index);
+  const std::string& run_id = spec.run_id;
+  const uint64_t seed = spec.seed;
   if (run_id != r.run_id) {
     return "case " + std::to_string(r.case_index) + " is run \"" + r.run_id + "\" here but \"" + run_id +
            "\" in the campaign";

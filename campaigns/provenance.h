@@ -54,12 +54,14 @@ void RequireOneCampaign(const std::vector<CampaignClaim>& claims);
 // index. Keeps one (run_id, seed) pair per case.
 class CaseMatcher {
  public:
+  // Keeps a reference to `campaign`: computes each case from its index (CaseAt), holding none.
   explicit CaseMatcher(const Campaign& campaign);
   // Empty when `r` is case r.case_index of the campaign, else why not (for a message).
   std::string Mismatch(const RunRecord& r) const;
 
  private:
-  std::vector<std::pair<std::string, uint64_t>> cases_;
+  const Campaign& campaign_;
+  long count_;
 };
 
 }  // namespace armfault

@@ -23,6 +23,9 @@ struct ShardSpec {
   int index = 0;  // 0-based
   int count = 1;
   bool Contains(long case_index) const { return case_index % count == index; }
+  // The shard's cases of a campaign of `total`: how many, and the k-th (k from 0) by index.
+  long Size(long total) const { return total > index ? (total - index + count - 1) / count : 0; }
+  long CaseIndex(long k) const { return index + k * count; }
 };
 
 struct RunnerOptions {
