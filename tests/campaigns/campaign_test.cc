@@ -268,6 +268,72 @@ TEST(CampaignRunner, ResultsAreIdenticalForAnyThreadCount) {
   const auto [a, b] = RunOnOneAndTwoThreads(Quick(), dir);
   EXPECT_EQ(a, b);
   EXPECT_EQ(std::count(a.begin(), a.end(), '\n'), 16);
+  EXPECT_EQ(ReadAll(dir.path() / "j1" / "decisions.jsonl"), ReadAll(dir.path() / "j2" / "decisions.jsonl"));
+}
+
+std::vector<std::string> Lines(const std::string& text) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line)) out.push_back(line);
+  return out;
+}
+
+TEST(CampaignRunner, DecisionsGoToTheirOwnFileInTheOrderOfTheResults) {
+  ScratchDir dir("decisions");
+  const Campaign c = Quick();
+  RunnerOptions o;
+  o.output_dir = dir.path().string();
+  o.threads = 2;
+  RunCampaign(c, o);
+  const std::vector<std::string> results = Lines(ReadAll(dir.path() / "results.jsonl"));
+  const std::vector<std::string> decisions = Lines(ReadAll(dir.path() / "decisions.jsonl"));
+  ASSERT_EQ(results.size(), 16u);
+  ASSERT_EQ(decisions.size(), results.size());
+  const std::vector<CaseSpec> cases = ExpandCases(c);
+  for (size_t k = 0; k < results.size(); ++k) {
+    const json r = json::parse(results[k]);
+    // results.jsonl stays small: no decision statistics, about 1 kB a run.
+    EXPECT_FALSE(r.contains("decision")) << k;
+    EXPECT_LT(results[k].size(), 1500u) << r["run_id"];
+    const json d = json::parse(decisions[k]);
+    EXPECT_EQ(d.size(), 3u) << decisions[k].substr(0, 200);
+    EXPECT_EQ(d["case_index"], r["case"]);
+    EXPECT_EQ(d["run_id"], r["run_id"]);
+    EXPECT_EQ(d["run_id"], cases[k].run_id);
+    ASSERT_TRUE(d["decision"].is_object()) << k;
+    EXPECT_TRUE(d["decision"].contains("traces")) << k;
+    // The decision line is the record's, as RunCase makes it (trace --run relies on RunCase).
+    if (k == 0) EXPECT_EQ(DecisionLineJson(RunCase(c, cases[k])).dump(), decisions[k]);
+  }
+  // An older line with the decision inline still reads, keeping it.
+  json old = json::parse(results[0]);
+  old["decision"] = json::parse(decisions[0])["decision"];
+  const RunRecord from_old = RunRecordFromJson(old);
+  EXPECT_EQ(from_old.decision, old["decision"]);
+  EXPECT_EQ(ToJson(from_old).dump(), results[0]);  // and writes it back without
+}
+
+// The message of the std::runtime_error `f` throws.
+template <class F>
+std::string ErrorMessageOf(F&& f) {
+  try {
+    f();
+  } catch (const std::runtime_error& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "no error thrown";
+  return "";
+}
+
+TEST(CampaignRunner, ADecisionLineMustHaveItsKeys) {
+  EXPECT_THAT(ErrorMessageOf([] { DecisionLineFromJson(json::parse(R"({"case_index": 1, "decision": {}})")); }),
+              HasSubstr("\"run_id\""));
+  EXPECT_THAT(ErrorMessageOf([] { DecisionLineFromJson(json::parse(R"({"case_index": 1, "run_id": "a", "decision": 3})")); }),
+              HasSubstr("\"decision\" has the wrong type"));
+  const DecisionLine d = DecisionLineFromJson(json::parse(R"({"case_index": 4, "run_id": "a", "decision": null})"));
+  EXPECT_EQ(d.case_index, 4);
+  EXPECT_TRUE(d.decision.is_null());
 }
 
 // A fleet: datasheet tolerances, 4 units, 15-40 °C, commissioning.
@@ -363,6 +429,13 @@ TEST(CampaignRunner, ShardsPartitionTheCases) {
   EXPECT_EQ(total, 16);
 }
 
+// The first `lines` lines of `text`, then `extra` bytes of the next one.
+std::string Head(const std::string& text, int lines, size_t extra = 0) {
+  size_t pos = 0;
+  for (int k = 0; k < lines; ++k) pos = text.find('\n', pos) + 1;
+  return text.substr(0, pos) + text.substr(pos, extra);
+}
+
 TEST(CampaignRunner, ResumeAfterACutCompletesWithTheSameBytes) {
   ScratchDir dir("resume");
   const Campaign c = Quick();
@@ -370,19 +443,50 @@ TEST(CampaignRunner, ResumeAfterACutCompletesWithTheSameBytes) {
   o.output_dir = (dir.path() / "full").string();
   RunCampaign(c, o);
   const std::string full = ReadAll(dir.path() / "full" / "results.jsonl");
+  const std::string full_decisions = ReadAll(dir.path() / "full" / "decisions.jsonl");
 
-  // As if killed mid-write: 5 complete lines and half of the sixth.
+  // As if killed mid-write: 5 complete lines and half of the sixth, in each file.
   o.output_dir = (dir.path() / "cut").string();
   RunCampaign(c, o);
-  size_t pos = 0;
-  for (int k = 0; k < 5; ++k) pos = full.find('\n', pos) + 1;
-  std::ofstream(dir.path() / "cut" / "results.jsonl", std::ios::binary | std::ios::trunc)
-      << full.substr(0, pos) << full.substr(pos, 40);
+  std::ofstream(dir.path() / "cut" / "results.jsonl", std::ios::binary | std::ios::trunc) << Head(full, 5, 40);
+  std::ofstream(dir.path() / "cut" / "decisions.jsonl", std::ios::binary | std::ios::trunc) << Head(full_decisions, 5, 300);
   o.resume = true;
   const RunnerResult r = RunCampaign(c, o);
   EXPECT_EQ(r.resumed, 5);
   EXPECT_EQ(r.ran, 11);
   EXPECT_EQ(ReadAll(dir.path() / "cut" / "results.jsonl"), full);
+  EXPECT_EQ(ReadAll(dir.path() / "cut" / "decisions.jsonl"), full_decisions);
+
+  // Each way a kill can leave the two files (the decision line is written first): the
+  // longest prefix both hold is kept, and the rest run again, to the same bytes.
+  struct Cut {
+    int results, decisions;                  // complete lines kept
+    size_t results_extra, decisions_extra;   // bytes of the cut line after them
+    long resumed;
+  };
+  for (const Cut& cut : {Cut{7, 8, 0, 0, 7},       // killed between the two writes
+                         Cut{7, 7, 0, 120, 7},     // killed in the decision line
+                         Cut{7, 8, 25, 0, 7},      // killed in the results line
+                         Cut{9, 4, 0, 10, 4},      // decisions behind (edited by hand): their prefix
+                         Cut{16, 16, 0, 0, 16}}) {  // complete: nothing runs again
+    std::ofstream(dir.path() / "cut" / "results.jsonl", std::ios::binary | std::ios::trunc)
+        << Head(full, cut.results, cut.results_extra);
+    std::ofstream(dir.path() / "cut" / "decisions.jsonl", std::ios::binary | std::ios::trunc)
+        << Head(full_decisions, cut.decisions, cut.decisions_extra);
+    const RunnerResult again = RunCampaign(c, o);
+    EXPECT_EQ(again.resumed, cut.resumed) << cut.results << "/" << cut.decisions;
+    EXPECT_EQ(again.ran, 16 - cut.resumed);
+    EXPECT_EQ(ReadAll(dir.path() / "cut" / "results.jsonl"), full) << cut.results << "/" << cut.decisions;
+    EXPECT_EQ(ReadAll(dir.path() / "cut" / "decisions.jsonl"), full_decisions) << cut.results << "/" << cut.decisions;
+  }
+  // No decisions.jsonl beside a results.jsonl (removed, or an older armfault's directory):
+  // nothing is kept, and everything runs again.
+  std::filesystem::remove(dir.path() / "cut" / "decisions.jsonl");
+  const RunnerResult rerun = RunCampaign(c, o);
+  EXPECT_EQ(rerun.resumed, 0);
+  EXPECT_EQ(rerun.ran, 16);
+  EXPECT_EQ(ReadAll(dir.path() / "cut" / "results.jsonl"), full);
+  EXPECT_EQ(ReadAll(dir.path() / "cut" / "decisions.jsonl"), full_decisions);
 
   // Resuming a directory of another campaign is refused.
   json other = Small();
