@@ -36,12 +36,18 @@ int main(int argc, char** argv) {
   armfault::CampaignRunOptions campaign_run;
   CLI::App* run_cmd = app.add_subcommand("run", "run a campaign (default: the built-in thesis sweep) and score the monitor");
   run_cmd->add_option("campaign", campaign_run.campaign_file, "campaign JSON file (default: the built-in thesis sweep)");
-  run_cmd->add_option("-o,--output-dir", campaign_run.output_dir, "output directory")->capture_default_str();
+  run_cmd->add_option("-o,--output-dir", campaign_run.output_dir,
+                      "output directory: campaign.json, results.jsonl (one line per run), decisions.jsonl (what `tune` "
+                      "reads), results.csv, summary.json, junit.xml")
+      ->capture_default_str();
   run_cmd->add_option("-j,--jobs", campaign_run.threads, "threads (0: all cores)")->capture_default_str();
   run_cmd->add_option("--shard", campaign_run.shard, "run shard K of N (K/N, K from 0); default from SLURM_ARRAY_TASK_ID/COUNT or JOB_COMPLETION_INDEX");
   run_cmd->add_option("--shard-count", campaign_run.shard_count, "shard count N with JOB_COMPLETION_INDEX (Kubernetes Indexed Job)");
   run_cmd->add_flag("--resume", campaign_run.resume, "continue an interrupted run in the same output directory");
   run_cmd->add_flag("-q,--quiet", campaign_run.quiet, "no progress output");
+  run_cmd->add_flag("--summary-only", campaign_run.summary_only,
+                    "small CI artefacts: after the summary, remove decisions.jsonl and results.csv, leaving "
+                    "campaign.json, results.jsonl, summary.json and junit.xml (report and diff work; tune does not)");
 
   std::string validate_file;
   CLI::App* validate_cmd = app.add_subcommand("validate", "check a campaign file and print its run count");
