@@ -189,6 +189,41 @@ TEST(CampaignParseAllErrors, ValuesOfOneEntryAreCheckedPastABadNeighbour) {
                                    "c.json: /faults/0/kt_factor/2: kt_degradation: 1.7 is outside [0, 1]"));
 }
 
+TEST(CampaignParseAllErrors, EveryBadKeyOfOneTrajectoryOrFaultEntryAtOnce) {
+  // Within one trajectory or fault entry each key is checked on its own: a bad or unknown
+  // key does not hide the next one until it is fixed.
+  json bad = Small();
+  bad["trajectories"] = json::parse(R"([
+    {"name": "a", "joints": {"3": {"type": "sine_pair", "amplitude_deg": "x", "omega_rad_s": -1, "offset_deg": "y"}}},
+    {"name": "b", "joints": {"3": {"type": "hold", "angle_deg": "z", "angel_deg": 1}}},
+    {"name": "c", "joints": {"3": {"type": "cosine_ramp", "amplitde_deg": 20, "period_s": 0}}},
+    {"name": "d", "joints": {"3": {"type": "min_jerk", "waypoints": [[0, 0], [1]], "foo": 1}}}])");
+  bad["faults"] = json::parse(R"([
+    {"family": "inverter_short", "joint": 3, "kind": "phase_phse", "resistance_ohm": -1},
+    {"family": "brake_lock", "joint": 3, "drag_fraction": 2, "onset_s": -1, "profile": "bogus", "ramp_s": -2},
+    {"family": "kt_degradation", "joint": 3, "kt_factr": 0.5, "onset_s": 1, "profile": "abrupt", "ramp_s": 1}])");
+  EXPECT_THAT(Texts(ErrorOf([&] { Parse(bad); })),
+              testing::ElementsAre(
+                  "c.json: /trajectories/0/joints/3/amplitude_deg: expected a number, got string \"x\"",
+                  "c.json: /trajectories/0/joints/3/omega_rad_s: -1 must be greater than 0",
+                  "c.json: /trajectories/0/joints/3/offset_deg: expected a number, got string \"y\"",
+                  "c.json: /trajectories/1/joints/3/angel_deg: unknown key \"angel_deg\"; did you mean \"angle_deg\"?",
+                  "c.json: /trajectories/1/joints/3/angle_deg: expected a number, got string \"z\"",
+                  // A key missing beside an unknown one is that one misspelt: not reported twice.
+                  "c.json: /trajectories/2/joints/3/amplitde_deg: unknown key \"amplitde_deg\"; did you mean \"amplitude_deg\"?",
+                  "c.json: /trajectories/2/joints/3/period_s: 0 must be greater than 0",
+                  "c.json: /trajectories/3/joints/3/foo: unknown key \"foo\"",
+                  "c.json: /trajectories/3/joints/3/waypoints/1: expected a [time_s, angle_deg] pair, got [1]",
+                  "c.json: /faults/0/kind: inverter_short: unknown kind \"phase_phse\" (known: phase_phase, phase_ground, switch)",
+                  "c.json: /faults/0/resistance_ohm: inverter_short: -1 is outside [0.001, 1000]",
+                  "c.json: /faults/1/onset_s: brake_lock: -1 is below the minimum 0",
+                  "c.json: /faults/1/profile: brake_lock: unknown profile \"bogus\" (known: abrupt, incipient, intermittent)",
+                  "c.json: /faults/1/ramp_s: brake_lock: -2 must be greater than 0",
+                  "c.json: /faults/1/drag_fraction: brake_lock: 2 is outside [0, 1]",
+                  "c.json: /faults/2/kt_factr: kt_degradation: unknown key \"kt_factr\"; did you mean \"kt_factor\"?",
+                  "c.json: /faults/2/ramp_s: kt_degradation: ramp_s does not apply to the abrupt profile"));
+}
+
 TEST(CampaignParseAllErrors, DependentChecksAreSkipped) {
   // A bad robot: trajectories are not checked against its joints and fault values not
   // through the family (both need it), but their own shape still is.
