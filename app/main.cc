@@ -56,7 +56,10 @@ int main(int argc, char** argv) {
   armfault::MergeOptions merge;
   CLI::App* merge_cmd = app.add_subcommand("merge", "join the output directories of `run --shard K/N` into one, as an unsharded run");
   merge_cmd->add_option("dirs", merge.input_dirs, "the output directory of every shard 0..N-1")->required();
-  merge_cmd->add_option("-o,--output-dir", merge.output_dir, "output directory")->required();
+  merge_cmd->add_option("-o,--output-dir", merge.output_dir,
+                        "output directory: campaign.json, results.jsonl, decisions.jsonl, results.csv, summary.json, "
+                        "junit.xml, as an unsharded run writes them")
+      ->required();
 
   int bench_repeats = 10;
   CLI::App* bench_cmd = app.add_subcommand("bench", "cost of a run against bare ODE stepping, and parallel throughput");
@@ -93,7 +96,10 @@ int main(int argc, char** argv) {
   CLI::App* tune_cmd = app.add_subcommand(
       "tune", "re-score monitor thresholds from a campaign's stored decision statistics (no new simulation); "
               "writes DIR/tuning.json and a tuned monitor JSON");
-  tune_cmd->add_option("dir", tune.dir, "campaign output directory")->required();
+  tune_cmd->add_option("dir", tune.dir,
+                       "campaign output directory: reads decisions.jsonl (or, from an older armfault, the decisions "
+                       "inline in results.jsonl)")
+      ->required();
   tune_cmd->add_option("--sweep", tune.sweep, "worn limits to sweep, e.g. kt_factor.worn=0.85:0.99:15,friction_factor.worn=1.3");
   tune_cmd->add_option("--rule", tune.rule, "operating point: max_detection (under --false-alarm-ceiling), youden, min_cost")
       ->capture_default_str();

@@ -349,7 +349,8 @@ TEST(CampaignMergeFiles, TrajectoryFilesAreNotNeededToMerge) {
   }
   fs::remove(dir.path() / "campaign" / "ramp.csv");
   MergeShards(shards, (dir.path() / "merged").string());
-  for (const char* f : {"campaign.json", "results.jsonl"}) {
+  // Two shards, merged: both files are the unsharded run's, byte for byte.
+  for (const char* f : {"campaign.json", "results.jsonl", "decisions.jsonl"}) {
     EXPECT_EQ(ReadAll(dir.path() / "merged" / f), ReadAll(dir.path() / "full" / f)) << f;
   }
 }
