@@ -124,7 +124,7 @@ void PrintWarnings(const std::string& campaign_file, const Campaign& campaign) {
 
 }  // namespace
 
-int FinishCampaignOutputs(const std::string& dir_name, const Campaign& campaign) {
+int FinishCampaignOutputs(const std::string& dir_name, const Campaign& campaign, bool write_csv) {
   const fs::path dir(dir_name);
   SummaryBuilder builder(campaign.include_not_excited);
   {
@@ -132,23 +132,38 @@ int FinishCampaignOutputs(const std::string& dir_name, const Campaign& campaign)
     // results.csv streams beside the summary (one row at a time: flat in campaign size), into a
     // temporary file renamed at the end, so a crash never leaves half of one.
     const fs::path csv_tmp = dir / "results.csv.tmp";
-    std::ofstream csv(csv_tmp, std::ios::binary | std::ios::trunc);
-    csv << ResultsCsvHeader();
+    std::ofstream csv;
+    if (write_csv) {
+      csv.open(csv_tmp, std::ios::binary | std::ios::trunc);
+      csv << ResultsCsvHeader();
+    }
     std::string line;
     long n = 0;
+    long previous_case = -1;
     while (std::getline(in, line)) {
       ++n;
       try {
         const RunRecord record = RunRecordFromJson(nlohmann::json::parse(line));
+        // The runner and merge write each case once, in case order: a case again (or out of
+        // order) means two writers shared the directory; counting it twice would lie.
+        if (record.case_index <= previous_case) {
+          throw std::runtime_error("case " + std::to_string(record.case_index) + " (run \"" + record.run_id +
+                                   "\") comes after case " + std::to_string(previous_case) +
+                                   ": a run appears twice or out of order (did two commands write into this "
+                                   "directory?); run the campaign again into an empty directory");
+        }
+        previous_case = record.case_index;
         builder.Add(record);
-        csv << ResultsCsvRow(record);
+        if (write_csv) csv << ResultsCsvRow(record);
       } catch (const std::exception& e) {
         throw InputError((dir / "results.jsonl").string(), "", "line " + std::to_string(n) + ": " + e.what());
       }
     }
-    csv.close();
-    if (!csv) throw InputError(csv_tmp.string(), "", "cannot write the file");
-    fs::rename(csv_tmp, dir / "results.csv");
+    if (write_csv) {
+      csv.close();
+      if (!csv) throw InputError(csv_tmp.string(), "", "cannot write the file");
+      fs::rename(csv_tmp, dir / "results.csv");
+    }
   }
   const std::vector<FloorVerdict> verdicts = builder.Verdicts(campaign.floors);
   if (builder.not_excited_runs() > 0) {
@@ -211,6 +226,11 @@ int RunCampaignCommand(const CampaignRunOptions& o) {
   ro.stop = &g_stop;
   std::signal(SIGINT, OnInterrupt);
   std::signal(SIGTERM, OnInterrupt);
+  // One writer per directory: a second `run` into it would interleave its lines with ours.
+  const OutputLock lock(o.output_dir, "armfault run " + (o.campaign_file.empty() ? std::string("(built-in)") : o.campaign_file) +
+                                          (ro.shard.count > 1 ? " --shard " + std::to_string(ro.shard.index) + "/" +
+                                                                    std::to_string(ro.shard.count)
+                                                              : ""));
   const RunnerResult r = RunCampaign(campaign, ro);
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);
@@ -227,12 +247,27 @@ int RunCampaignCommand(const CampaignRunOptions& o) {
     return 130;
   }
   std::printf("ran %ld runs in %.1f s (%ld resumed, %ld failed)\n", r.ran, seconds, r.resumed, r.failed);
-  const int status = FinishCampaignOutputs(o.output_dir, campaign);
-  std::printf("wrote %s/results.jsonl, results.csv, summary.json, junit.xml\n", o.output_dir.c_str());
+  const int status = FinishCampaignOutputs(o.output_dir, campaign, !o.summary_only);
+  if (o.summary_only) {
+    // Small CI artefacts: decisions.jsonl is most of the bytes and only `tune` reads it;
+    // results.csv repeats results.jsonl, which diff and report need. A stale csv goes too.
+    const fs::path dir(o.output_dir);
+    std::error_code ec;
+    for (const char* name : {"decisions.jsonl", "results.csv"}) {
+      if (!fs::remove(dir / name, ec) && ec) throw InputError((dir / name).string(), "", "cannot remove: " + ec.message());
+    }
+    std::printf("wrote %s/results.jsonl, summary.json, junit.xml (--summary-only: decisions.jsonl and results.csv removed)\n",
+                o.output_dir.c_str());
+  } else {
+    std::printf("wrote %s/results.jsonl, decisions.jsonl, results.csv, summary.json, junit.xml\n", o.output_dir.c_str());
+  }
   if (!o.quiet) {
-    std::printf("next: armfault report %s  (the results as one page)\n"
-                "      armfault tune %s    (thresholds re-scored from these runs)\n",
-                o.output_dir.c_str(), o.output_dir.c_str());
+    std::printf("next: armfault report %s  (the results as one page)\n", o.output_dir.c_str());
+    if (o.summary_only) {
+      std::printf("      (not tune: --summary-only removed the decision statistics it re-scores; run without it to tune)\n");
+    } else {
+      std::printf("      armfault tune %s    (thresholds re-scored from these runs)\n", o.output_dir.c_str());
+    }
   }
   return status;
 }

@@ -55,9 +55,12 @@ struct CampaignRunOptions {
   int shard_count = 0;         // with JOB_COMPLETION_INDEX
   bool resume = false;
   bool quiet = false;
+  // CI artefacts: once the summary is written, remove decisions.jsonl (only `tune` reads it)
+  // and results.csv (a flat copy of results.jsonl); results.jsonl stays for diff and report.
+  bool summary_only = false;
 };
-// Runs a campaign and writes DIR/{campaign.json, results.jsonl, summary.json, junit.xml}.
-// 0 all floors met, 1 a floor missed, 3 some runs failed.
+// Runs a campaign and writes DIR/{campaign.json, results.jsonl, decisions.jsonl, results.csv,
+// summary.json, junit.xml}. 0 all floors met, 1 a floor missed, 3 some runs failed.
 int RunCampaignCommand(const CampaignRunOptions& options);
 // The shard a command runs: --shard K/N, else SLURM_ARRAY_TASK_ID/COUNT, else
 // JOB_COMPLETION_INDEX with --shard-count, else the whole campaign. Errors name the option.
@@ -86,9 +89,10 @@ struct ScoreCommandOptions {
 // does, with the same floors and exit status.
 int ScoreCommand(const ScoreCommandOptions& options);
 
-// Writes summary.json and junit.xml from DIR/results.jsonl; prints the floors; exit status.
+// Writes summary.json, junit.xml and (with `csv`) results.csv from DIR/results.jsonl; prints
+// the floors; exit status.
 struct Campaign;
-int FinishCampaignOutputs(const std::string& dir, const Campaign& campaign);
+int FinishCampaignOutputs(const std::string& dir, const Campaign& campaign, bool csv = true);
 int ValidateCommand(const std::string& campaign_file);
 
 struct MergeOptions {

@@ -31,6 +31,7 @@ int ExportCommand(const ExportCommandOptions& o) {
       std::fprintf(stderr, "export: %ld/%ld runs\n", done, total);
     };
   }
+  const OutputLock lock(o.output_dir, "armfault export " + o.campaign_file);
   const ExportResult r = ExportCampaign(campaign, eo);
   std::printf("exported %ld runs of %s (%ld failed) -> %s/manifest.jsonl, manifest.csv, runs/*.csv.gz\n", r.runs,
               campaign.name.c_str(), r.failed, o.output_dir.c_str());
@@ -51,6 +52,7 @@ int ScoreCommand(const ScoreCommandOptions& o) {
   }
   const Campaign campaign = CampaignFromJson(file["campaign"], campaign_path.string(), o.dir);
   const std::string out = o.output_dir.empty() ? (fs::path(o.dir) / "scored").string() : o.output_dir;
+  const OutputLock lock(out, "armfault score " + o.dir + " " + o.verdicts_file);
   const ScoreResult r = ScoreExternalVerdicts(campaign, o.dir, o.verdicts_file, out);
   std::printf("scored %ld verdicts on %ld runs (%ld runs without a verdict) -> %s\n", r.verdicts, r.runs,
               r.runs_without_verdicts, out.c_str());

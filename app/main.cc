@@ -36,12 +36,18 @@ int main(int argc, char** argv) {
   armfault::CampaignRunOptions campaign_run;
   CLI::App* run_cmd = app.add_subcommand("run", "run a campaign (default: the built-in thesis sweep) and score the monitor");
   run_cmd->add_option("campaign", campaign_run.campaign_file, "campaign JSON file (default: the built-in thesis sweep)");
-  run_cmd->add_option("-o,--output-dir", campaign_run.output_dir, "output directory")->capture_default_str();
+  run_cmd->add_option("-o,--output-dir", campaign_run.output_dir,
+                      "output directory: campaign.json, results.jsonl (one line per run), decisions.jsonl (what `tune` "
+                      "reads), results.csv, summary.json, junit.xml")
+      ->capture_default_str();
   run_cmd->add_option("-j,--jobs", campaign_run.threads, "threads (0: all cores)")->capture_default_str();
   run_cmd->add_option("--shard", campaign_run.shard, "run shard K of N (K/N, K from 0); default from SLURM_ARRAY_TASK_ID/COUNT or JOB_COMPLETION_INDEX");
   run_cmd->add_option("--shard-count", campaign_run.shard_count, "shard count N with JOB_COMPLETION_INDEX (Kubernetes Indexed Job)");
   run_cmd->add_flag("--resume", campaign_run.resume, "continue an interrupted run in the same output directory");
   run_cmd->add_flag("-q,--quiet", campaign_run.quiet, "no progress output");
+  run_cmd->add_flag("--summary-only", campaign_run.summary_only,
+                    "small CI artefacts: after the summary, remove decisions.jsonl and results.csv, leaving "
+                    "campaign.json, results.jsonl, summary.json and junit.xml (report and diff work; tune does not)");
 
   armfault::ExportCommandOptions export_options;
   CLI::App* export_cmd = app.add_subcommand(
@@ -71,7 +77,10 @@ int main(int argc, char** argv) {
   armfault::MergeOptions merge;
   CLI::App* merge_cmd = app.add_subcommand("merge", "join the output directories of `run --shard K/N` into one, as an unsharded run");
   merge_cmd->add_option("dirs", merge.input_dirs, "the output directory of every shard 0..N-1")->required();
-  merge_cmd->add_option("-o,--output-dir", merge.output_dir, "output directory")->required();
+  merge_cmd->add_option("-o,--output-dir", merge.output_dir,
+                        "output directory: campaign.json, results.jsonl, decisions.jsonl, results.csv, summary.json, "
+                        "junit.xml, as an unsharded run writes them")
+      ->required();
 
   int bench_repeats = 10;
   CLI::App* bench_cmd = app.add_subcommand("bench", "cost of a run against bare ODE stepping, and parallel throughput");
@@ -108,7 +117,10 @@ int main(int argc, char** argv) {
   CLI::App* tune_cmd = app.add_subcommand(
       "tune", "re-score monitor thresholds from a campaign's stored decision statistics (no new simulation); "
               "writes DIR/tuning.json and a tuned monitor JSON");
-  tune_cmd->add_option("dir", tune.dir, "campaign output directory")->required();
+  tune_cmd->add_option("dir", tune.dir,
+                       "campaign output directory: reads decisions.jsonl (or, from an older armfault, the decisions "
+                       "inline in results.jsonl)")
+      ->required();
   tune_cmd->add_option("--sweep", tune.sweep, "worn limits to sweep, e.g. kt_factor.worn=0.85:0.99:15,friction_factor.worn=1.3");
   tune_cmd->add_option("--rule", tune.rule, "operating point: max_detection (under --false-alarm-ceiling), youden, min_cost")
       ->capture_default_str();

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <memory>
 
+#include "campaigns/run_record.h"
 #include "campaigns/runner.h"
 #include "core/base/json_input.h"
 
@@ -16,12 +17,14 @@ namespace fs = std::filesystem;
 
 struct ShardInput {
   fs::path dir;
-  std::string campaign_path, results_path;
+  std::string campaign_path, results_path, decisions_path;
   nlohmann::json file;  // campaign.json
   int index = 0, count = 1;
   long cases = 0;       // the whole campaign's
-  std::unique_ptr<std::ifstream> in;
-  long line = 0;        // lines read so far, for messages
+  // No decisions.jsonl: an older armfault's shard, whose results lines carry "decision".
+  bool inline_decisions = false;
+  std::unique_ptr<std::ifstream> in, decisions;
+  long line = 0;        // lines read so far (in both files), for messages
 };
 
 long LongAt(const nlohmann::json& j, const std::string& pointer, const std::string& source) {
@@ -41,6 +44,7 @@ ShardInput ReadShard(const std::string& dir) {
   s.dir = dir;
   s.campaign_path = (s.dir / "campaign.json").string();
   s.results_path = (s.dir / "results.jsonl").string();
+  s.decisions_path = (s.dir / "decisions.jsonl").string();
   s.file = ReadJsonFile(s.campaign_path);
   if (!s.file.is_object()) throw InputError(s.campaign_path, "", "expected the JSON object `armfault run` writes");
   if (!s.file.contains("armfault_version") || !s.file["armfault_version"].is_string()) {
@@ -93,6 +97,47 @@ std::pair<long, bool> CountLines(const std::string& path) {
 std::string ResumeHint(const ShardInput& s) {
   return "finish it with `armfault run <campaign file> --shard " + std::to_string(s.index) + "/" +
          std::to_string(s.count) + " -o " + s.dir.string() + " --resume`";
+}
+
+// A shard whose decisions.jsonl does not go with its results.jsonl: --resume keeps only the
+// prefix both hold (none without decisions.jsonl) and runs the rest again.
+std::string DecisionsHint(const ShardInput& s) {
+  return "run the shard again with `armfault run <campaign file> --shard " + std::to_string(s.index) + "/" +
+         std::to_string(s.count) + " -o " + s.dir.string() + " --resume` (it reruns the runs without decisions)";
+}
+
+// Why the shard's decision statistics cannot be merged with its `lines` results, or "".
+// Reads only the first results line when decisions.jsonl is absent (an older armfault's shard
+// carries them inline there).
+std::string DecisionsProblem(ShardInput& s, long lines) {
+  const std::string shard = "shard " + std::to_string(s.index) + "/" + std::to_string(s.count);
+  if (!fs::exists(s.decisions_path)) {
+    if (lines == 0) return "";
+    std::ifstream in(s.results_path, std::ios::binary);
+    std::string first;
+    std::getline(in, first);
+    try {
+      if (nlohmann::json::parse(first).contains("decision")) {
+        s.inline_decisions = true;
+        return "";
+      }
+    } catch (const nlohmann::json::exception&) {
+      return "";  // the merge names the bad line itself
+    }
+    return "line 1: missing: the file does not exist, but " + shard + "'s results.jsonl holds " + std::to_string(lines) +
+           " runs (no inline \"decision\" either; was it run with --summary-only?); " + DecisionsHint(s);
+  }
+  const auto [decisions, cut] = CountLines(s.decisions_path);
+  if (decisions < lines) {
+    return "line " + std::to_string(decisions + 1) + ": missing: " + std::to_string(decisions) + " lines" +
+           (cut ? " and a cut one" : "") + " for the " + std::to_string(lines) + " runs of " + shard +
+           "'s results.jsonl; " + DecisionsHint(s);
+  }
+  if (decisions > lines || cut) {
+    return "line " + std::to_string(lines + 1) + ": more lines than the " + std::to_string(lines) + " runs of " + shard +
+           "'s results.jsonl: it was not written with them; " + DecisionsHint(s);
+  }
+  return "";
 }
 
 // The parsed campaign for scoring (name, floors). Trajectory CSV files are not read again: a
@@ -192,11 +237,12 @@ MergeResult MergeShards(const std::vector<std::string>& input_dirs, const std::s
                          " missing: give the output directories of all shards 0.." + std::to_string(n - 1));
   }
 
-  // Every shard complete before anything is written.
+  // Every shard complete, its decisions.jsonl line for line with results.jsonl, before
+  // anything is written.
   std::vector<std::string> incomplete;
   std::string first_problem;
   for (int k = 0; k < n; ++k) {
-    const ShardInput& s = shards[static_cast<size_t>(owner[static_cast<size_t>(k)])];
+    ShardInput& s = shards[static_cast<size_t>(owner[static_cast<size_t>(k)])];
     const long expected = ShardCases(s.cases, s.index, s.count);
     const auto [lines, cut] = CountLines(s.results_path);
     std::string problem;
@@ -209,9 +255,14 @@ MergeResult MergeShards(const std::vector<std::string>& input_dirs, const std::s
                 " runs, but the file holds " + std::to_string(lines) + " lines" + (cut ? " and a cut one" : "") +
                 ": it was not written by this shard's run";
     }
+    std::string path = s.results_path;
+    if (problem.empty()) {
+      problem = DecisionsProblem(s, lines);
+      path = s.decisions_path;
+    }
     if (!problem.empty()) {
       if (first_problem.empty()) first_problem = problem;
-      incomplete.push_back(s.results_path);
+      incomplete.push_back(path);
     }
   }
   if (!incomplete.empty()) {
@@ -233,32 +284,57 @@ MergeResult MergeShards(const std::vector<std::string>& input_dirs, const std::s
     }
   }
 
-  for (ShardInput& s : shards) {
-    s.in = std::make_unique<std::ifstream>(s.results_path, std::ios::binary);
-    if (!*s.in) {
-      throw InputError(s.results_path, "",
-                       "cannot open the file for reading (" + std::to_string(n) +
-                           " shards are open at once: raise the open-file limit, ulimit -n)");
+  auto open = [&](const std::string& path) {
+    auto in = std::make_unique<std::ifstream>(path, std::ios::binary);
+    if (!*in) {
+      throw InputError(path, "",
+                       "cannot open the file for reading (" + std::to_string(2 * n) +
+                           " files of " + std::to_string(n) + " shards are open at once: raise the open-file limit, ulimit -n)");
     }
+    return in;
+  };
+  for (ShardInput& s : shards) {
+    s.in = open(s.results_path);
+    if (!s.inline_decisions && fs::exists(s.decisions_path)) s.decisions = open(s.decisions_path);
   }
 
   // k-way merge by case: case c is in shard c % N, and each shard's lines ascend, so the next
-  // line of shard c % N must be case c. Lines are copied as read.
-  const fs::path results_path = out / "results.jsonl";
-  const fs::path tmp_path = out / "results.jsonl.tmp";
+  // line of shard c % N must be case c. Lines are copied as read; each decisions.jsonl line
+  // must be of its results line's run. An older shard's inline decisions are written out as
+  // the runner writes them (the same numbers print the same).
+  const fs::path results_path = out / "results.jsonl", decisions_path = out / "decisions.jsonl";
+  const fs::path tmp_path = out / "results.jsonl.tmp", decisions_tmp_path = out / "decisions.jsonl.tmp";
   std::FILE* merged = std::fopen(tmp_path.string().c_str(), "wb");
   if (!merged) throw InputError(tmp_path.string(), "", "cannot open the file for writing");
+  std::FILE* merged_decisions = std::fopen(decisions_tmp_path.string().c_str(), "wb");
+  auto write = [](std::FILE* f, const std::string& text, const fs::path& path) {
+    if (std::fwrite(text.data(), 1, text.size(), f) != text.size()) {
+      throw InputError(path.string(), "", "error while writing");
+    }
+  };
   try {
-    std::string line;
+    if (!merged_decisions) throw InputError(decisions_tmp_path.string(), "", "cannot open the file for writing");
+    std::string line, decision_line;
     for (long c = 0; c < first.cases; ++c) {
       ShardInput& s = shards[static_cast<size_t>(owner[static_cast<size_t>(c % n)])];
       std::getline(*s.in, line);
       ++s.line;
       const std::string where = "line " + std::to_string(s.line) + ": ";
       long found = -1;
+      std::string run_id;
+      nlohmann::json inline_decision;
       try {
-        const nlohmann::json j = nlohmann::json::parse(line);
+        nlohmann::json j = nlohmann::json::parse(line);
         found = j.at("case").get<long>();
+        run_id = j.at("run_id").get<std::string>();
+        if (s.inline_decisions) {
+          if (!j.contains("decision")) {
+            throw InputError(s.results_path, "",
+                             where + "no inline \"decision\", and " + s.decisions_path + " does not exist; " +
+                                 DecisionsHint(s));
+          }
+          inline_decision = std::move(j["decision"]);
+        }
       } catch (const nlohmann::json::exception& e) {
         throw InputError(s.results_path, "", where + "not a results line (" + e.what() + ")");
       }
@@ -267,25 +343,50 @@ MergeResult MergeShards(const std::vector<std::string>& input_dirs, const std::s
                                                  std::to_string(c) + " (shard " + std::to_string(s.index) + "/" +
                                                  std::to_string(n) + " in case order)");
       }
-      line += '\n';
-      if (std::fwrite(line.data(), 1, line.size(), merged) != line.size()) {
-        throw InputError(tmp_path.string(), "", "error while writing");
+      if (s.decisions) {
+        std::getline(*s.decisions, decision_line);
+        DecisionLine d;
+        try {
+          d = DecisionLineFromJson(nlohmann::json::parse(decision_line));
+        } catch (const std::exception& e) {
+          throw InputError(s.decisions_path, "", where + "not a decisions line (" + e.what() + "); " + DecisionsHint(s));
+        }
+        if (d.case_index != found || d.run_id != run_id) {
+          throw InputError(s.decisions_path, "",
+                           where + "case " + std::to_string(d.case_index) + " \"" + d.run_id + "\", but line " +
+                               std::to_string(s.line) + " of " + s.results_path + " is case " + std::to_string(found) +
+                               " \"" + run_id + "\": decisions.jsonl does not go with results.jsonl; " + DecisionsHint(s));
+        }
+      } else {
+        RunRecord r;
+        r.case_index = found;
+        r.run_id = run_id;
+        r.decision = std::move(inline_decision);
+        decision_line = DecisionLineJson(r).dump();
       }
+      line += '\n';
+      decision_line += '\n';
+      write(merged_decisions, decision_line, decisions_tmp_path);
+      write(merged, line, tmp_path);
       ++result.runs;
     }
-    if (std::fclose(merged) != 0) {
-      merged = nullptr;
-      throw InputError(tmp_path.string(), "", "error while writing");
-    }
+    const bool decisions_closed = std::fclose(merged_decisions) == 0;
+    merged_decisions = nullptr;
+    if (!decisions_closed) throw InputError(decisions_tmp_path.string(), "", "error while writing");
+    const bool results_closed = std::fclose(merged) == 0;
     merged = nullptr;
+    if (!results_closed) throw InputError(tmp_path.string(), "", "error while writing");
   } catch (...) {
     if (merged) std::fclose(merged);
+    if (merged_decisions) std::fclose(merged_decisions);
     std::error_code ec;
     fs::remove(tmp_path, ec);
+    fs::remove(decisions_tmp_path, ec);
     throw;
   }
   // As an unsharded run writes it (the same function, shard 0/1).
   WriteAtomically(out / "campaign.json", CampaignFileJson(result.campaign, ShardSpec{}).dump(2) + "\n");
+  fs::rename(decisions_tmp_path, decisions_path);
   fs::rename(tmp_path, results_path);
   return result;
 }

@@ -69,7 +69,6 @@ nlohmann::json ToJson(const RunRecord& r) {
   j["confidence"] = r.confidence;
   j["alarm_before_onset"] = r.alarm_before_onset;
   j["miss_reason"] = StrOrNull(r.miss_reason);
-  j["decision"] = r.decision;
   return j;
 }
 
@@ -108,8 +107,23 @@ RunRecord RunRecordFromJson(const nlohmann::json& j) {
   r.confidence = As<double>(j, "confidence");
   r.alarm_before_onset = As<bool>(j, "alarm_before_onset");
   if (const auto it = j.find("miss_reason"); it != j.end() && !it->is_null()) r.miss_reason = As<std::string>(j, "miss_reason");
+  // Written inline by older versions; now in decisions.jsonl.
   if (const auto it = j.find("decision"); it != j.end()) r.decision = *it;
   return r;
+}
+
+nlohmann::json DecisionLineJson(const RunRecord& r) {
+  return {{"case_index", r.case_index}, {"run_id", r.run_id}, {"decision", r.decision}};
+}
+
+DecisionLine DecisionLineFromJson(const nlohmann::json& j) {
+  if (!j.is_object()) throw std::runtime_error("not a JSON object");
+  DecisionLine d;
+  d.case_index = As<long>(j, "case_index");
+  d.run_id = As<std::string>(j, "run_id");
+  d.decision = Get(j, "decision");
+  if (!d.decision.is_null() && !d.decision.is_object()) throw std::runtime_error("key \"decision\" has the wrong type");
+  return d;
 }
 
 }  // namespace armfault

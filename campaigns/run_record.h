@@ -1,5 +1,7 @@
 // One line of results.jsonl: the outcome of one run of a campaign. Written by the runner,
-// read by the summary, merge and tuning. See docs/campaign-format.md, "results.jsonl".
+// read by the summary, merge and tuning. See docs/campaign-format.md, "results.jsonl". The
+// run's decision statistics go to a line of their own in decisions.jsonl (DecisionLine), so
+// results.jsonl stays about 1 kB a run for pandas and for people.
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -47,12 +49,27 @@ struct RunRecord {
   // what won instead. "" for a run scored right.
   std::string miss_reason;
   // The monitor's decision statistics (DecisionStats JSON, core/monitors/detector_statistics.h): what
-  // `armfault tune` re-scores thresholds from. Null for a run that could not be set up.
+  // `armfault tune` re-scores thresholds from. Null for a run that could not be set up. Kept
+  // in memory only: written to decisions.jsonl (DecisionLineJson), not by ToJson; read from
+  // an older results.jsonl line that still carries it inline.
   nlohmann::json decision;
 };
 
+// The results.jsonl line, without "decision".
 nlohmann::json ToJson(const RunRecord& r);
 // Throws std::runtime_error (with the key) if a required key is missing or has the wrong type.
+// Accepts an older line with an inline "decision" (kept in `decision`).
 RunRecord RunRecordFromJson(const nlohmann::json& j);
+
+// One line of decisions.jsonl: {"case_index", "decision", "run_id"}, one per run, in the
+// order of results.jsonl. "decision" is null for a run that could not be set up.
+struct DecisionLine {
+  long case_index = 0;
+  std::string run_id;
+  nlohmann::json decision;
+};
+nlohmann::json DecisionLineJson(const RunRecord& r);
+// Throws std::runtime_error (with the key) if a key is missing or has the wrong type.
+DecisionLine DecisionLineFromJson(const nlohmann::json& j);
 
 }  // namespace armfault

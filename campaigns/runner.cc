@@ -1,9 +1,14 @@
 #include "campaigns/runner.h"
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
 #include <tbb/parallel_pipeline.h>
 #include <tbb/task_arena.h>
 
 #include <cstdio>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <optional>
@@ -22,6 +27,35 @@ namespace fs = std::filesystem;
 
 // Commissioning: 16 s, enough for several reversals of the slowest joint.
 constexpr double kCommissioningDuration_s = 16.0;
+
+// The complete lines at the start of `path` (at most `limit`) that `accept` takes, as the byte
+// offset after each. Stops at the first line it refuses and at a last line without a newline
+// (cut by a kill). A missing file has none.
+std::vector<std::streamoff> AcceptedLineEnds(const fs::path& path, size_t limit,
+                                             const std::function<bool(size_t k, const std::string& line)>& accept) {
+  std::vector<std::streamoff> ends;
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  while (ends.size() < limit && std::getline(in, line)) {
+    if (in.eof()) break;  // no newline: a line cut by a crash
+    if (!accept(ends.size(), line)) break;
+    ends.push_back(in.tellg());
+  }
+  return ends;
+}
+
+// Cuts `path` (created if missing) after its first `lines` lines, whose ends are `ends`.
+void KeepLines(const fs::path& path, const std::vector<std::streamoff>& ends, size_t lines) {
+  if (!fs::exists(path)) std::ofstream(path, std::ios::binary);
+  fs::resize_file(path, lines == 0 ? 0 : static_cast<uintmax_t>(ends[lines - 1]));
+}
+
+// One run's two lines, written together by the pipeline's serial stage.
+struct RunLines {
+  std::string decision;  // decisions.jsonl
+  std::string result;    // results.jsonl
+  bool ok = true;
+};
 
 }  // namespace
 
@@ -94,6 +128,37 @@ UnitMonitor UnitMonitors::For(const CaseSpec& spec) {
   const size_t u = static_cast<size_t>(spec.unit);
   std::call_once(once_[u], [&] { units_[u] = CommissionUnit(campaign_, spec); });
   return units_[u];
+}
+
+OutputLock::OutputLock(const fs::path& dir, const std::string& command) {
+  fs::create_directories(dir);
+  const fs::path path = dir / ".armfault.lock";
+  fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd_ < 0) throw InputError(path.string(), "", "cannot open the directory's lock file");
+  if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+    std::string holder(512, '\0');
+    const ssize_t n = ::pread(fd_, holder.data(), holder.size(), 0);
+    holder.resize(n > 0 ? static_cast<size_t>(n) : 0);
+    while (!holder.empty() && (holder.back() == '\n' || holder.back() == '\0')) holder.pop_back();
+    ::close(fd_);
+    fd_ = -1;
+    throw InputError(dir.string(), "",
+                     "another armfault is writing here (" + (holder.empty() ? std::string("holder unknown") : holder) +
+                         "); wait for it to finish, or choose another output directory");
+  }
+  char host[256] = "?";
+  gethostname(host, sizeof host - 1);
+  const std::time_t now = std::time(nullptr);
+  char when[32];
+  std::strftime(when, sizeof when, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
+  const std::string text = "pid " + std::to_string(getpid()) + " on " + host + " since " + when + ": " + command + "\n";
+  if (::ftruncate(fd_, 0) != 0 || ::pwrite(fd_, text.data(), text.size(), 0) < 0) {
+    // The lock holds; only the holder's description could not be written.
+  }
+}
+
+OutputLock::~OutputLock() {
+  if (fd_ >= 0) ::close(fd_);  // releases the flock
 }
 
 void WriteAtomically(const fs::path& path, const std::string& text) {
@@ -230,6 +295,7 @@ RunnerResult RunCampaign(const Campaign& campaign, const RunnerOptions& o) {
   fs::create_directories(dir);
   const fs::path campaign_path = dir / "campaign.json";
   const fs::path results_path = dir / "results.jsonl";
+  const fs::path decisions_path = dir / "decisions.jsonl";
   const nlohmann::json campaign_file = CampaignFileJson(campaign, o.shard);
 
   std::vector<CaseSpec> all = ExpandCases(campaign);
@@ -247,32 +313,48 @@ RunnerResult RunCampaign(const Campaign& campaign, const RunnerOptions& o) {
                        "--resume: this directory holds another campaign or shard; run it without --resume, or "
                        "choose another output directory");
     }
-    // Keep the complete prefix of lines that are exactly the expected cases, in order.
-    std::ifstream in(results_path, std::ios::binary);
-    std::string line;
-    std::streamoff good_end = 0;
-    while (next < mine.size() && std::getline(in, line)) {
-      if (in.eof()) break;  // no newline: a line cut by a crash
-      try {
-        const RunRecord r = RunRecordFromJson(nlohmann::json::parse(line));
-        if (r.case_index != mine[next]->index || r.run_id != mine[next]->run_id) break;
-        if (!r.ok) ++out.failed;
-      } catch (const std::exception&) {
-        break;
-      }
-      ++next;
-      good_end = in.tellg();
-    }
-    in.close();
-    fs::resize_file(results_path, static_cast<uintmax_t>(good_end));
+    // Keep the complete prefix of lines that are exactly the expected cases, in order, in both
+    // files. decisions.jsonl is written first, so after a kill it is at most one line ahead; a
+    // missing one (removed, or an older armfault's directory) keeps nothing.
+    std::vector<bool> ok;
+    const std::vector<std::streamoff> result_ends =
+        AcceptedLineEnds(results_path, mine.size(), [&](size_t k, const std::string& line) {
+          try {
+            const RunRecord r = RunRecordFromJson(nlohmann::json::parse(line));
+            if (r.case_index != mine[k]->index || r.run_id != mine[k]->run_id) return false;
+            ok.push_back(r.ok);
+            return true;
+          } catch (const std::exception&) {
+            return false;
+          }
+        });
+    const std::vector<std::streamoff> decision_ends =
+        AcceptedLineEnds(decisions_path, result_ends.size(), [&](size_t k, const std::string& line) {
+          try {
+            const DecisionLine d = DecisionLineFromJson(nlohmann::json::parse(line));
+            return d.case_index == mine[k]->index && d.run_id == mine[k]->run_id;
+          } catch (const std::exception&) {
+            return false;
+          }
+        });
+    next = decision_ends.size();
+    for (size_t k = 0; k < next; ++k) out.failed += ok[k] ? 0 : 1;
+    KeepLines(results_path, result_ends, next);
+    KeepLines(decisions_path, decision_ends, next);
   } else {
     WriteAtomically(campaign_path, campaign_file.dump(2) + "\n");
     std::ofstream(results_path, std::ios::binary | std::ios::trunc);
+    std::ofstream(decisions_path, std::ios::binary | std::ios::trunc);
   }
   out.resumed = static_cast<long>(next);
 
   std::FILE* results = std::fopen(results_path.string().c_str(), "ab");
   if (!results) throw InputError(results_path.string(), "", "cannot open for appending");
+  std::FILE* decisions = std::fopen(decisions_path.string().c_str(), "ab");
+  if (!decisions) {
+    std::fclose(results);
+    throw InputError(decisions_path.string(), "", "cannot open for appending");
+  }
   long done = out.resumed;
   if (o.progress) o.progress(done, out.total);
 
@@ -296,25 +378,28 @@ RunnerResult RunCampaign(const Campaign& campaign, const RunnerOptions& o) {
                                          }
                                          return cursor++;
                                        }) &
-            tbb::make_filter<size_t, std::pair<std::string, bool>>(
-                tbb::filter_mode::parallel,
-                [&](size_t k) {
-                  const RunRecord r = RunCase(campaign, *mine[k], nullptr, &units);
-                  return std::make_pair(ToJson(r).dump() + "\n", r.ok);
-                }) &
-            tbb::make_filter<std::pair<std::string, bool>, void>(
-                tbb::filter_mode::serial_in_order, [&](const std::pair<std::string, bool>& item) {
-              const std::string& line = item.first;
-              // One write per line, flushed at once: a kill leaves at most one partial line.
-              std::fwrite(line.data(), 1, line.size(), results);
+            tbb::make_filter<size_t, RunLines>(tbb::filter_mode::parallel,
+                                               [&](size_t k) {
+                                                 const RunRecord r = RunCase(campaign, *mine[k], nullptr, &units);
+                                                 return RunLines{DecisionLineJson(r).dump() + "\n",
+                                                                 ToJson(r).dump() + "\n", r.ok};
+                                               }) &
+            tbb::make_filter<RunLines, void>(tbb::filter_mode::serial_in_order, [&](const RunLines& item) {
+              // One write per line, flushed at once, the decision first: a kill leaves at most one
+              // partial line in each file, and results.jsonl never ahead of decisions.jsonl.
+              std::fwrite(item.decision.data(), 1, item.decision.size(), decisions);
+              std::fflush(decisions);
+              std::fwrite(item.result.data(), 1, item.result.size(), results);
               std::fflush(results);
-              if (!item.second) ++out.failed;
+              if (!item.ok) ++out.failed;
               ++out.ran;
               ++done;
               if (o.progress) o.progress(done, out.total);
             }));
   });
+  const bool decisions_closed = std::fclose(decisions) == 0;
   if (std::fclose(results) != 0) throw InputError(results_path.string(), "", "error while writing");
+  if (!decisions_closed) throw InputError(decisions_path.string(), "", "error while writing");
   return out;
 }
 

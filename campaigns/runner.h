@@ -1,8 +1,10 @@
 // Runs a campaign's cases in parallel (oneTBB) and streams one RunRecord per line to
 // DIR/results.jsonl in case order, so the file is the same for any thread count and a
 // killed run resumes from its last complete line. Files in DIR:
-//   campaign.json   the resolved campaign (+ version and shard), written first
-//   results.jsonl   one line per run, appended in case order as runs finish
+//   campaign.json    the resolved campaign (+ version and shard), written first
+//   decisions.jsonl  each run's decision statistics (DecisionLine), one line per run in the
+//                    same order, written just before the run's results.jsonl line
+//   results.jsonl    one line per run, appended in case order as runs finish
 // The summary and junit.xml are written by the caller from results.jsonl (reports/).
 #pragma once
 
@@ -42,7 +44,7 @@ struct RunnerOptions {
 
 struct RunnerResult {
   long total = 0;    // cases in this shard
-  long resumed = 0;  // found complete in results.jsonl and not run again
+  long resumed = 0;  // found complete in results.jsonl and decisions.jsonl and not run again
   long ran = 0;
   long failed = 0;   // in the whole results file
   bool interrupted = false;  // stopped before every case ran (RunnerOptions::stop)
@@ -89,6 +91,20 @@ RunRecord RunCase(const Campaign& campaign, const CaseSpec& spec, const TickObse
 // The JSON written to campaign.json (the summary embeds `resolved` only, so shards merge to
 // the same bytes).
 nlohmann::json CampaignFileJson(const Campaign& campaign, const ShardSpec& shard);
+
+// One writer per output directory: holds an exclusive lock (flock) on DIR/.armfault.lock, which
+// names the holder (pid, host, command, start time). A second writer gets an InputError naming
+// that holder. The lock goes with the process, even when it is killed.
+class OutputLock {
+ public:
+  OutputLock(const std::filesystem::path& dir, const std::string& command);
+  ~OutputLock();
+  OutputLock(const OutputLock&) = delete;
+  OutputLock& operator=(const OutputLock&) = delete;
+
+ private:
+  int fd_ = -1;
+};
 
 // Writes `text` to `path` through a temporary file and a rename: a crash leaves the old file
 // or the new one, never half of one. Throws InputError if it cannot write.

@@ -443,6 +443,7 @@ long SettingCount(const SweepGrid& grid) {
 TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& options) {
   const fs::path dir(dir_name);
   const fs::path campaign_path = dir / "campaign.json", results_path = dir / "results.jsonl";
+  const fs::path decisions_path = dir / "decisions.jsonl";
   const nlohmann::json campaign_file = ReadJsonFile(campaign_path.string());
   if (!campaign_file.is_object() || !campaign_file.contains("campaign")) {
     throw InputError(campaign_path.string(), "/campaign", "missing: not a campaign output directory");
@@ -478,7 +479,15 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
   {
     std::ifstream in(results_path, std::ios::binary);
     if (!in) throw InputError(results_path.string(), "", "cannot read (run the campaign first)");
-    std::string line;
+    // Each run's statistics are the same line of decisions.jsonl, of the same run; in an older
+    // armfault's directory, without that file, the results line's own "decision".
+    const bool separate = fs::exists(decisions_path);
+    std::ifstream decisions_in;
+    if (separate) {
+      decisions_in.open(decisions_path, std::ios::binary);
+      if (!decisions_in) throw InputError(decisions_path.string(), "", "cannot read the file");
+    }
+    std::string line, decision_line;
     long n = 0;
     while (std::getline(in, line)) {
       ++n;
@@ -492,14 +501,45 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
                                    " (files of different campaigns are not read together); run the campaign into " +
                                    dir_name + " again");
         }
-        if (!rec.ok) {
-          ++failed;
-          continue;
-        }
-        if (rec.decision.is_null()) throw std::runtime_error("no \"decision\" statistics (made by an older armfault?)");
-        stats = DecisionStatsFromJson(rec.decision);
       } catch (const std::exception& e) {
         throw InputError(results_path.string(), "", where() + e.what());
+      }
+      nlohmann::json decision = std::move(rec.decision);
+      if (separate) {
+        try {
+          if (!std::getline(decisions_in, decision_line)) {
+            throw std::runtime_error("missing: the file ends after " + std::to_string(n - 1) + " lines, but " +
+                                     results_path.string() + " has more");
+          }
+          if (decisions_in.eof()) {
+            throw std::runtime_error("cut: the line has no newline (a killed run? finish it with `armfault run ... --resume`)");
+          }
+          DecisionLine d = DecisionLineFromJson(nlohmann::json::parse(decision_line));
+          if (d.case_index != rec.case_index || d.run_id != rec.run_id) {
+            throw std::runtime_error("case " + std::to_string(d.case_index) + " \"" + d.run_id + "\", but line " +
+                                     std::to_string(n) + " of " + results_path.string() + " is case " +
+                                     std::to_string(rec.case_index) + " \"" + rec.run_id +
+                                     "\": decisions.jsonl does not go with results.jsonl");
+          }
+          decision = std::move(d.decision);
+        } catch (const std::exception& e) {
+          throw InputError(decisions_path.string(), "", where() + e.what());
+        }
+      }
+      if (!rec.ok) {
+        ++failed;
+        continue;
+      }
+      try {
+        if (decision.is_null()) {
+          throw std::runtime_error(separate ? "run \"" + rec.run_id + "\" has no decision statistics (null)"
+                                            : "no decision statistics: " + decisions_path.string() +
+                                                  " does not exist and this line carries no inline \"decision\" (was "
+                                                  "the campaign run with --summary-only? run it again without)");
+        }
+        stats = DecisionStatsFromJson(decision);
+      } catch (const std::exception& e) {
+        throw InputError(separate ? decisions_path.string() : results_path.string(), "", where() + e.what());
       }
       // The stored statistics must give the recorded outcome under the thresholds the run used.
       const DecisionOutcome check = Decide(stats, as_run, base.significance);
@@ -529,6 +569,11 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
         }
       }
       runs.push_back(std::move(r));
+    }
+    if (separate && std::getline(decisions_in, decision_line)) {
+      throw InputError(decisions_path.string(), "",
+                       "line " + std::to_string(n + 1) + ": more lines than the " + std::to_string(n) + " runs of " +
+                           results_path.string() + ": decisions.jsonl does not go with results.jsonl");
     }
   }
   if (runs.empty()) throw InputError(results_path.string(), "", "no completed runs to tune on");

@@ -1,7 +1,8 @@
 // Threshold tuning from a campaign's stored decision statistics, without simulating again
-// (`armfault tune DIR`). Every run of results.jsonl carries the held statistics of the power
-// monitor's swept detectors (core/monitors/detector_statistics.h); re-scoring a threshold setting is
-// exact: the same decision rule the monitor ran, on the same numbers.
+// (`armfault tune DIR`). Every run's line of decisions.jsonl (inline in results.jsonl before
+// it had a file of its own) carries the held statistics of the power monitor's swept
+// detectors (core/monitors/detector_statistics.h); re-scoring a threshold setting is exact: the same
+// decision rule the monitor ran, on the same numbers.
 //
 // Outputs (docs/tuning.md): the rates of every setting of a grid of worn limits, the ROC
 // frontier overall and per swept detector with its AUC over the measured points only (curves
@@ -66,8 +67,10 @@ struct TuningResult {
   long runs = 0;
 };
 
-// Reads DIR/campaign.json and DIR/results.jsonl. Throws InputError naming the file and line
-// on missing or malformed input, when a run's stored decision does not reproduce its
+// Reads DIR/campaign.json, DIR/results.jsonl and DIR/decisions.jsonl (line for line, of the
+// same runs; without it, results.jsonl's inline "decision", as older versions wrote). Throws
+// InputError naming the file and line on missing, malformed, cut or mismatched input, when
+// no decision statistics are stored, when a run's stored decision does not reproduce its
 // recorded outcome (results of another monitor version), or when the directory mixes
 // campaigns: a summary.json whose campaign hash is not campaign.json's, or a results.jsonl
 // line that is not a case of campaign.json (campaigns/provenance.h). The report carries

@@ -29,10 +29,16 @@ class BrakeLock : public Fault {
 }  // namespace
 
 std::unique_ptr<Fault> MakeBrakeLock(ObjectReader& reader, const RobotConfig& robot) {
-  const FaultCommon common = ReadFaultCommon(reader, robot, {"drag_fraction"});
-  const double f = reader.RequireNumber("drag_fraction");
-  RequireInRange(f, 0.0, 1.0, reader.PointerTo("drag_fraction"));
-  RequireAbove(f, 0.0, reader.PointerTo("drag_fraction"));
+  ErrorList errors;  // the common keys and this family's, each on its own
+  const FaultCommon common = ReadFaultCommon(reader, robot, {"drag_fraction"}, &errors);
+  double f = 1.0;
+  errors.Try([&] {
+    if (!reader.ShouldRead("drag_fraction")) return;
+    f = reader.RequireNumber("drag_fraction");
+    RequireInRange(f, 0.0, 1.0, reader.PointerTo("drag_fraction"));
+    RequireAbove(f, 0.0, reader.PointerTo("drag_fraction"));
+  });
+  errors.ThrowIfAny();
   return std::make_unique<BrakeLock>(common, f, robot.modules[common.joint_index].brake.holding_torque_Nm);
 }
 

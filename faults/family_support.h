@@ -17,10 +17,13 @@ struct FaultCommon {
   FaultTiming timing;
 };
 
-// Accepts exactly the common keys plus `own_keys` (rejecting any other key first), then reads
-// and checks the common fields: joint (1..joints of the robot), onset_s >= 0, profile, and
-// the profile's ramp_s, period_s, duty.
-FaultCommon ReadFaultCommon(ObjectReader& reader, const RobotConfig& robot, std::initializer_list<const char*> own_keys);
+// Accepts exactly the common keys plus `own_keys` (rejecting any other key), then reads and
+// checks the common fields: joint (1..joints of the robot), onset_s >= 0, profile, and the
+// profile's ramp_s, period_s, duty. Every error goes to `errors`, each key on its own (a bad
+// one left at its default), so the family checks its own keys too and reports them all at
+// once; the family throws `errors` before it builds anything.
+FaultCommon ReadFaultCommon(ObjectReader& reader, const RobotConfig& robot, std::initializer_list<const char*> own_keys,
+                            ErrorList* errors);
 
 // Ticks after onset + settle_s count as "faulty"; before onset as "healthy".
 constexpr double kEffectSettle_s = 0.05;

@@ -258,49 +258,70 @@ std::string NotExcitedReason(const Fault& fault, const FaultEffect& effect) {
   return "";
 }
 
-FaultCommon ReadFaultCommon(ObjectReader& reader, const RobotConfig& robot, std::initializer_list<const char*> own_keys) {
+FaultCommon ReadFaultCommon(ObjectReader& reader, const RobotConfig& robot, std::initializer_list<const char*> own_keys,
+                            ErrorList* errors) {
   std::vector<std::string> keys = {"family", "joint", "onset_s", "profile", "ramp_s", "period_s", "duty"};
   for (const char* k : own_keys) keys.push_back(k);
-  reader.AllowOnly(keys);
+  errors->Try([&] { reader.AllowOnly(keys); });
   FaultCommon c;
   const int n = static_cast<int>(robot.modules.size());
-  const int joint = reader.RequireInt("joint");
-  if (joint < 1 || joint > n) {
-    throw InputError("", reader.PointerTo("joint"),
-                     "joint " + std::to_string(joint) + " does not exist: robot " + robot.name + " has joints 1.." +
-                         std::to_string(n));
-  }
-  c.joint_index = joint - 1;
-  reader.OptionalNumber("onset_s", &c.timing.onset_s);
-  RequireAtLeast(c.timing.onset_s, 0.0, reader.PointerTo("onset_s"));
+  errors->Try([&] {
+    if (!reader.ShouldRead("joint")) return;
+    const int joint = reader.RequireInt("joint");
+    if (joint < 1 || joint > n) {
+      throw InputError("", reader.PointerTo("joint"),
+                       "joint " + std::to_string(joint) + " does not exist: robot " + robot.name + " has joints 1.." +
+                           std::to_string(n));
+    }
+    c.joint_index = joint - 1;
+  });
+  errors->Try([&] {
+    reader.OptionalNumber("onset_s", &c.timing.onset_s);
+    RequireAtLeast(c.timing.onset_s, 0.0, reader.PointerTo("onset_s"));
+  });
   std::string profile = "abrupt";
-  reader.OptionalString("profile", &profile);
-  if (profile == "abrupt") {
-    c.timing.profile = FaultProfile::kAbrupt;
-  } else if (profile == "incipient") {
-    c.timing.profile = FaultProfile::kIncipient;
-  } else if (profile == "intermittent") {
-    c.timing.profile = FaultProfile::kIntermittent;
-  } else {
-    throw InputError("", reader.PointerTo("profile"),
-                     "unknown profile \"" + profile + "\" (known: abrupt, incipient, intermittent)");
-  }
+  const bool profile_ok = errors->Try([&] {
+    reader.OptionalString("profile", &profile);
+    if (profile == "abrupt") {
+      c.timing.profile = FaultProfile::kAbrupt;
+    } else if (profile == "incipient") {
+      c.timing.profile = FaultProfile::kIncipient;
+    } else if (profile == "intermittent") {
+      c.timing.profile = FaultProfile::kIntermittent;
+    } else {
+      throw InputError("", reader.PointerTo("profile"),
+                       "unknown profile \"" + profile + "\" (known: abrupt, incipient, intermittent)");
+    }
+  });
   // Keys of other profiles are refused rather than ignored: they would not do what they say.
+  // Which keys apply needs a known profile; with an unknown one their values are still checked.
   const bool incipient = c.timing.profile == FaultProfile::kIncipient;
   const bool intermittent = c.timing.profile == FaultProfile::kIntermittent;
-  for (const char* key : {"ramp_s", "period_s", "duty"}) {
+  auto applies = [&](const char* key) {
     const bool allowed = std::string(key) == "ramp_s" ? incipient : intermittent;
-    if (reader.Has(key) && !allowed) {
-      throw InputError("", reader.PointerTo(key), std::string(key) + " does not apply to the " + profile + " profile");
-    }
+    if (!profile_ok || !reader.Has(key) || allowed) return true;
+    errors->Add(InputError("", reader.PointerTo(key), std::string(key) + " does not apply to the " + profile + " profile"));
+    return false;
+  };
+  if (applies("ramp_s")) {
+    errors->Try([&] {
+      reader.OptionalNumber("ramp_s", &c.timing.ramp_s);
+      RequireAbove(c.timing.ramp_s, 0.0, reader.PointerTo("ramp_s"));
+    });
   }
-  reader.OptionalNumber("ramp_s", &c.timing.ramp_s);
-  RequireAbove(c.timing.ramp_s, 0.0, reader.PointerTo("ramp_s"));
-  reader.OptionalNumber("period_s", &c.timing.period_s);
-  RequireAbove(c.timing.period_s, 0.0, reader.PointerTo("period_s"));
-  reader.OptionalNumber("duty", &c.timing.duty);
-  RequireInRange(c.timing.duty, 0.0, 1.0, reader.PointerTo("duty"));
-  RequireAbove(c.timing.duty, 0.0, reader.PointerTo("duty"));
+  if (applies("period_s")) {
+    errors->Try([&] {
+      reader.OptionalNumber("period_s", &c.timing.period_s);
+      RequireAbove(c.timing.period_s, 0.0, reader.PointerTo("period_s"));
+    });
+  }
+  if (applies("duty")) {
+    errors->Try([&] {
+      reader.OptionalNumber("duty", &c.timing.duty);
+      RequireInRange(c.timing.duty, 0.0, 1.0, reader.PointerTo("duty"));
+      RequireAbove(c.timing.duty, 0.0, reader.PointerTo("duty"));
+    });
+  }
   return c;
 }
 

@@ -38,9 +38,15 @@ class FrictionIncrease : public Fault {
 }  // namespace
 
 std::unique_ptr<Fault> MakeFrictionIncrease(ObjectReader& reader, const RobotConfig& robot) {
-  const FaultCommon common = ReadFaultCommon(reader, robot, {"friction_factor"});
-  const double f = reader.RequireNumber("friction_factor");
-  RequireInRange(f, 1.0, 100.0, reader.PointerTo("friction_factor"));
+  ErrorList errors;  // the common keys and this family's, each on its own
+  const FaultCommon common = ReadFaultCommon(reader, robot, {"friction_factor"}, &errors);
+  double f = 1.0;
+  errors.Try([&] {
+    if (!reader.ShouldRead("friction_factor")) return;
+    f = reader.RequireNumber("friction_factor");
+    RequireInRange(f, 1.0, 100.0, reader.PointerTo("friction_factor"));
+  });
+  errors.ThrowIfAny();
   return std::make_unique<FrictionIncrease>(common, f);
 }
 

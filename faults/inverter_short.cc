@@ -61,16 +61,24 @@ class InverterShort : public Fault {
 }  // namespace
 
 std::unique_ptr<Fault> MakeInverterShort(ObjectReader& reader, const RobotConfig& robot) {
-  const FaultCommon common = ReadFaultCommon(reader, robot, {"kind", "resistance_ohm"});
-  const std::string kind = reader.RequireString("kind");
-  ShortKind value;
-  if (kind == "phase_phase") value = ShortKind::kPhasePhase;
-  else if (kind == "phase_ground") value = ShortKind::kPhaseGround;
-  else if (kind == "switch") value = ShortKind::kSwitch;
-  else throw InputError("", reader.PointerTo("kind"), "unknown kind \"" + kind + "\" (known: phase_phase, phase_ground, switch)");
+  ErrorList errors;  // the common keys and this family's, each on its own
+  const FaultCommon common = ReadFaultCommon(reader, robot, {"kind", "resistance_ohm"}, &errors);
+  std::string kind;
+  ShortKind value = ShortKind::kPhasePhase;
+  errors.Try([&] {
+    if (!reader.ShouldRead("kind")) return;
+    kind = reader.RequireString("kind");
+    if (kind == "phase_phase") value = ShortKind::kPhasePhase;
+    else if (kind == "phase_ground") value = ShortKind::kPhaseGround;
+    else if (kind == "switch") value = ShortKind::kSwitch;
+    else throw InputError("", reader.PointerTo("kind"), "unknown kind \"" + kind + "\" (known: phase_phase, phase_ground, switch)");
+  });
   double ohm = 0.1;
-  reader.OptionalNumber("resistance_ohm", &ohm);
-  RequireInRange(ohm, 0.001, 1000.0, reader.PointerTo("resistance_ohm"));
+  errors.Try([&] {
+    reader.OptionalNumber("resistance_ohm", &ohm);
+    RequireInRange(ohm, 0.001, 1000.0, reader.PointerTo("resistance_ohm"));
+  });
+  errors.ThrowIfAny();
   return std::make_unique<InverterShort>(common, value, kind, ohm);
 }
 

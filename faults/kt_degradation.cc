@@ -32,10 +32,16 @@ class KtDegradation : public Fault {
 }  // namespace
 
 std::unique_ptr<Fault> MakeKtDegradation(ObjectReader& reader, const RobotConfig& robot) {
-  const FaultCommon common = ReadFaultCommon(reader, robot, {"kt_factor"});
-  const double n = reader.RequireNumber("kt_factor");
-  RequireAbove(n, 0.0, reader.PointerTo("kt_factor"));
-  RequireInRange(n, 0.0, 1.0, reader.PointerTo("kt_factor"));
+  ErrorList errors;  // the common keys and this family's, each on its own
+  const FaultCommon common = ReadFaultCommon(reader, robot, {"kt_factor"}, &errors);
+  double n = 1.0;
+  errors.Try([&] {
+    if (!reader.ShouldRead("kt_factor")) return;
+    n = reader.RequireNumber("kt_factor");
+    RequireAbove(n, 0.0, reader.PointerTo("kt_factor"));
+    RequireInRange(n, 0.0, 1.0, reader.PointerTo("kt_factor"));
+  });
+  errors.ThrowIfAny();
   return std::make_unique<KtDegradation>(common, n);
 }
 

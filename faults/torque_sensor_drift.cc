@@ -27,10 +27,16 @@ class TorqueSensorDrift : public Fault {
 }  // namespace
 
 std::unique_ptr<Fault> MakeTorqueSensorDrift(ObjectReader& reader, const RobotConfig& robot) {
-  const FaultCommon common = ReadFaultCommon(reader, robot, {"drift_Nm_per_s"});
-  const double rate = reader.RequireNumber("drift_Nm_per_s");
-  RequireInRange(rate, -100.0, 100.0, reader.PointerTo("drift_Nm_per_s"));
-  if (rate == 0.0) throw InputError("", reader.PointerTo("drift_Nm_per_s"), "0 is no drift");
+  ErrorList errors;  // the common keys and this family's, each on its own
+  const FaultCommon common = ReadFaultCommon(reader, robot, {"drift_Nm_per_s"}, &errors);
+  double rate = 1.0;
+  errors.Try([&] {
+    if (!reader.ShouldRead("drift_Nm_per_s")) return;
+    rate = reader.RequireNumber("drift_Nm_per_s");
+    RequireInRange(rate, -100.0, 100.0, reader.PointerTo("drift_Nm_per_s"));
+    if (rate == 0.0) throw InputError("", reader.PointerTo("drift_Nm_per_s"), "0 is no drift");
+  });
+  errors.ThrowIfAny();
   return std::make_unique<TorqueSensorDrift>(common, rate);
 }
 

@@ -32,13 +32,19 @@ class TorqueSensorStuck : public Fault {
 }  // namespace
 
 std::unique_ptr<Fault> MakeTorqueSensorStuck(ObjectReader& reader, const RobotConfig& robot) {
-  const FaultCommon common = ReadFaultCommon(reader, robot, {"lead"});
-  const std::string lead = reader.RequireString("lead");
-  SensorLead value;
-  if (lead == "supply") value = SensorLead::kSupply;
-  else if (lead == "ground") value = SensorLead::kGround;
-  else if (lead == "open") value = SensorLead::kOpen;
-  else throw InputError("", reader.PointerTo("lead"), "unknown lead \"" + lead + "\" (known: supply, ground, open)");
+  ErrorList errors;  // the common keys and this family's, each on its own
+  const FaultCommon common = ReadFaultCommon(reader, robot, {"lead"}, &errors);
+  std::string lead;
+  SensorLead value = SensorLead::kSupply;
+  errors.Try([&] {
+    if (!reader.ShouldRead("lead")) return;
+    lead = reader.RequireString("lead");
+    if (lead == "supply") value = SensorLead::kSupply;
+    else if (lead == "ground") value = SensorLead::kGround;
+    else if (lead == "open") value = SensorLead::kOpen;
+    else throw InputError("", reader.PointerTo("lead"), "unknown lead \"" + lead + "\" (known: supply, ground, open)");
+  });
+  errors.ThrowIfAny();
   return std::make_unique<TorqueSensorStuck>(common, value, lead);
 }
 

@@ -26,9 +26,15 @@ class WindingResistance : public Fault {
 }  // namespace
 
 std::unique_ptr<Fault> MakeWindingResistance(ObjectReader& reader, const RobotConfig& robot) {
-  const FaultCommon common = ReadFaultCommon(reader, robot, {"resistance_factor"});
-  const double f = reader.RequireNumber("resistance_factor");
-  RequireInRange(f, 1.0, 20.0, reader.PointerTo("resistance_factor"));
+  ErrorList errors;  // the common keys and this family's, each on its own
+  const FaultCommon common = ReadFaultCommon(reader, robot, {"resistance_factor"}, &errors);
+  double f = 1.0;
+  errors.Try([&] {
+    if (!reader.ShouldRead("resistance_factor")) return;
+    f = reader.RequireNumber("resistance_factor");
+    RequireInRange(f, 1.0, 20.0, reader.PointerTo("resistance_factor"));
+  });
+  errors.ThrowIfAny();
   return std::make_unique<WindingResistance>(common, f);
 }
 

@@ -244,10 +244,10 @@ round() {
   done
   [[ $(job_field "$merge" ExitCode) == 0:0 ]] ||
     die "$name: merge job $merge exited $(job_field "$merge" ExitCode): $(cat "$dir/merge.out")"
-  for f in campaign.json results.jsonl summary.json junit.xml; do
+  for f in campaign.json results.jsonl decisions.jsonl summary.json junit.xml; do
     cmp "$tmp/local/$f" "$dir/out/merged/$f" || die "$name: merged $f differs from the local run's"
   done
-  say "$name: merged campaign.json, results.jsonl, summary.json, junit.xml == local run (cmp)"
+  say "$name: merged campaign.json, results.jsonl, decisions.jsonl, summary.json, junit.xml == local run (cmp)"
   say "$name: merge job $merge printed:"
   sed 's/^/    /' "$dir/merge.out"
 

@@ -122,6 +122,14 @@ ObjectReader::ObjectReader(const nlohmann::json& object, std::string pointer)
 
 bool ObjectReader::Has(const std::string& key) const { return object_.contains(key); }
 
+bool ObjectReader::ShouldRead(const std::string& key) const {
+  if (Has(key)) return true;
+  for (auto it = object_.begin(); it != object_.end(); ++it) {
+    if (used_.count(it.key()) == 0) return false;
+  }
+  return true;
+}
+
 const nlohmann::json* ObjectReader::Find(const std::string& key) {
   asked_.insert(key);
   auto it = object_.find(key);

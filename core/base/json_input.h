@@ -116,6 +116,10 @@ class ObjectReader {
   ObjectReader(const nlohmann::json& object, std::string pointer);
 
   bool Has(const std::string& key) const;
+  // Whether a parser that reports every key's errors at once should read `key`: it is
+  // present, or every key of the object is known (read or allowed). A key missing beside an
+  // unknown one is not reported as missing: the unknown one is probably it, misspelt.
+  bool ShouldRead(const std::string& key) const;
   // The raw value of `key` (marked as used), or nullptr if absent.
   const nlohmann::json* Find(const std::string& key);
   const nlohmann::json& Require(const std::string& key);

@@ -82,7 +82,8 @@ struct DetectorReading {
 };
 using DetectorReadings = std::array<DetectorReading, kDetectorCount>;
 
-// The compact record of one run, stored as "decision" in results.jsonl.
+// The compact record of one run, stored as "decision" in its line of decisions.jsonl
+// (inline in results.jsonl before issue 13).
 struct DecisionStats {
   struct Point {
     long quanta = 0;               // held deviation

@@ -360,16 +360,29 @@ expect_input_error "--alpha: 2 is outside (0, 1]"
 
 # ------------------------------------------------------------------ shards, merge, kill -9 and --resume, trace --run
 ci="$src/campaigns/files/ci.json"
-# same_outputs NAME DIR_A DIR_B: the four output files of two run directories, byte for byte.
+# same_outputs NAME DIR_A DIR_B: the output files of two run directories, byte for byte.
 same_outputs() {
   current=$1
   local f
-  for f in campaign.json results.jsonl results.csv summary.json junit.xml; do
+  for f in campaign.json results.jsonl decisions.jsonl results.csv summary.json junit.xml; do
     if cmp -s "$2/$f" "$3/$f"; then pass; else fail "$2/$f and $3/$f differ"; fi
   done
 }
 run ci_uninterrupted "$armfault" run "$ci" -o "$tmp/ci_full" -q -j 1
 expect_status 0
+# results.jsonl stays small (no decision statistics, under 1.5 kB a run); decisions.jsonl has
+# one line per run, of the same runs in the same order.
+current=results_without_decisions
+if [[ $(wc -l <"$tmp/ci_full/results.jsonl") -eq 52 ]] && ! grep -q '"decision"' "$tmp/ci_full/results.jsonl" &&
+  awk 'length($0) >= 1500 { bad = 1 } END { exit bad }' "$tmp/ci_full/results.jsonl"; then pass; else
+  fail "results.jsonl lines carry decisions or exceed 1.5 kB: $(awk '{ print length($0) }' "$tmp/ci_full/results.jsonl" | sort -n | tail -n 1)"
+fi
+current=decisions_beside_results
+if cmp -s <(sed 's/.*"run_id":"\([^"]*\)".*/\1/' "$tmp/ci_full/results.jsonl") \
+  <(sed 's/.*"run_id":"\([^"]*\)"}$/\1/' "$tmp/ci_full/decisions.jsonl") &&
+  [[ $(grep -c '^{"case_index":[0-9]*,"decision":{' "$tmp/ci_full/decisions.jsonl") -eq 52 ]]; then pass; else
+  fail "decisions.jsonl does not hold the runs of results.jsonl in order: $(head -c 200 "$tmp/ci_full/decisions.jsonl")"
+fi
 for k in 0 1 2; do
   # A shard's own floors may miss (too few runs of a family), so only its runs are checked here.
   run "ci_shard_$k" "$armfault" run "$ci" -o "$tmp/ci_s$k" -q --shard "$k/3"
@@ -393,6 +406,40 @@ run other_campaign_shard "$armfault" run "$tmp/healthy_only.json" -o "$tmp/ho_s1
 run merge_other_campaign "$armfault" merge "$tmp/ci_s0" "$tmp/ho_s1" "$tmp/ci_s2" -o "$tmp/ci_m1"
 expect_input_error "$tmp/ho_s1/campaign.json: /campaign/" "another campaign than in $tmp/ci_s0/campaign.json"
 if [[ ! -e "$tmp/ci_m1/results.jsonl" ]]; then pass; else fail "a refused merge left results.jsonl behind"; fi
+# A shard whose decisions.jsonl does not go with its results.jsonl (two lines swapped).
+cp -r "$tmp/ci_s1" "$tmp/ci_s1_dec"
+awk 'NR == 2 { held = $0; next } NR == 3 { print; print held; next } { print }' "$tmp/ci_s1/decisions.jsonl" \
+  >"$tmp/ci_s1_dec/decisions.jsonl"
+run merge_decisions_disagree "$armfault" merge "$tmp/ci_s0" "$tmp/ci_s1_dec" "$tmp/ci_s2" -o "$tmp/ci_m2"
+expect_input_error "$tmp/ci_s1_dec/decisions.jsonl: line 2: case 7 " \
+  "but line 2 of $tmp/ci_s1_dec/results.jsonl is case 4 " "decisions.jsonl does not go with results.jsonl"
+if [[ ! -e "$tmp/ci_m2/results.jsonl" && ! -e "$tmp/ci_m2/decisions.jsonl" && -z $(ls "$tmp/ci_m2" 2>/dev/null | grep tmp) ]]; then
+  pass
+else
+  fail "a refused merge left files behind: $(ls "$tmp/ci_m2")"
+fi
+rm "$tmp/ci_s1_dec/decisions.jsonl"
+run merge_decisions_missing "$armfault" merge "$tmp/ci_s0" "$tmp/ci_s1_dec" "$tmp/ci_s2" -o "$tmp/ci_m2"
+expect_input_error "$tmp/ci_s1_dec/decisions.jsonl: line 1: missing: the file does not exist"
+
+# tune reads decisions.jsonl; an older directory's inline decisions give the same tuning.json.
+run tune_new_layout "$armfault" tune "$tmp/ci_merged" -j 2
+expect_status 0
+mkdir "$tmp/ci_old"
+cp "$tmp/ci_merged/campaign.json" "$tmp/ci_merged/summary.json" "$tmp/ci_old/"
+/usr/bin/python3 - "$tmp/ci_merged" "$tmp/ci_old" <<'PY'
+import json, sys
+src, dst = sys.argv[1], sys.argv[2]
+with open(src + "/results.jsonl") as r, open(src + "/decisions.jsonl") as d, open(dst + "/results.jsonl", "w") as out:
+    for result, decision in zip(r, d):
+        line = json.loads(result)
+        line["decision"] = json.loads(decision)["decision"]
+        out.write(json.dumps(line, sort_keys=True, separators=(",", ":")) + "\n")
+PY
+run tune_old_layout "$armfault" tune "$tmp/ci_old" -j 2
+expect_status 0
+current=tune_same_on_both_layouts
+if cmp -s "$tmp/ci_merged/tuning.json" "$tmp/ci_old/tuning.json"; then pass; else fail "tuning.json differs between the layouts"; fi
 
 # kill -9 at three points of a run, then --resume: the same bytes as the uninterrupted run.
 for at in 3 14 27; do
@@ -435,6 +482,7 @@ if grep -qF "interrupted: kept $lines of 52 runs in $dir/results.jsonl (no summa
 if grep -qF "resume with: armfault run $ci -o $dir --resume -j 2" "$tmp/int_err"; then pass; else fail "no resume command: $(cat "$tmp/int_err")"; fi
 if [[ ! -e "$dir/summary.json" ]]; then pass; else fail "an interrupted run wrote summary.json"; fi
 if [[ $(tail -c 1 "$dir/results.jsonl" | od -An -c | tr -d ' ') == '\n' ]]; then pass; else fail "the last line is cut"; fi
+if [[ $(wc -l <"$dir/decisions.jsonl") -eq $lines ]]; then pass; else fail "decisions.jsonl has $(wc -l <"$dir/decisions.jsonl") lines, results.jsonl $lines"; fi
 run resume_after_ctrl_c "$armfault" run "$ci" -o "$dir" -q -j 2 --resume
 expect_status 0
 expect_stdout_contains "($lines resumed, 0 failed)"
@@ -551,6 +599,36 @@ expect_input_error "armfault: error: --shard-count: --shard K/N already gives th
 run run_says_what_next "$armfault" run "$src/campaigns/files/thesis-sweep.json" -o "$tmp/next" -j 2
 expect_stdout_contains "next: armfault report $tmp/next"
 expect_stdout_contains "armfault tune $tmp/next"
+expect_stdout_contains "wrote $tmp/next/results.jsonl, decisions.jsonl, results.csv, summary.json, junit.xml"
+
+# --summary-only (small CI artefacts): exactly campaign.json, results.jsonl, summary.json and
+# junit.xml are left, the same bytes as a full run's; report and diff work on them, tune
+# says why it cannot.
+run help_run "$armfault" run --help
+expect_stdout_contains "--summary-only"
+expect_stdout_contains "decisions.jsonl"
+run summary_only "$armfault" run "$ci" -o "$tmp/ci_summary" -j 2 --summary-only
+expect_status 0
+expect_stdout_contains "wrote $tmp/ci_summary/results.jsonl, summary.json, junit.xml (--summary-only: decisions.jsonl and results.csv removed)"
+expect_stdout_contains "next: armfault report $tmp/ci_summary"
+current=summary_only_no_tune_hint
+if grep -q "armfault tune" "$tmp/stdout"; then fail "suggests tune without decisions: $(cat "$tmp/stdout")"; else pass; fi
+current=summary_only_files
+if [[ $(cd "$tmp/ci_summary" && ls | tr '\n' ' ') == "campaign.json junit.xml results.jsonl summary.json " ]]; then pass; else
+  fail "left $(ls "$tmp/ci_summary" | tr '\n' ' ')"
+fi
+for f in campaign.json results.jsonl summary.json junit.xml; do
+  if cmp -s "$tmp/ci_full/$f" "$tmp/ci_summary/$f"; then pass; else fail "$f differs from the full run's"; fi
+done
+run summary_only_tune "$armfault" tune "$tmp/ci_summary" -j 2
+expect_input_error "$tmp/ci_summary/results.jsonl: line 1: no decision statistics: $tmp/ci_summary/decisions.jsonl does not exist"
+run summary_only_diff "$armfault" diff "$tmp/ci_full" "$tmp/ci_summary"
+expect_status 0
+# A stale results.csv or decisions.jsonl of an earlier run in the directory goes too.
+cp "$tmp/ci_full/results.csv" "$tmp/ci_full/decisions.jsonl" "$tmp/ci_summary/"
+run summary_only_again "$armfault" run "$tmp/healthy_only.json" -o "$tmp/ci_summary" -q --summary-only
+current=summary_only_stale
+if [[ ! -e "$tmp/ci_summary/results.csv" && ! -e "$tmp/ci_summary/decisions.jsonl" ]]; then pass; else fail "stale files kept"; fi
 # junit.xml: a case per group and trajectory, and its failure replays the first wrong run.
 if grep -q '<testsuite name="kt_degradation" tests=' "$tmp/next/junit.xml" &&
   grep -q '<testcase classname="healthy" name="exp1: healthy runs">' "$tmp/next/junit.xml"; then pass; else

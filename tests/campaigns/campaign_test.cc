@@ -189,6 +189,41 @@ TEST(CampaignParseAllErrors, ValuesOfOneEntryAreCheckedPastABadNeighbour) {
                                    "c.json: /faults/0/kt_factor/2: kt_degradation: 1.7 is outside [0, 1]"));
 }
 
+TEST(CampaignParseAllErrors, EveryBadKeyOfOneTrajectoryOrFaultEntryAtOnce) {
+  // Within one trajectory or fault entry each key is checked on its own: a bad or unknown
+  // key does not hide the next one until it is fixed.
+  json bad = Small();
+  bad["trajectories"] = json::parse(R"([
+    {"name": "a", "joints": {"3": {"type": "sine_pair", "amplitude_deg": "x", "omega_rad_s": -1, "offset_deg": "y"}}},
+    {"name": "b", "joints": {"3": {"type": "hold", "angle_deg": "z", "angel_deg": 1}}},
+    {"name": "c", "joints": {"3": {"type": "cosine_ramp", "amplitde_deg": 20, "period_s": 0}}},
+    {"name": "d", "joints": {"3": {"type": "min_jerk", "waypoints": [[0, 0], [1]], "foo": 1}}}])");
+  bad["faults"] = json::parse(R"([
+    {"family": "inverter_short", "joint": 3, "kind": "phase_phse", "resistance_ohm": -1},
+    {"family": "brake_lock", "joint": 3, "drag_fraction": 2, "onset_s": -1, "profile": "bogus", "ramp_s": -2},
+    {"family": "kt_degradation", "joint": 3, "kt_factr": 0.5, "onset_s": 1, "profile": "abrupt", "ramp_s": 1}])");
+  EXPECT_THAT(Texts(ErrorOf([&] { Parse(bad); })),
+              testing::ElementsAre(
+                  "c.json: /trajectories/0/joints/3/amplitude_deg: expected a number, got string \"x\"",
+                  "c.json: /trajectories/0/joints/3/omega_rad_s: -1 must be greater than 0",
+                  "c.json: /trajectories/0/joints/3/offset_deg: expected a number, got string \"y\"",
+                  "c.json: /trajectories/1/joints/3/angel_deg: unknown key \"angel_deg\"; did you mean \"angle_deg\"?",
+                  "c.json: /trajectories/1/joints/3/angle_deg: expected a number, got string \"z\"",
+                  // A key missing beside an unknown one is that one misspelt: not reported twice.
+                  "c.json: /trajectories/2/joints/3/amplitde_deg: unknown key \"amplitde_deg\"; did you mean \"amplitude_deg\"?",
+                  "c.json: /trajectories/2/joints/3/period_s: 0 must be greater than 0",
+                  "c.json: /trajectories/3/joints/3/foo: unknown key \"foo\"",
+                  "c.json: /trajectories/3/joints/3/waypoints/1: expected a [time_s, angle_deg] pair, got [1]",
+                  "c.json: /faults/0/kind: inverter_short: unknown kind \"phase_phse\" (known: phase_phase, phase_ground, switch)",
+                  "c.json: /faults/0/resistance_ohm: inverter_short: -1 is outside [0.001, 1000]",
+                  "c.json: /faults/1/onset_s: brake_lock: -1 is below the minimum 0",
+                  "c.json: /faults/1/profile: brake_lock: unknown profile \"bogus\" (known: abrupt, incipient, intermittent)",
+                  "c.json: /faults/1/ramp_s: brake_lock: -2 must be greater than 0",
+                  "c.json: /faults/1/drag_fraction: brake_lock: 2 is outside [0, 1]",
+                  "c.json: /faults/2/kt_factr: kt_degradation: unknown key \"kt_factr\"; did you mean \"kt_factor\"?",
+                  "c.json: /faults/2/ramp_s: kt_degradation: ramp_s does not apply to the abrupt profile"));
+}
+
 TEST(CampaignParseAllErrors, DependentChecksAreSkipped) {
   // A bad robot: trajectories are not checked against its joints and fault values not
   // through the family (both need it), but their own shape still is.
@@ -268,6 +303,72 @@ TEST(CampaignRunner, ResultsAreIdenticalForAnyThreadCount) {
   const auto [a, b] = RunOnOneAndTwoThreads(Quick(), dir);
   EXPECT_EQ(a, b);
   EXPECT_EQ(std::count(a.begin(), a.end(), '\n'), 16);
+  EXPECT_EQ(ReadAll(dir.path() / "j1" / "decisions.jsonl"), ReadAll(dir.path() / "j2" / "decisions.jsonl"));
+}
+
+std::vector<std::string> Lines(const std::string& text) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line)) out.push_back(line);
+  return out;
+}
+
+TEST(CampaignRunner, DecisionsGoToTheirOwnFileInTheOrderOfTheResults) {
+  ScratchDir dir("decisions");
+  const Campaign c = Quick();
+  RunnerOptions o;
+  o.output_dir = dir.path().string();
+  o.threads = 2;
+  RunCampaign(c, o);
+  const std::vector<std::string> results = Lines(ReadAll(dir.path() / "results.jsonl"));
+  const std::vector<std::string> decisions = Lines(ReadAll(dir.path() / "decisions.jsonl"));
+  ASSERT_EQ(results.size(), 16u);
+  ASSERT_EQ(decisions.size(), results.size());
+  const std::vector<CaseSpec> cases = ExpandCases(c);
+  for (size_t k = 0; k < results.size(); ++k) {
+    const json r = json::parse(results[k]);
+    // results.jsonl stays small: no decision statistics, about 1 kB a run.
+    EXPECT_FALSE(r.contains("decision")) << k;
+    EXPECT_LT(results[k].size(), 1500u) << r["run_id"];
+    const json d = json::parse(decisions[k]);
+    EXPECT_EQ(d.size(), 3u) << decisions[k].substr(0, 200);
+    EXPECT_EQ(d["case_index"], r["case"]);
+    EXPECT_EQ(d["run_id"], r["run_id"]);
+    EXPECT_EQ(d["run_id"], cases[k].run_id);
+    ASSERT_TRUE(d["decision"].is_object()) << k;
+    EXPECT_TRUE(d["decision"].contains("traces")) << k;
+    // The decision line is the record's, as RunCase makes it (trace --run relies on RunCase).
+    if (k == 0) EXPECT_EQ(DecisionLineJson(RunCase(c, cases[k])).dump(), decisions[k]);
+  }
+  // An older line with the decision inline still reads, keeping it.
+  json old = json::parse(results[0]);
+  old["decision"] = json::parse(decisions[0])["decision"];
+  const RunRecord from_old = RunRecordFromJson(old);
+  EXPECT_EQ(from_old.decision, old["decision"]);
+  EXPECT_EQ(ToJson(from_old).dump(), results[0]);  // and writes it back without
+}
+
+// The message of the std::runtime_error `f` throws.
+template <class F>
+std::string ErrorMessageOf(F&& f) {
+  try {
+    f();
+  } catch (const std::runtime_error& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "no error thrown";
+  return "";
+}
+
+TEST(CampaignRunner, ADecisionLineMustHaveItsKeys) {
+  EXPECT_THAT(ErrorMessageOf([] { DecisionLineFromJson(json::parse(R"({"case_index": 1, "decision": {}})")); }),
+              HasSubstr("\"run_id\""));
+  EXPECT_THAT(ErrorMessageOf([] { DecisionLineFromJson(json::parse(R"({"case_index": 1, "run_id": "a", "decision": 3})")); }),
+              HasSubstr("\"decision\" has the wrong type"));
+  const DecisionLine d = DecisionLineFromJson(json::parse(R"({"case_index": 4, "run_id": "a", "decision": null})"));
+  EXPECT_EQ(d.case_index, 4);
+  EXPECT_TRUE(d.decision.is_null());
 }
 
 // A fleet: datasheet tolerances, 4 units, 15-40 °C, commissioning.
@@ -364,6 +465,13 @@ TEST(CampaignRunner, ShardsPartitionTheCases) {
   EXPECT_EQ(total, 16);
 }
 
+// The first `lines` lines of `text`, then `extra` bytes of the next one.
+std::string Head(const std::string& text, int lines, size_t extra = 0) {
+  size_t pos = 0;
+  for (int k = 0; k < lines; ++k) pos = text.find('\n', pos) + 1;
+  return text.substr(0, pos) + text.substr(pos, extra);
+}
+
 TEST(CampaignRunner, ResumeAfterACutCompletesWithTheSameBytes) {
   ScratchDir dir("resume");
   const Campaign c = Quick();
@@ -371,19 +479,50 @@ TEST(CampaignRunner, ResumeAfterACutCompletesWithTheSameBytes) {
   o.output_dir = (dir.path() / "full").string();
   RunCampaign(c, o);
   const std::string full = ReadAll(dir.path() / "full" / "results.jsonl");
+  const std::string full_decisions = ReadAll(dir.path() / "full" / "decisions.jsonl");
 
-  // As if killed mid-write: 5 complete lines and half of the sixth.
+  // As if killed mid-write: 5 complete lines and half of the sixth, in each file.
   o.output_dir = (dir.path() / "cut").string();
   RunCampaign(c, o);
-  size_t pos = 0;
-  for (int k = 0; k < 5; ++k) pos = full.find('\n', pos) + 1;
-  std::ofstream(dir.path() / "cut" / "results.jsonl", std::ios::binary | std::ios::trunc)
-      << full.substr(0, pos) << full.substr(pos, 40);
+  std::ofstream(dir.path() / "cut" / "results.jsonl", std::ios::binary | std::ios::trunc) << Head(full, 5, 40);
+  std::ofstream(dir.path() / "cut" / "decisions.jsonl", std::ios::binary | std::ios::trunc) << Head(full_decisions, 5, 300);
   o.resume = true;
   const RunnerResult r = RunCampaign(c, o);
   EXPECT_EQ(r.resumed, 5);
   EXPECT_EQ(r.ran, 11);
   EXPECT_EQ(ReadAll(dir.path() / "cut" / "results.jsonl"), full);
+  EXPECT_EQ(ReadAll(dir.path() / "cut" / "decisions.jsonl"), full_decisions);
+
+  // Each way a kill can leave the two files (the decision line is written first): the
+  // longest prefix both hold is kept, and the rest run again, to the same bytes.
+  struct Cut {
+    int results, decisions;                  // complete lines kept
+    size_t results_extra, decisions_extra;   // bytes of the cut line after them
+    long resumed;
+  };
+  for (const Cut& cut : {Cut{7, 8, 0, 0, 7},       // killed between the two writes
+                         Cut{7, 7, 0, 120, 7},     // killed in the decision line
+                         Cut{7, 8, 25, 0, 7},      // killed in the results line
+                         Cut{9, 4, 0, 10, 4},      // decisions behind (edited by hand): their prefix
+                         Cut{16, 16, 0, 0, 16}}) {  // complete: nothing runs again
+    std::ofstream(dir.path() / "cut" / "results.jsonl", std::ios::binary | std::ios::trunc)
+        << Head(full, cut.results, cut.results_extra);
+    std::ofstream(dir.path() / "cut" / "decisions.jsonl", std::ios::binary | std::ios::trunc)
+        << Head(full_decisions, cut.decisions, cut.decisions_extra);
+    const RunnerResult again = RunCampaign(c, o);
+    EXPECT_EQ(again.resumed, cut.resumed) << cut.results << "/" << cut.decisions;
+    EXPECT_EQ(again.ran, 16 - cut.resumed);
+    EXPECT_EQ(ReadAll(dir.path() / "cut" / "results.jsonl"), full) << cut.results << "/" << cut.decisions;
+    EXPECT_EQ(ReadAll(dir.path() / "cut" / "decisions.jsonl"), full_decisions) << cut.results << "/" << cut.decisions;
+  }
+  // No decisions.jsonl beside a results.jsonl (removed, or an older armfault's directory):
+  // nothing is kept, and everything runs again.
+  std::filesystem::remove(dir.path() / "cut" / "decisions.jsonl");
+  const RunnerResult rerun = RunCampaign(c, o);
+  EXPECT_EQ(rerun.resumed, 0);
+  EXPECT_EQ(rerun.ran, 16);
+  EXPECT_EQ(ReadAll(dir.path() / "cut" / "results.jsonl"), full);
+  EXPECT_EQ(ReadAll(dir.path() / "cut" / "decisions.jsonl"), full_decisions);
 
   // Resuming a directory of another campaign is refused.
   json other = Small();

@@ -56,6 +56,17 @@ std::vector<std::string> Lines(const std::string& text) {
   return out;
 }
 
+// An output directory a refused merge must leave without results: no results.jsonl or
+// decisions.jsonl, and no temporary file of either.
+struct ScratchOutput {
+  std::string dir;
+  void ExpectEmpty() const {
+    for (const char* name : {"results.jsonl", "decisions.jsonl", "results.jsonl.tmp", "decisions.jsonl.tmp"}) {
+      EXPECT_FALSE(fs::exists(fs::path(dir) / name)) << name;
+    }
+  }
+};
+
 // Runs `c` unsharded into DIR/full and as shards 0/3, 1/3, 2/3 into DIR/s0 ... DIR/s2.
 class CampaignMerge : public testing::Test {
  protected:
@@ -102,7 +113,112 @@ TEST_F(CampaignMerge, ShardsMergeToTheBytesOfAnUnshardedRun) {
   EXPECT_EQ(std::count(full.begin(), full.end(), '\n'), 16);
   EXPECT_EQ(ReadAll(fs::path(Dir("merged")) / "results.jsonl"), full);
   EXPECT_EQ(ReadAll(fs::path(Dir("merged")) / "campaign.json"), ReadAll(fs::path(Dir("full")) / "campaign.json"));
+  const std::string decisions = ReadAll(fs::path(Dir("full")) / "decisions.jsonl");
+  EXPECT_EQ(std::count(decisions.begin(), decisions.end(), '\n'), 16);
+  EXPECT_EQ(ReadAll(fs::path(Dir("merged")) / "decisions.jsonl"), decisions);
   EXPECT_FALSE(fs::exists(fs::path(Dir("merged")) / "results.jsonl.tmp"));
+  EXPECT_FALSE(fs::exists(fs::path(Dir("merged")) / "decisions.jsonl.tmp"));
+}
+
+// An older armfault's layout: each results line with its "decision" inline (the keys sorted,
+// as ToJson wrote them), no decisions.jsonl. Returns the new results.jsonl text.
+std::string Inline(const fs::path& dir) {
+  const std::vector<std::string> results = Lines(ReadAll(dir / "results.jsonl"));
+  const std::vector<std::string> decisions = Lines(ReadAll(dir / "decisions.jsonl"));
+  std::string text;
+  for (size_t k = 0; k < results.size(); ++k) {
+    json line = json::parse(results[k]);
+    line["decision"] = json::parse(decisions.at(k))["decision"];
+    text += line.dump() + "\n";
+  }
+  std::ofstream(dir / "results.jsonl", std::ios::binary | std::ios::trunc) << text;
+  fs::remove(dir / "decisions.jsonl");
+  return text;
+}
+
+TEST_F(CampaignMerge, ShardsOfAnOlderArmfaultWithInlineDecisionsStillMerge) {
+  // Every shard old: results.jsonl copied as it is, the decisions written out as a run does.
+  std::vector<std::string> dirs;
+  for (int k = 0; k < 3; ++k) {
+    dirs.push_back(CopyShard(k, "old" + std::to_string(k)));
+    Inline(dirs.back());
+  }
+  MergeShards(dirs, Dir("merged_old"));
+  const std::string full_decisions = ReadAll(fs::path(Dir("full")) / "decisions.jsonl");
+  EXPECT_EQ(ReadAll(fs::path(Dir("merged_old")) / "decisions.jsonl"), full_decisions);
+  fs::copy(Dir("full"), Dir("full_old"), fs::copy_options::recursive);
+  EXPECT_EQ(ReadAll(fs::path(Dir("merged_old")) / "results.jsonl"), Inline(Dir("full_old")));
+
+  // One old shard among new ones.
+  MergeShards({dirs[0], Dir("s1"), Dir("s2")}, Dir("merged_mixed"));
+  EXPECT_EQ(ReadAll(fs::path(Dir("merged_mixed")) / "decisions.jsonl"), full_decisions);
+}
+
+TEST_F(CampaignMerge, ADecisionsFileThatDoesNotGoWithItsResultsIsRefused) {
+  // Shard 1 holds cases 1, 4, 7, 10, 13. Its decision lines 2 and 3 swapped.
+  const std::string swapped = CopyShard(1, "dswapped");
+  const fs::path decisions = fs::path(swapped) / "decisions.jsonl";
+  std::vector<std::string> lines = Lines(ReadAll(decisions));
+  std::swap(lines[1], lines[2]);
+  {
+    std::ofstream out(decisions, std::ios::binary | std::ios::trunc);
+    for (const std::string& l : lines) out << l << "\n";
+  }
+  const ScratchOutput none{Dir("m_dswapped")};
+  InputError e = ErrorOf([&] { MergeShards({Dir("s0"), swapped, Dir("s2")}, none.dir); });
+  EXPECT_EQ(e.source(), decisions.string());
+  EXPECT_THAT(e.message(), HasSubstr("line 2: case 7 \"exp1/kt_degradation#0/kt_factor=0.6/j3/r1\", but line 2 of " +
+                                     (fs::path(swapped) / "results.jsonl").string() +
+                                     " is case 4 \"exp1/kt_degradation#0/kt_factor=0.6/j2/r0\": decisions.jsonl does "
+                                     "not go with results.jsonl"));
+  EXPECT_THAT(e.message(), HasSubstr("--shard 1/3 -o " + swapped + " --resume"));
+  none.ExpectEmpty();
+
+  // Cut after 3 lines and part of the fourth (killed between its two writes and not resumed).
+  const std::string cut = CopyShard(1, "dcut");
+  const std::string text = ReadAll(fs::path(cut) / "decisions.jsonl");
+  size_t pos = 0;
+  for (int k = 0; k < 3; ++k) pos = text.find('\n', pos) + 1;
+  std::ofstream(fs::path(cut) / "decisions.jsonl", std::ios::binary | std::ios::trunc) << text.substr(0, pos + 50);
+  e = ErrorOf([&] { MergeShards({Dir("s0"), cut, Dir("s2")}, none.dir); });
+  EXPECT_EQ(e.source(), (fs::path(cut) / "decisions.jsonl").string());
+  EXPECT_THAT(e.message(), HasSubstr("line 4: missing: 3 lines and a cut one for the 5 runs of shard 1/3's results.jsonl"));
+  none.ExpectEmpty();
+
+  // One line too many.
+  const std::string more = CopyShard(2, "dmore");
+  std::ofstream(fs::path(more) / "decisions.jsonl", std::ios::binary | std::ios::app)
+      << Lines(ReadAll(fs::path(more) / "decisions.jsonl")).back() << "\n";
+  e = ErrorOf([&] { MergeShards({Dir("s0"), Dir("s1"), more}, none.dir); });
+  EXPECT_EQ(e.source(), (fs::path(more) / "decisions.jsonl").string());
+  EXPECT_THAT(e.message(), HasSubstr("line 6: more lines than the 5 runs of shard 2/3's results.jsonl"));
+  none.ExpectEmpty();
+
+  // Missing, while results.jsonl carries no decisions either (--summary-only removed them).
+  const std::string gone = CopyShard(0, "dgone");
+  fs::remove(fs::path(gone) / "decisions.jsonl");
+  e = ErrorOf([&] { MergeShards({gone, Dir("s1"), Dir("s2")}, none.dir); });
+  EXPECT_EQ(e.source(), (fs::path(gone) / "decisions.jsonl").string());
+  EXPECT_THAT(e.message(), HasSubstr("line 1: missing: the file does not exist, but shard 0/3's results.jsonl holds 6 runs"));
+  none.ExpectEmpty();
+
+  // An older shard whose later line lost its inline decision: found while merging, and
+  // nothing is left behind.
+  const std::string old = CopyShard(0, "dold");
+  Inline(old);
+  std::vector<std::string> old_lines = Lines(ReadAll(fs::path(old) / "results.jsonl"));
+  json third = json::parse(old_lines[2]);
+  third.erase("decision");
+  old_lines[2] = third.dump();
+  {
+    std::ofstream out(fs::path(old) / "results.jsonl", std::ios::binary | std::ios::trunc);
+    for (const std::string& l : old_lines) out << l << "\n";
+  }
+  e = ErrorOf([&] { MergeShards({old, Dir("s1"), Dir("s2")}, none.dir); });
+  EXPECT_EQ(e.source(), (fs::path(old) / "results.jsonl").string());
+  EXPECT_THAT(e.message(), HasSubstr("line 3: no inline \"decision\", and " + (fs::path(old) / "decisions.jsonl").string() +
+                                     " does not exist"));
+  none.ExpectEmpty();
 }
 
 TEST_F(CampaignMerge, LinesAreCopiedVerbatimWithKeysMergeDoesNotKnow) {
@@ -233,7 +349,8 @@ TEST(CampaignMergeFiles, TrajectoryFilesAreNotNeededToMerge) {
   }
   fs::remove(dir.path() / "campaign" / "ramp.csv");
   MergeShards(shards, (dir.path() / "merged").string());
-  for (const char* f : {"campaign.json", "results.jsonl"}) {
+  // Two shards, merged: both files are the unsharded run's, byte for byte.
+  for (const char* f : {"campaign.json", "results.jsonl", "decisions.jsonl"}) {
     EXPECT_EQ(ReadAll(dir.path() / "merged" / f), ReadAll(dir.path() / "full" / f)) << f;
   }
 }

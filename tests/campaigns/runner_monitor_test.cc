@@ -133,3 +133,26 @@ TEST(RunnerWithAnyMonitor, GarbageVerdictsFailTheRunAndTheCampaignGoesOn) {
 
 }  // namespace
 }  // namespace armfault
+
+namespace armfault {
+namespace {
+
+TEST(OutputLock, ASecondWriterIsToldWhoHoldsTheDirectory) {
+  testing_support::ScratchDir dir("lock");
+  {
+    const OutputLock first(dir.path(), "armfault run first.json");
+    try {
+      const OutputLock second(dir.path(), "armfault run second.json");
+      ADD_FAILURE() << "a second writer got the lock";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.source(), dir.path().string());
+      EXPECT_THAT(e.message(), HasSubstr("another armfault is writing here (pid "));
+      EXPECT_THAT(e.message(), HasSubstr(": armfault run first.json)"));
+    }
+  }
+  // Released with its holder.
+  EXPECT_NO_THROW(OutputLock(dir.path(), "armfault run third.json"));
+}
+
+}  // namespace
+}  // namespace armfault

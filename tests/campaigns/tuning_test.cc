@@ -21,6 +21,7 @@ namespace {
 
 using nlohmann::json;
 using testing::HasSubstr;
+using testing_support::ErrorOf;
 using testing_support::ScratchDir;
 
 TEST(SlidingMin, IsTheMinimumOfTheLastSpanValues) {
@@ -213,6 +214,14 @@ json KtCampaign(const json& monitor) {
   return j;
 }
 
+std::vector<DecisionLine> ReadDecisions(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::vector<DecisionLine> out;
+  std::string line;
+  while (std::getline(in, line)) out.push_back(DecisionLineFromJson(json::parse(line)));
+  return out;
+}
+
 std::vector<RunRecord> ReadRecords(const std::filesystem::path& path) {
   std::ifstream in(path);
   std::vector<RunRecord> out;
@@ -332,10 +341,139 @@ TEST(Tune, ARerunWithTheTunedMonitorGivesThePredictedRates) {
   EXPECT_EQ(isolated, op["isolation_accuracy"]["count"].get<long>());
 
   // The statistics do not depend on the thresholds: both runs stored the same ones.
-  const auto a = ReadRecords(dir.path() / "first" / "results.jsonl");
-  const auto b = ReadRecords(dir.path() / "second" / "results.jsonl");
+  const auto a = ReadDecisions(dir.path() / "first" / "decisions.jsonl");
+  const auto b = ReadDecisions(dir.path() / "second" / "decisions.jsonl");
   ASSERT_EQ(a.size(), b.size());
-  for (size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i].decision, b[i].decision) << a[i].run_id;
+  ASSERT_EQ(a.size(), ReadRecords(dir.path() / "first" / "results.jsonl").size());
+  for (size_t i = 0; i < a.size(); ++i) {
+    EXPECT_TRUE(a[i].decision.is_object()) << a[i].run_id;
+    EXPECT_EQ(a[i].decision, b[i].decision) << a[i].run_id;
+  }
+}
+
+std::string ReadText(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+std::vector<std::string> Lines(const std::string& text) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line)) out.push_back(line);
+  return out;
+}
+
+void WriteLines(const std::filesystem::path& path, const std::vector<std::string>& lines) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  for (const std::string& l : lines) out << l << "\n";
+}
+
+// The directory as an older armfault wrote it: each results line with its decision inline
+// (keys sorted, as ToJson wrote them) and no decisions.jsonl.
+void ReInline(const std::filesystem::path& dir) {
+  const std::vector<std::string> results = Lines(ReadText(dir / "results.jsonl"));
+  const std::vector<std::string> decisions = Lines(ReadText(dir / "decisions.jsonl"));
+  ASSERT_EQ(results.size(), decisions.size());
+  std::vector<std::string> old;
+  for (size_t k = 0; k < results.size(); ++k) {
+    json line = json::parse(results[k]);
+    line["decision"] = json::parse(decisions[k])["decision"];
+    old.push_back(line.dump());
+  }
+  WriteLines(dir / "results.jsonl", old);
+  std::filesystem::remove(dir / "decisions.jsonl");
+}
+
+// The tuning of KtCampaign's runs in DIR/new and of the same runs in the older layout in
+// DIR/old, run once for the tests below.
+class TuneLayouts : public testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new std::filesystem::path(std::filesystem::temp_directory_path() / ("tune_layouts_" + std::to_string(getpid())));
+    std::filesystem::create_directories(*dir_);
+    json file = KtCampaign(json::object());
+    file["healthy"] = 4;
+    const Campaign c = CampaignFromJson(file, "kt.json", dir_->string());
+    RunnerOptions o;
+    o.output_dir = (*dir_ / "new").string();
+    o.threads = 2;
+    RunCampaign(c, o);
+  }
+  static void TearDownTestSuite() {
+    std::error_code ec;
+    std::filesystem::remove_all(*dir_, ec);
+    delete dir_;
+    dir_ = nullptr;
+  }
+  // A copy of the new layout to edit.
+  static std::filesystem::path Copy(const std::string& name) {
+    const std::filesystem::path to = *dir_ / name;
+    std::filesystem::copy(*dir_ / "new", to, std::filesystem::copy_options::recursive);
+    return to;
+  }
+  static TuneOptions Options() {
+    TuneOptions options;
+    options.sweep = "kt_factor.worn=0.9:0.99:10";
+    options.rule.kind = OperatingRule::Kind::kYouden;
+    options.threads = 2;
+    return options;
+  }
+  static std::filesystem::path* dir_;
+};
+std::filesystem::path* TuneLayouts::dir_ = nullptr;
+
+TEST_F(TuneLayouts, DecisionsJsonlTunesExactlyAsTheOlderInlineDecisions) {
+  const TuningResult from_file = TuneCampaignDir((*dir_ / "new").string(), Options());
+  const std::filesystem::path old = Copy("old");
+  ReInline(old);
+  ASSERT_FALSE(std::filesystem::exists(old / "decisions.jsonl"));
+  const TuningResult from_inline = TuneCampaignDir(old.string(), Options());
+  EXPECT_EQ(from_file.runs, 10);
+  EXPECT_EQ(from_inline.runs, from_file.runs);
+  EXPECT_EQ(from_inline.report.dump(2), from_file.report.dump(2));
+  EXPECT_EQ(MonitorConfigToJson(from_inline.tuned), MonitorConfigToJson(from_file.tuned));
+}
+
+TEST_F(TuneLayouts, RefusesDecisionsThatDoNotGoWithTheResultsNamingTheLine) {
+  const std::filesystem::path d = Copy("bad");
+  const std::filesystem::path decisions = d / "decisions.jsonl", results = d / "results.jsonl";
+  const std::vector<std::string> lines = Lines(ReadText(decisions));
+  auto error = [&] { return ErrorOf([&] { TuneCampaignDir(d.string(), Options()); }); };
+
+  std::vector<std::string> swapped = lines;
+  std::swap(swapped[1], swapped[2]);
+  WriteLines(decisions, swapped);
+  InputError e = error();
+  EXPECT_EQ(e.source(), decisions.string());
+  EXPECT_THAT(e.message(), HasSubstr("line 2: case 2 \"exp1/kt_degradation#0/kt_factor=0.95/j3/r0\", but line 2 of " +
+                                     results.string() + " is case 1 \"exp1/kt_degradation#0/kt_factor=0.96/j3/r1\""));
+
+  // Cut by a kill in its last line, or ending early.
+  std::ofstream(decisions, std::ios::binary | std::ios::trunc) << lines[0] << "\n" << lines[1].substr(0, lines[1].size() / 2);
+  e = error();
+  EXPECT_EQ(e.source(), decisions.string());
+  EXPECT_THAT(e.message(), HasSubstr("line 2: cut: the line has no newline"));
+  WriteLines(decisions, std::vector<std::string>(lines.begin(), lines.begin() + 3));
+  EXPECT_THAT(error().message(), HasSubstr("line 4: missing: the file ends after 3 lines"));
+  // One line too many.
+  std::vector<std::string> more = lines;
+  more.push_back(lines.back());
+  WriteLines(decisions, more);
+  EXPECT_THAT(error().message(), HasSubstr("line 11: more lines than the 10 runs of " + results.string()));
+  // Not a decisions line.
+  std::vector<std::string> broken = lines;
+  broken[4] = R"({"case_index": 4, "run_id": "exp1/kt_degradation#0/kt_factor=0.95/j3/r0"})";
+  WriteLines(decisions, broken);
+  EXPECT_THAT(error().message(), HasSubstr("line 5: missing key \"decision\""));
+
+  // Neither decisions.jsonl nor inline decisions (--summary-only removed them).
+  std::filesystem::remove(decisions);
+  e = error();
+  EXPECT_EQ(e.source(), results.string());
+  EXPECT_THAT(e.message(), HasSubstr("line 1: no decision statistics: " + decisions.string() + " does not exist"));
 }
 
 TEST(Tune, RefusesResultsWhoseStatisticsDoNotReproduceThem) {

@@ -33,12 +33,19 @@ class CosineRamp final : public Trajectory {
 
 std::unique_ptr<Trajectory> MakeCosineRamp(ObjectReader& reader, const InputContext& /*ctx*/) {
   using namespace trajectory_detail;
-  reader.AllowOnly({"amplitude_deg", "period_s", "offset_deg"});
-  const double amplitude_deg = reader.RequireNumber("amplitude_deg");
-  const double period_s = reader.RequireNumber("period_s");
-  RequireAbove(period_s, 0.0, reader.PointerTo("period_s"));
-  double offset_deg = 0.0;
-  reader.OptionalNumber("offset_deg", &offset_deg);
+  ErrorList errors;  // every key on its own
+  errors.Try([&] { reader.AllowOnly({"amplitude_deg", "period_s", "offset_deg"}); });
+  double amplitude_deg = 0.0, period_s = 1.0, offset_deg = 0.0;
+  errors.Try([&] {
+    if (reader.ShouldRead("amplitude_deg")) amplitude_deg = reader.RequireNumber("amplitude_deg");
+  });
+  errors.Try([&] {
+    if (!reader.ShouldRead("period_s")) return;
+    period_s = reader.RequireNumber("period_s");
+    RequireAbove(period_s, 0.0, reader.PointerTo("period_s"));
+  });
+  errors.Try([&] { reader.OptionalNumber("offset_deg", &offset_deg); });
+  errors.ThrowIfAny();
   return std::make_unique<CosineRamp>(DegToRad(amplitude_deg), period_s, DegToRad(offset_deg));
 }
 

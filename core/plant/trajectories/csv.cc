@@ -176,43 +176,50 @@ std::vector<Row> ParseRows(const std::string& text, const std::string& csv_path)
 
 std::unique_ptr<Trajectory> MakeCsv(ObjectReader& reader, const InputContext& ctx) {
   using namespace trajectory_detail;
-  reader.AllowOnly({"path"});
-  const std::string pointer = reader.PointerTo("path");
-  const std::string path = reader.RequireString("path");
-  if (path.empty()) throw InputError("", pointer, "expected a file name, got an empty string");
+  ErrorList errors;  // the unknown keys and the file
+  errors.Try([&] { reader.AllowOnly({"path"}); });
+  std::unique_ptr<Trajectory> out;
+  errors.Try([&] {
+    if (!reader.ShouldRead("path")) return;
+    const std::string pointer = reader.PointerTo("path");
+    const std::string path = reader.RequireString("path");
+    if (path.empty()) throw InputError("", pointer, "expected a file name, got an empty string");
 
-  // Relative paths are relative to the file that names them (ctx.base_dir), not to the
-  // working directory, so an experiment directory can be moved as a whole.
-  std::string resolved = path;
-  if (fs::path(path).is_relative() && !ctx.base_dir.empty() && ctx.base_dir != ".") {
-    resolved = (fs::path(ctx.base_dir) / path).string();
-  }
-  constexpr size_t kWholePath = std::string_view::npos;
-  const std::string named =
-      "CSV file " + Quote(resolved, kWholePath) +
-      (resolved == path ? "" : " (resolved from " + Quote(path, kWholePath) + ")");
+    // Relative paths are relative to the file that names them (ctx.base_dir), not to the
+    // working directory, so an experiment directory can be moved as a whole.
+    std::string resolved = path;
+    if (fs::path(path).is_relative() && !ctx.base_dir.empty() && ctx.base_dir != ".") {
+      resolved = (fs::path(ctx.base_dir) / path).string();
+    }
+    constexpr size_t kWholePath = std::string_view::npos;
+    const std::string named =
+        "CSV file " + Quote(resolved, kWholePath) +
+        (resolved == path ? "" : " (resolved from " + Quote(path, kWholePath) + ")");
 
-  std::error_code ec;
-  const fs::file_status status = fs::status(resolved, ec);
-  if (!fs::exists(status)) throw InputError("", pointer, named + " does not exist");
-  if (fs::is_directory(status)) throw InputError("", pointer, named + " is a directory");
-  std::ifstream file(resolved, std::ios::binary);
-  std::ostringstream text;
-  if (file) text << file.rdbuf();
-  if (!file || file.bad()) throw InputError("", pointer, named + " cannot be read");
+    std::error_code ec;
+    const fs::file_status status = fs::status(resolved, ec);
+    if (!fs::exists(status)) throw InputError("", pointer, named + " does not exist");
+    if (fs::is_directory(status)) throw InputError("", pointer, named + " is a directory");
+    std::ifstream file(resolved, std::ios::binary);
+    std::ostringstream text;
+    if (file) text << file.rdbuf();
+    if (!file || file.bad()) throw InputError("", pointer, named + " cannot be read");
 
-  const std::vector<Row> rows = ParseRows(text.str(), resolved);
-  if (rows.size() < 2) {
-    throw InputError("", pointer,
-                     named + " has " + std::to_string(rows.size()) +
-                         " data row(s); at least 2 are needed");
-  }
-  std::vector<double> times_s, angles_rad;
-  for (const Row& row : rows) {
-    times_s.push_back(row.time_s);
-    angles_rad.push_back(DegToRad(row.angle_deg));
-  }
-  return std::make_unique<CsvSpline>(std::move(times_s), std::move(angles_rad));
+    const std::vector<Row> rows = ParseRows(text.str(), resolved);
+    if (rows.size() < 2) {
+      throw InputError("", pointer,
+                       named + " has " + std::to_string(rows.size()) +
+                           " data row(s); at least 2 are needed");
+    }
+    std::vector<double> times_s, angles_rad;
+    for (const Row& row : rows) {
+      times_s.push_back(row.time_s);
+      angles_rad.push_back(DegToRad(row.angle_deg));
+    }
+    out = std::make_unique<CsvSpline>(std::move(times_s), std::move(angles_rad));
+  });
+  errors.ThrowIfAny();
+  return out;
 }
 
 }  // namespace armfault

@@ -24,9 +24,11 @@ class Hold final : public Trajectory {
 
 std::unique_ptr<Trajectory> MakeHold(ObjectReader& reader, const InputContext& /*ctx*/) {
   using namespace trajectory_detail;
-  reader.AllowOnly({"angle_deg"});
+  ErrorList errors;  // the unknown keys and the angle
+  errors.Try([&] { reader.AllowOnly({"angle_deg"}); });
   double angle_deg = 0.0;
-  reader.OptionalNumber("angle_deg", &angle_deg);
+  errors.Try([&] { reader.OptionalNumber("angle_deg", &angle_deg); });
+  errors.ThrowIfAny();
   return std::make_unique<Hold>(DegToRad(angle_deg));
 }
 

@@ -54,32 +54,37 @@ class MinJerk final : public Trajectory {
 
 std::unique_ptr<Trajectory> MakeMinJerk(ObjectReader& reader, const InputContext& /*ctx*/) {
   using namespace trajectory_detail;
-  reader.AllowOnly({"waypoints"});
-  const std::string pointer = reader.PointerTo("waypoints");
-  const nlohmann::json& waypoints = reader.Require("waypoints");
-  if (!waypoints.is_array() || waypoints.empty()) {
-    throw InputError("", pointer,
-                     "expected a non-empty array of [time_s, angle_deg] pairs, got " +
-                         Describe(waypoints));
-  }
+  ErrorList errors;  // the unknown keys and the waypoints
+  errors.Try([&] { reader.AllowOnly({"waypoints"}); });
   std::vector<double> times_s, angles_rad;
-  for (size_t i = 0; i < waypoints.size(); ++i) {
-    const nlohmann::json& pair = waypoints[i];
-    const std::string at = PointerJoin(pointer, i);
-    if (!pair.is_array() || pair.size() != 2) {
-      throw InputError("", at, "expected a [time_s, angle_deg] pair, got " + Describe(pair));
+  errors.Try([&] {
+    if (!reader.ShouldRead("waypoints")) return;
+    const std::string pointer = reader.PointerTo("waypoints");
+    const nlohmann::json& waypoints = reader.Require("waypoints");
+    if (!waypoints.is_array() || waypoints.empty()) {
+      throw InputError("", pointer,
+                       "expected a non-empty array of [time_s, angle_deg] pairs, got " +
+                           Describe(waypoints));
     }
-    const double t = AsNumber(pair[0], PointerJoin(at, size_t{0}));
-    const double angle_deg = AsNumber(pair[1], PointerJoin(at, size_t{1}));
-    RequireAtLeast(t, 0.0, PointerJoin(at, size_t{0}));
-    if (!times_s.empty() && !(t > times_s.back())) {
-      throw InputError("", PointerJoin(at, size_t{0}),
-                       "waypoint time " + FormatNumber(t) + " s is not after the previous one (" +
-                           FormatNumber(times_s.back()) + " s); times must strictly increase");
+    for (size_t i = 0; i < waypoints.size(); ++i) {
+      const nlohmann::json& pair = waypoints[i];
+      const std::string at = PointerJoin(pointer, i);
+      if (!pair.is_array() || pair.size() != 2) {
+        throw InputError("", at, "expected a [time_s, angle_deg] pair, got " + Describe(pair));
+      }
+      const double t = AsNumber(pair[0], PointerJoin(at, size_t{0}));
+      const double angle_deg = AsNumber(pair[1], PointerJoin(at, size_t{1}));
+      RequireAtLeast(t, 0.0, PointerJoin(at, size_t{0}));
+      if (!times_s.empty() && !(t > times_s.back())) {
+        throw InputError("", PointerJoin(at, size_t{0}),
+                         "waypoint time " + FormatNumber(t) + " s is not after the previous one (" +
+                             FormatNumber(times_s.back()) + " s); times must strictly increase");
+      }
+      times_s.push_back(t);
+      angles_rad.push_back(DegToRad(angle_deg));
     }
-    times_s.push_back(t);
-    angles_rad.push_back(DegToRad(angle_deg));
-  }
+  });
+  errors.ThrowIfAny();
   return std::make_unique<MinJerk>(std::move(times_s), std::move(angles_rad));
 }
 

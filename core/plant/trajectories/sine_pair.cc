@@ -33,12 +33,19 @@ class SinePair final : public Trajectory {
 
 std::unique_ptr<Trajectory> MakeSinePair(ObjectReader& reader, const InputContext& /*ctx*/) {
   using namespace trajectory_detail;
-  reader.AllowOnly({"amplitude_deg", "omega_rad_s", "offset_deg"});
-  const double amplitude_deg = reader.RequireNumber("amplitude_deg");
-  const double omega_rad_s = reader.RequireNumber("omega_rad_s");
-  RequireAbove(omega_rad_s, 0.0, reader.PointerTo("omega_rad_s"));
-  double offset_deg = 0.0;
-  reader.OptionalNumber("offset_deg", &offset_deg);
+  ErrorList errors;  // every key on its own
+  errors.Try([&] { reader.AllowOnly({"amplitude_deg", "omega_rad_s", "offset_deg"}); });
+  double amplitude_deg = 0.0, omega_rad_s = 1.0, offset_deg = 0.0;
+  errors.Try([&] {
+    if (reader.ShouldRead("amplitude_deg")) amplitude_deg = reader.RequireNumber("amplitude_deg");
+  });
+  errors.Try([&] {
+    if (!reader.ShouldRead("omega_rad_s")) return;
+    omega_rad_s = reader.RequireNumber("omega_rad_s");
+    RequireAbove(omega_rad_s, 0.0, reader.PointerTo("omega_rad_s"));
+  });
+  errors.Try([&] { reader.OptionalNumber("offset_deg", &offset_deg); });
+  errors.ThrowIfAny();
   return std::make_unique<SinePair>(DegToRad(amplitude_deg), omega_rad_s, DegToRad(offset_deg));
 }
 

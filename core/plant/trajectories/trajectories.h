@@ -4,7 +4,9 @@
 // A factory gets an ObjectReader over the trajectory's JSON object whose "type" key has
 // already been read by MakeTrajectory. It reads its own keys (angles in degrees, times in
 // seconds), converts angles to radians and returns an immutable Trajectory. Errors are
-// InputError; those without a source get the JSON file's name added by MakeTrajectory.
+// InputError; those without a source get the JSON file's name added by MakeTrajectory. Each
+// key is checked on its own (ErrorList), so every unknown or bad key of one trajectory is
+// reported at once.
 #pragma once
 
 #include "core/base/json_input.h"
