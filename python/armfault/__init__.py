@@ -172,8 +172,9 @@ def _input_error(file, pointer, message):
 
 
 def load_campaign(source, base_dir=None):
-    """A campaign from a file (str or path) or from a dict shaped like a campaign file
-    (docs/campaign-format.md), checked as `armfault validate` checks it.
+    """A campaign from a file (str or path: a campaign file, or the campaign.json of an output
+    directory) or from a dict shaped like a campaign file (docs/campaign-format.md), checked as
+    `armfault validate` checks it. A Campaign is returned as it is.
 
     base_dir: where a dict's relative file names (a csv trajectory, a monitor file) resolve;
     default the current directory. Errors raise armfault.InputError, whose message names the
@@ -246,7 +247,12 @@ def run_campaign(campaign, output_dir=None, threads=0, monitor=None, *, as_frame
         campaign = with_monitor(campaign, monitor)
     if progress is True:
         progress = _progress_printer
-    lines = _armfault.run_cases(campaign, int(threads), progress)
+    try:
+        lines = _armfault.run_cases(campaign, int(threads), progress)
+    except KeyboardInterrupt:
+        if progress is _progress_printer:
+            print(file=sys.stderr)
+        raise
     if output_dir is not None:
         _armfault.write_outputs(os.fspath(output_dir), campaign, lines)
     return _records(lines, as_frame)

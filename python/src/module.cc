@@ -67,8 +67,14 @@ struct PyCampaign {
   std::shared_ptr<const Campaign> campaign;
 };
 
+// A campaign file, or the campaign.json of an output directory (the resolved campaign wrapped
+// with the version and shard), as `armfault trace --run` takes either.
 PyCampaign LoadFile(const std::string& path) {
-  return {std::make_shared<const Campaign>(ReadCampaignFile(path))};
+  const nlohmann::json input = ReadJsonFile(path);
+  const bool output_dir_file = input.is_object() && input.contains("armfault_version") && input.contains("campaign");
+  const std::string base = fs::path(path).parent_path().string();
+  return {std::make_shared<const Campaign>(
+      CampaignFromJson(output_dir_file ? input["campaign"] : input, path, base.empty() ? "." : base))};
 }
 
 PyCampaign LoadText(const std::string& text, const std::string& source, const std::string& base_dir) {

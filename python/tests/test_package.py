@@ -74,6 +74,8 @@ def test_builtin_monitor_gives_the_cli_records_and_files(cli, small_file, tmp_pa
         assert (tmp_path / "py" / name).read_bytes() == (tmp_path / "cli" / name).read_bytes(), name
     lines = (tmp_path / "cli" / "results.jsonl").read_text().splitlines()
     assert records == [json.loads(line) for line in lines]
+    # The output directory's campaign.json loads as the campaign it ran.
+    assert armfault.load_campaign(tmp_path / "py" / "campaign.json").cases() == armfault.load_campaign(small_file).cases()
     # The DataFrame holds the same fields; one thread gives the same records.
     frame = armfault.run_campaign(small_file, threads=1)
     assert isinstance(frame, pd.DataFrame) and list(frame["run_id"]) == [r["run_id"] for r in records]
