@@ -152,6 +152,9 @@ PythonMonitor::PythonMonitor(const PythonMonitorModel& model, PyObject* given) :
       py::array_t<double> array({static_cast<py::ssize_t>(kSignalFields.size()), static_cast<py::ssize_t>(model.joints())});
       std::fill(array.mutable_data(), array.mutable_data() + array.size(), 0.0);
       rows_ = array.mutable_data();
+      row_size_ = static_cast<size_t>(array.size());
+      kept_t_s_.reserve(kBatchTicks);
+      kept_rows_.reserve(kBatchTicks * row_size_);
       py::object signals = py::reinterpret_borrow<py::object>(model.signals_type())(array);
       instance_ = instance.release().ptr();
       step_ = step.release().ptr();
@@ -200,11 +203,33 @@ PyObject* PythonMonitor::TakeError() {
   return e;
 }
 
-void PythonMonitor::Observe(double t_s, const std::vector<JointSignals>& joints) {
+double* PythonMonitor::Keep(double t_s) {
+  kept_t_s_.push_back(t_s);
+  kept_rows_.resize(kept_t_s_.size() * row_size_);
+  return kept_rows_.data() + (kept_t_s_.size() - 1) * row_size_;
+}
+
+void PythonMonitor::Flush() {
+  if (kept_t_s_.empty()) return;
+  struct Clear {  // whatever happens, these ticks are done with
+    PythonMonitor* m;
+    ~Clear() { m->kept_t_s_.clear(); }
+  } clear{this};
   GilHold hold(&saved_);
+  for (size_t k = 0; k < kept_t_s_.size(); ++k) {
+    std::memcpy(rows_, kept_rows_.data() + k * row_size_, sizeof(double) * row_size_);
+    Call(step_, "step", kept_t_s_[k], true);
+  }
+}
+
+void PythonMonitor::Observe(double t_s, const std::vector<JointSignals>& joints) {
   const size_t n = static_cast<size_t>(model_.joints());
-  double* r = rows_;
-  for (size_t j = 0; j < n && j < joints.size(); ++j) {
+  double* r = Keep(t_s);
+  for (size_t j = 0; j < n; ++j) {
+    if (j >= joints.size()) {
+      for (size_t f = 0; f < kSignalFields.size(); ++f) r[f * n + j] = std::nan("");
+      continue;
+    }
     const JointSignals& s = joints[j];
     r[0 * n + j] = s.q_ref_rad;
     r[1 * n + j] = s.qd_ref_rad_s;
@@ -216,16 +241,16 @@ void PythonMonitor::Observe(double t_s, const std::vector<JointSignals>& joints)
     r[7 * n + j] = s.v_bus_meas_V;
     r[8 * n + j] = s.winding_temp_C;
   }
-  Call(step_, "step", t_s, true);
+  if (kept_t_s_.size() >= kBatchTicks) Flush();
 }
 
 void PythonMonitor::ObserveRows(double t_s, const double* rows) {
-  GilHold hold(&saved_);
-  std::memcpy(rows_, rows, sizeof(double) * kSignalFields.size() * static_cast<size_t>(model_.joints()));
-  Call(step_, "step", t_s, true);
+  std::memcpy(Keep(t_s), rows, sizeof(double) * row_size_);
+  if (kept_t_s_.size() >= kBatchTicks) Flush();
 }
 
 void PythonMonitor::Finish(double t_end_s) {
+  Flush();
   if (!finish_) return;
   GilHold hold(&saved_);
   Call(finish_, "finish", t_end_s, false);

@@ -3,12 +3,14 @@
 // it does the built-in monitor: ScoreVerdicts on what it emitted, CheckOutput on the contract, a
 // Python exception fails the run (MonitorFailure) and the campaign goes on.
 //
-// Threads and the GIL: runs go on in parallel (oneTBB) with the GIL released; a Python monitor
-// takes the GIL for each call into Python (its construction, every step(), finish()) and gives it
-// back at once, so the C++ simulation of one run goes on while another run's monitor runs Python.
-// Each run makes its own thread state (PyGILState_Ensure) when its monitor is made and keeps it
-// until the monitor is destroyed, so a tick costs PyEval_RestoreThread + PyEval_SaveThread, not
-// a thread state. docs/monitor-api.md, "Python".
+// Threads and the GIL: runs go on in parallel (oneTBB) with the GIL released. A Python monitor
+// keeps the signals of the ticks it is given (no GIL) and, every kBatchTicks ticks and at the
+// end, takes the GIL once and calls step() for each of them in order, as if tick by tick: step
+// sees the same values in the same order, and verdicts and failures carry their own tick's time.
+// So the C++ simulation of one run goes on while another run's monitor runs Python, and the GIL
+// changes hands once per batch, not once per tick. Each run makes its own thread state
+// (PyGILState_Ensure) when its monitor is made and keeps it until the monitor is destroyed.
+// docs/monitor-api.md, "A monitor in Python".
 #pragma once
 
 #include <pybind11/pybind11.h>
@@ -24,6 +26,9 @@ namespace armfault::python {
 
 // The signals a Python monitor gets, in this order: the rows of Signals.array.
 extern const std::vector<const char*> kSignalFields;
+
+// Ticks whose step() calls go under one hold of the GIL (half a second at 500 Hz).
+constexpr size_t kBatchTicks = 256;
 
 // armfault.Verdict: a Verdict whose time may be left to the tick that emitted it.
 struct PyVerdict {
@@ -74,10 +79,13 @@ class PythonMonitor : public HealthMonitor {
   PythonMonitor(const PythonMonitor&) = delete;
   PythonMonitor& operator=(const PythonMonitor&) = delete;
 
+  // Keeps the tick; every kBatchTicks ticks calls step() for each kept one (a failure in one
+  // throws MonitorFailure naming its tick's time, and the later ticks are not called).
   void Observe(double t_s, const std::vector<JointSignals>& joints) override;
-  // The same call with the signals already laid out as Signals.array ([field][joint], the
-  // fields in kSignalFields order): what replay() feeds from a recorded trace.
+  // The same with the signals already laid out as Signals.array ([field][joint], the fields in
+  // kSignalFields order): what replay() feeds from a recorded trace.
   void ObserveRows(double t_s, const double* rows);
+  // step() for the ticks still kept, then finish().
   void Finish(double t_end_s) override;
   const MonitorOutput& output() const override { return output_; }
 
@@ -85,6 +93,8 @@ class PythonMonitor : public HealthMonitor {
   PyObject* TakeError();
 
  private:
+  double* Keep(double t_s);  // room for one tick's rows
+  void Flush();              // step() for every kept tick
   void Call(PyObject* method, const char* what, double t_s, bool with_signals);
   [[noreturn]] void Fail(const char* what, double t_s);
   void Collect(PyObject* result, const char* what, double t_s);
@@ -99,6 +109,9 @@ class PythonMonitor : public HealthMonitor {
   PyObject* signals_ = nullptr;     // the Signals object passed at every tick
   PyObject* array_ = nullptr;       // its array, [field][joint], overwritten at every tick
   double* rows_ = nullptr;          // the array's data
+  size_t row_size_ = 0;             // doubles in one tick's rows: fields x joints
+  std::vector<double> kept_t_s_;    // ticks kept for the next batch ...
+  std::vector<double> kept_rows_;   // ... and their rows, one row_size_ each
   PyObject* error_ = nullptr;       // the exception that failed the run
   MonitorOutput output_;
 };

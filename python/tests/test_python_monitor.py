@@ -168,3 +168,18 @@ def test_verdict():
         armfault.Verdict(1, "broken")
     with pytest.raises(ValueError, match="give its state"):
         armfault.Verdict(1)
+
+
+def test_step_sees_every_tick_in_order_with_the_traces_values(small):
+    seen = []
+
+    class Recorder(armfault.Monitor):
+        def step(self, t_s, signals):
+            seen.append((t_s, signals.array.copy()))
+
+    trace = armfault.simulate(small, "exp1/healthy/0", monitor=Recorder)
+    assert trace.record["status"] == "ok"
+    assert [t for t, _ in seen] == list(trace.t_s)
+    for k, (_, rows) in enumerate(seen):
+        for f, name in enumerate(armfault.SIGNAL_FIELDS):
+            assert rows[f].tobytes() == trace.signals[name][k].tobytes(), (k, name)
