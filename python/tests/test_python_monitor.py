@@ -183,3 +183,15 @@ def test_step_sees_every_tick_in_order_with_the_traces_values(small):
     for k, (_, rows) in enumerate(seen):
         for f, name in enumerate(armfault.SIGNAL_FIELDS):
             assert rows[f].tobytes() == trace.signals[name][k].tobytes(), (k, name)
+
+
+def test_the_documented_example_is_the_tested_one(small):
+    """docs/monitor-api.md shows TorqueRatioMonitor: its code block behaves as the example file."""
+    from conftest import REPO
+    doc = (REPO / "docs" / "monitor-api.md").read_text()
+    blocks = [b.split("```", 1)[0] for b in doc.split("```python\n")[1:]]
+    source = next(b for b in blocks if "class TorqueRatioMonitor" in b)
+    namespace = {}
+    exec(compile(source, "docs/monitor-api.md", "exec"), namespace)
+    trace = armfault.simulate(small, "exp1/kt_degradation#0/-/j3/r0")
+    assert armfault.replay(namespace["TorqueRatioMonitor"], trace) == armfault.replay(TorqueRatioMonitor, trace)
