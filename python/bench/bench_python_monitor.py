@@ -3,8 +3,9 @@
     PYTHONPATH=build/python /usr/bin/python3 python/bench/bench_python_monitor.py [--cli build/armfault]
 
 1. Per tick: armfault.replay() feeds a recorded 10 s run (5001 ticks) to a monitor through the
-   same call path as a campaign (GIL taken and given back, the Signals arrays refilled, step()
-   called, its return read); best of 7, in microseconds per tick, for the trivial monitor
+   same call path as a campaign (the tick kept, the Signals arrays refilled, step() called and its
+   return read, the GIL taken once per 256 ticks); best of 7, in microseconds per tick, for the
+   trivial monitor
    (armfault.Monitor: step returns None) and the example (python/examples/torque_ratio_monitor.py).
 2. A campaign: python/bench/campaign-200.json (200 runs of 10 s at 500 Hz, 1.0e6 ticks) on 2
    threads: `armfault run -j 2` (the built-in monitor, for reference), then run_campaign with the
