@@ -1,0 +1,313 @@
+#include "python/src/python_monitor.h"
+
+#include <pybind11/numpy.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+
+#include "core/base/json_input.h"
+
+namespace armfault::python {
+
+namespace py = pybind11;
+
+const std::vector<const char*> kSignalFields = {"q_ref_rad",      "qd_ref_rad_s", "q_meas_rad",
+                                                "qd_est_rad_s",   "tau_sensor_Nm", "i_cmd_A",
+                                                "i_supply_meas_A", "v_bus_meas_V", "winding_temp_C"};
+
+namespace {
+
+// The GIL on this run's thread state, for one call into Python.
+class GilHold {
+ public:
+  explicit GilHold(PyThreadState** saved) : saved_(saved) { PyEval_RestoreThread(*saved_); }
+  ~GilHold() { *saved_ = PyEval_SaveThread(); }
+  GilHold(const GilHold&) = delete;
+  GilHold& operator=(const GilHold&) = delete;
+
+ private:
+  PyThreadState** saved_;
+};
+
+// "ValueError: bad gain (my_monitor.py:42 in step)": the exception's type, its message and
+// where it was raised (the innermost frame of its traceback). Needs the GIL; never throws.
+std::string DescribeException(PyObject* value) {
+  try {
+    py::handle v(value);
+    std::string text = py::str(py::type::handle_of(v).attr("__name__")).cast<std::string>();
+    const std::string message = py::str(v).cast<std::string>();
+    if (!message.empty()) text += ": " + message;
+    py::object tb = py::reinterpret_steal<py::object>(PyException_GetTraceback(value));
+    if (tb && !tb.is_none()) {
+      py::list frames = py::module_::import("traceback").attr("extract_tb")(tb);
+      if (!frames.empty()) {
+        py::object last = frames[frames.size() - 1];
+        const std::string file = py::str(last.attr("filename")).cast<std::string>();
+        text += " (" + std::filesystem::path(file).filename().string() + ":" +
+                py::str(last.attr("lineno")).cast<std::string>() + " in " +
+                py::str(last.attr("name")).cast<std::string>() + ")";
+      }
+    }
+    return text;
+  } catch (const std::exception&) {
+    PyErr_Clear();
+    return "an exception that cannot be shown";
+  }
+}
+
+// "Class" of "module.Class", for messages.
+std::string ShortName(const std::string& name) {
+  const size_t dot = name.rfind('.');
+  return dot == std::string::npos ? name : name.substr(dot + 1);
+}
+
+HealthState StateOf(const std::string& state) {
+  if (state == "healthy") return HealthState::kHealthy;
+  if (state == "worn") return HealthState::kWorn;
+  if (state == "defective") return HealthState::kDefective;
+  throw py::value_error("Verdict: state must be \"healthy\", \"worn\" or \"defective\" (or a bool: alarm), got \"" +
+                        state + "\"");
+}
+
+}  // namespace
+
+PyVerdict MakePyVerdict(int joint, py::object state, py::object family, py::object magnitude_name, double magnitude,
+                        double confidence, py::object t_s, py::object alarm) {
+  PyVerdict out;
+  Verdict& v = out.verdict;
+  v.joint = joint;
+  if (state.is_none() && alarm.is_none()) throw py::value_error("Verdict: give its state (or alarm)");
+  if (!state.is_none()) {
+    if (py::isinstance<py::bool_>(state)) {
+      v.state = state.cast<bool>() ? HealthState::kWorn : HealthState::kHealthy;
+    } else if (py::isinstance<py::str>(state)) {
+      v.state = StateOf(state.cast<std::string>());
+    } else {
+      throw py::type_error("Verdict: state must be a str (\"healthy\", \"worn\", \"defective\") or a bool, got " +
+                           py::str(py::type::handle_of(state).attr("__name__")).cast<std::string>());
+    }
+    // alarm = state is not healthy, unless given too (then the contract check judges the pair).
+    v.alarm = alarm.is_none() ? v.state != HealthState::kHealthy : alarm.cast<bool>();
+  } else {
+    v.alarm = alarm.cast<bool>();
+    v.state = v.alarm ? HealthState::kWorn : HealthState::kHealthy;
+  }
+  v.family = family.is_none() ? (v.alarm ? "unknown" : "") : family.cast<std::string>();
+  v.magnitude_name = magnitude_name.is_none() ? "" : magnitude_name.cast<std::string>();
+  v.magnitude = magnitude;
+  v.confidence = confidence;
+  if (!t_s.is_none()) {
+    v.t_s = t_s.cast<double>();
+    out.has_time = true;
+  }
+  return out;
+}
+
+// ---------------------------------------------------------------------------- the model
+
+PythonMonitorModel::PythonMonitorModel(py::handle factory, std::string name, std::string robot_json, int joints)
+    : name_(std::move(name)), robot_json_(std::move(robot_json)), joints_(joints) {
+  py::object signals = py::module_::import("armfault").attr("Signals");
+  py::object loads = py::module_::import("json").attr("loads");
+  factory_ = factory.inc_ref().ptr();
+  signals_type_ = signals.release().ptr();
+  json_loads_ = loads.release().ptr();
+}
+
+PythonMonitorModel::~PythonMonitorModel() {
+  if (!Py_IsInitialized()) return;
+  const PyGILState_STATE state = PyGILState_Ensure();
+  Py_XDECREF(factory_);
+  Py_XDECREF(signals_type_);
+  Py_XDECREF(json_loads_);
+  PyGILState_Release(state);
+}
+
+std::unique_ptr<HealthMonitor> PythonMonitorModel::NewMonitor() const {
+  return std::make_unique<PythonMonitor>(*this);
+}
+
+// ---------------------------------------------------------------------------- one run
+
+PythonMonitor::PythonMonitor(const PythonMonitorModel& model, PyObject* given) : model_(model) {
+  gil_state_ = PyGILState_Ensure();
+  std::string failure;
+  try {
+    py::object instance;
+    if (given) {
+      instance = py::reinterpret_borrow<py::object>(given);
+    } else {
+      // A fresh dict per run: nothing one run's monitor does to it reaches another's.
+      py::object robot = py::reinterpret_borrow<py::object>(model.json_loads())(model.robot_json());
+      instance = py::reinterpret_borrow<py::object>(model.factory())(robot);
+    }
+    py::object step = py::getattr(instance, "step", py::none());
+    if (!PyCallable_Check(step.ptr())) {
+      failure = ShortName(model.name()) + "(robot) made a " +
+                py::str(py::type::handle_of(instance).attr("__name__")).cast<std::string>() +
+                ", which has no step(t_s, signals) method";
+    } else {
+      py::object finish = py::getattr(instance, "finish", py::none());
+      py::array_t<double> array({static_cast<py::ssize_t>(kSignalFields.size()), static_cast<py::ssize_t>(model.joints())});
+      std::fill(array.mutable_data(), array.mutable_data() + array.size(), 0.0);
+      rows_ = array.mutable_data();
+      row_size_ = static_cast<size_t>(array.size());
+      kept_t_s_.reserve(kBatchTicks);
+      kept_rows_.reserve(kBatchTicks * row_size_);
+      py::object signals = py::reinterpret_borrow<py::object>(model.signals_type())(array);
+      instance_ = instance.release().ptr();
+      step_ = step.release().ptr();
+      finish_ = PyCallable_Check(finish.ptr()) ? finish.release().ptr() : nullptr;
+      array_ = array.release().ptr();
+      signals_ = signals.release().ptr();
+    }
+  } catch (py::error_already_set& e) {
+    e.restore();
+    PyObject *type, *value, *tb;
+    PyErr_Fetch(&type, &value, &tb);
+    PyErr_NormalizeException(&type, &value, &tb);
+    if (tb) PyException_SetTraceback(value, tb);
+    failure = ShortName(model.name()) + "(robot) raised " + DescribeException(value);
+    Py_XDECREF(type);
+    Py_XDECREF(value);
+    Py_XDECREF(tb);
+  }
+  if (!failure.empty()) {
+    Release();
+    PyGILState_Release(gil_state_);
+    throw MonitorFailure(failure);
+  }
+  saved_ = PyEval_SaveThread();
+}
+
+PythonMonitor::~PythonMonitor() {
+  PyEval_RestoreThread(saved_);
+  Release();
+  PyGILState_Release(gil_state_);
+}
+
+void PythonMonitor::Release() {
+  Py_CLEAR(signals_);
+  Py_CLEAR(array_);
+  Py_CLEAR(finish_);
+  Py_CLEAR(step_);
+  Py_CLEAR(instance_);
+  Py_CLEAR(error_);
+  rows_ = nullptr;
+}
+
+PyObject* PythonMonitor::TakeError() {
+  PyObject* e = error_;
+  error_ = nullptr;
+  return e;
+}
+
+double* PythonMonitor::Keep(double t_s) {
+  kept_t_s_.push_back(t_s);
+  kept_rows_.resize(kept_t_s_.size() * row_size_);
+  return kept_rows_.data() + (kept_t_s_.size() - 1) * row_size_;
+}
+
+void PythonMonitor::Flush() {
+  if (kept_t_s_.empty()) return;
+  struct Clear {  // whatever happens, these ticks are done with
+    PythonMonitor* m;
+    ~Clear() { m->kept_t_s_.clear(); }
+  } clear{this};
+  GilHold hold(&saved_);
+  for (size_t k = 0; k < kept_t_s_.size(); ++k) {
+    std::memcpy(rows_, kept_rows_.data() + k * row_size_, sizeof(double) * row_size_);
+    Call(step_, "step", kept_t_s_[k], true);
+  }
+}
+
+void PythonMonitor::Observe(double t_s, const std::vector<JointSignals>& joints) {
+  const size_t n = static_cast<size_t>(model_.joints());
+  double* r = Keep(t_s);
+  for (size_t j = 0; j < n; ++j) {
+    if (j >= joints.size()) {
+      for (size_t f = 0; f < kSignalFields.size(); ++f) r[f * n + j] = std::nan("");
+      continue;
+    }
+    const JointSignals& s = joints[j];
+    r[0 * n + j] = s.q_ref_rad;
+    r[1 * n + j] = s.qd_ref_rad_s;
+    r[2 * n + j] = s.q_meas_rad;
+    r[3 * n + j] = s.qd_est_rad_s;
+    r[4 * n + j] = s.tau_sensor_Nm;
+    r[5 * n + j] = s.i_cmd_A;
+    r[6 * n + j] = s.i_supply_meas_A;
+    r[7 * n + j] = s.v_bus_meas_V;
+    r[8 * n + j] = s.winding_temp_C;
+  }
+  if (kept_t_s_.size() >= kBatchTicks) Flush();
+}
+
+void PythonMonitor::ObserveRows(double t_s, const double* rows) {
+  std::memcpy(Keep(t_s), rows, sizeof(double) * row_size_);
+  if (kept_t_s_.size() >= kBatchTicks) Flush();
+}
+
+void PythonMonitor::Finish(double t_end_s) {
+  Flush();
+  if (!finish_) return;
+  GilHold hold(&saved_);
+  Call(finish_, "finish", t_end_s, false);
+}
+
+void PythonMonitor::Call(PyObject* method, const char* what, double t_s, bool with_signals) {
+  PyObject* t = PyFloat_FromDouble(t_s);
+  if (!t) Fail(what, t_s);
+  PyObject* args[3] = {nullptr, t, signals_};
+  const size_t nargs = with_signals ? 2 : 1;
+#if PY_VERSION_HEX >= 0x03090000
+  PyObject* result = PyObject_Vectorcall(method, args + 1, nargs | PY_VECTORCALL_ARGUMENTS_OFFSET, nullptr);
+#else
+  PyObject* result = with_signals ? PyObject_CallFunctionObjArgs(method, t, signals_, nullptr)
+                                  : PyObject_CallFunctionObjArgs(method, t, nullptr);
+#endif
+  Py_DECREF(t);
+  if (!result) Fail(what, t_s);
+  Collect(result, what, t_s);
+}
+
+void PythonMonitor::Fail(const char* what, double t_s) {
+  PyObject *type, *value, *tb;
+  PyErr_Fetch(&type, &value, &tb);
+  PyErr_NormalizeException(&type, &value, &tb);
+  if (tb) PyException_SetTraceback(value, tb);
+  const std::string text = value ? DescribeException(value) : "an unknown error";
+  Py_XDECREF(type);
+  Py_XDECREF(tb);
+  Py_XDECREF(error_);
+  error_ = value;
+  throw MonitorFailure(ShortName(model_.name()) + "." + what + " at t_s " + FormatNumber(t_s) + ": " + text);
+}
+
+void PythonMonitor::Collect(PyObject* result_ptr, const char* what, double t_s) {
+  if (result_ptr == Py_None) {
+    Py_DECREF(result_ptr);
+    return;
+  }
+  py::object result = py::reinterpret_steal<py::object>(result_ptr);
+  auto add = [&](py::handle item) {
+    if (!py::isinstance<PyVerdict>(item)) {
+      throw MonitorFailure(ShortName(model_.name()) + "." + what + " at t_s " + FormatNumber(t_s) + " returned " +
+                           (item.ptr() == result.ptr() ? "" : "a list holding ") + "a " +
+                           py::str(py::type::handle_of(item).attr("__name__")).cast<std::string>() +
+                           ", expected None, an armfault.Verdict or a list of them");
+    }
+    const PyVerdict& pv = item.cast<const PyVerdict&>();
+    Verdict v = pv.verdict;
+    if (!pv.has_time) v.t_s = t_s;
+    output_.verdicts.push_back(std::move(v));
+  };
+  if (PyList_Check(result.ptr()) || PyTuple_Check(result.ptr())) {
+    for (py::handle item : result) add(item);
+  } else {
+    add(result);
+  }
+}
+
+}  // namespace armfault::python
