@@ -5,6 +5,7 @@
 #include <cstring>
 #include <filesystem>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "armfault/monitor_plugin.h"
@@ -52,18 +53,26 @@ struct PluginLibrary {
 
 namespace {
 
-// One run's plugin instance. After an error the instance is never called again (only
-// destroyed), and every later call fails the same way.
+// One run's plugin instance. Its first error is thrown as a MonitorFailure, which fails the
+// run; after it the plugin is never called again (only destroyed) and later calls do nothing,
+// so a caller that goes on to Finish() (the report's second look at a run) does not fail twice.
 class PluginMonitor : public HealthMonitor {
  public:
-  PluginMonitor(std::shared_ptr<const PluginLibrary> library, void* self)
-      : library_(std::move(library)), self_(self) {}
-  ~PluginMonitor() override { library_->destroy(self_); }
+  // `self` NULL: create failed with `failure`, thrown at the first Observe().
+  PluginMonitor(std::shared_ptr<const PluginLibrary> library, void* self, std::string failure)
+      : library_(std::move(library)), self_(self), pending_failure_(std::move(failure)) {}
+  ~PluginMonitor() override {
+    if (self_) library_->destroy(self_);
+  }
   PluginMonitor(const PluginMonitor&) = delete;
   PluginMonitor& operator=(const PluginMonitor&) = delete;
 
   void Observe(double t_s, const std::vector<JointSignals>& joints) override {
-    if (!failure_.empty()) throw MonitorFailure(failure_);
+    if (!self_) {
+      if (!pending_failure_.empty()) Fail(std::exchange(pending_failure_, ""));
+      return;
+    }
+    if (failed_) return;
     signals_.resize(joints.size());
     for (size_t j = 0; j < joints.size(); ++j) {
       const JointSignals& s = joints[j];
@@ -77,7 +86,11 @@ class PluginMonitor : public HealthMonitor {
   }
 
   void Finish(double t_end_s) override {
-    if (!failure_.empty()) throw MonitorFailure(failure_);
+    if (!self_) {
+      if (!pending_failure_.empty()) Fail(std::exchange(pending_failure_, ""));
+      return;
+    }
+    if (failed_) return;
     error_[0] = '\0';
     const int code = library_->finish(self_, t_end_s, error_, kErrorSize);
     if (code != 0) Fail("finish returned error: " + MessageOf(error_, code));
@@ -88,8 +101,8 @@ class PluginMonitor : public HealthMonitor {
 
  private:
   [[noreturn]] void Fail(const std::string& what) {
-    failure_ = library_->path + ": " + what;
-    throw MonitorFailure(failure_);
+    failed_ = true;
+    throw MonitorFailure(library_->path + ": " + what);
   }
 
   // Copies the verdicts not seen yet. What CheckOutput cannot see once copied (a state outside
@@ -134,7 +147,8 @@ class PluginMonitor : public HealthMonitor {
   void* self_;
   std::vector<armfault_joint_signals> signals_;  // reused at every tick
   char error_[kErrorSize];
-  std::string failure_;
+  std::string pending_failure_;
+  bool failed_ = false;
   MonitorOutput output_;
 };
 
@@ -211,8 +225,8 @@ const std::string& PluginMonitorModel::library() const { return library_->path; 
 std::unique_ptr<HealthMonitor> PluginMonitorModel::NewMonitor() const {
   char error[kErrorSize] = {};
   void* self = library_->create(robot_json_.c_str(), settings_json_.c_str(), error, kErrorSize);
-  if (!self) throw MonitorFailure(library_->path + ": create returned NULL: " + MessageOf(error, 0));
-  return std::make_unique<PluginMonitor>(library_, self);
+  // Thrown where every caller expects a monitor to fail, at its first tick.
+  return std::make_unique<PluginMonitor>(library_, self, self ? "" : "create returned NULL: " + MessageOf(error, 0));
 }
 
 nlohmann::json ParsePluginSettings(const nlohmann::json& object, const std::string& pointer,

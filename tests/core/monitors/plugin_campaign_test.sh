@@ -7,7 +7,7 @@
 #   - a library that is missing, or whose create refuses its settings, is exit 2 naming the
 #     campaign file, /monitor/library and the library;
 #   - a plugin whose step returns an error fails those runs (exit 3) with the reason, and the
-#     campaign goes on.
+#     campaign goes on; `report` and `trace` of such a run say so (trace: exit 3), never crash.
 # Usage: plugin_campaign_test.sh ARMFAULT EXAMPLE_PLUGIN TEST_PLUGIN. Prints "N passed, M failed".
 set -euo pipefail
 
@@ -77,6 +77,22 @@ step_error() {
 }
 with_monitor step_error "{\"type\": \"plugin\", \"library\": \"$test_plugin\", \"settings\": {\"mode\": \"step_error\"}}"
 check step_error_fails_runs_campaign_goes_on step_error
+# The commands that simulate one run again (report, trace) say so too, and do not crash.
+report_after_step_error() {  # the page's run re-simulated shows the reason
+  "$armfault" report "$tmp/out_step_error" &&
+    grep -qF "$test_plugin: step returned error: sensor model diverged" "$tmp/out_step_error/report.html"
+}
+check report_after_step_error report_after_step_error
+trace_step_error() {
+  local status=0
+  printf '%s\n' '{"duration_s": 2, "joints": {"3": {"type": "sine_pair", "amplitude_deg": 25, "omega_rad_s": 1.2732}},' \
+    " \"monitor\": {\"type\": \"plugin\", \"library\": \"$test_plugin\", \"settings\": {\"mode\": \"step_error\"}}}" \
+    >"$tmp/run.json"
+  "$armfault" trace "$tmp/run.json" -o "$tmp/trace.csv" >/dev/null 2>"$tmp/err_trace" || status=$?
+  [[ $status -eq 3 ]] || { echo "exit status $status, expected 3: $(cat "$tmp/err_trace")"; return 1; }
+  grep -qF "armfault: error: monitor failed: $test_plugin: step returned error: sensor model diverged" "$tmp/err_trace"
+}
+check trace_step_error trace_step_error
 
 echo "$passed passed, $failed failed"
 [[ $failed -eq 0 ]]
