@@ -111,6 +111,12 @@ check:
              "window_s, min_speed_rad_s, min_moving_s, judge_moving_s and refine_step must be > 0, debounce_s >= 0");
     return -1;
   }
+  if (!(s->min_moving_s < s->window_s && s->judge_moving_s < s->window_s)) {
+    /* a window holds at most window_s of motion */
+    snprintf(error, error_size, "min_moving_s (%g) and judge_moving_s (%g) must be below window_s (%g)",
+             s->min_moving_s, s->judge_moving_s, s->window_s);
+    return -1;
+  }
   if (!(0 < s->kt_defective && s->kt_defective < s->kt_worn && s->kt_worn < 1)) {
     snprintf(error, error_size, "expected 0 < kt_defective < kt_worn < 1, got %g and %g", s->kt_defective, s->kt_worn);
     return -1;
