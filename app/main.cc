@@ -8,6 +8,7 @@
 #include "app/commands.h"
 #include "app/suggest.h"
 #include "core/base/json_input.h"
+#include "core/monitors/monitor.h"
 #include "core/plant/ode_runtime.h"
 
 int main(int argc, char** argv) {
@@ -166,6 +167,10 @@ int main(int argc, char** argv) {
   } catch (const std::filesystem::filesystem_error& e) {
     std::fprintf(stderr, "armfault: error: %s\n", e.what());
     return 2;
+  } catch (const armfault::MonitorFailure& e) {
+    // The monitor of the one run `trace` simulates failed (a plugin's error return): the run failed.
+    std::fprintf(stderr, "armfault: error: monitor failed: %s\n", e.what());
+    return 3;
   }
   return 2;
 }

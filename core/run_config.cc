@@ -50,6 +50,7 @@ std::map<int, std::shared_ptr<const Trajectory>> JointTrajectoriesFromJson(
 std::shared_ptr<const MonitorModel> MakeRunMonitor(const RunConfig& run) {
   MonitorContext context;
   context.robot = run.robot;
+  context.input = run.input;
   return MakeMonitorModel(run.monitor, context);
 }
 
@@ -61,6 +62,7 @@ RunConfig RunConfigFromJson(const nlohmann::json& value, const std::string& poin
     ErrorList errors;
     errors.Try([&] { reader.AllowOnly({"robot", "duration_s", "seed", "joints", "faults", "monitor"}); });
     RunConfig run;
+    run.input = context;
     const bool robot_ok = errors.Try([&] {
       if (const auto* robot = reader.Find("robot")) run.robot = RobotFromJson(*robot, reader.PointerTo("robot"));
       else run.robot = RobotPreset("mrr-config1");

@@ -27,6 +27,7 @@ struct RunConfig {
   // "faults": kept as given; the faults library (which core does not depend on) builds them.
   nlohmann::json faults_json = nlohmann::json::array();
   MonitorSpec monitor;  // "monitor": a monitor type and its settings, or a JSON file of them
+  InputContext input;   // the run file: a monitor that does not build (a plugin) names it
 };
 
 // The monitor a run file names, built for its robot (no tolerances stated, no commissioning).

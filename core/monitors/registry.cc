@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "core/base/suggest.h"
+#include "core/monitors/plugin_monitor.h"
 
 namespace armfault {
 
@@ -33,6 +34,8 @@ struct MonitorType {
 const MonitorType kMonitorTypes[] = {
     {"power_efficiency", "the thesis's power-efficiency monitor, extended to isolate and size faults (docs/monitor.md)",
      &ParsePowerEfficiencySettings, &BuildPowerEfficiencyModel},
+    {"plugin", "a compiled monitor in a shared library, C ABI include/armfault/monitor_plugin.h (docs/monitor-api.md)",
+     &ParsePluginSettings, &BuildPluginModel},
 };
 
 const MonitorType* FindType(const std::string& type) {

@@ -3,7 +3,8 @@
 # deploy/k8s/ (they parse, and shards.yaml and merge.yaml agree on the image, the index variable,
 # --shard-count = completions, the output path and the volume), the Dockerfile's package lists
 # (build stage = tools/bootstrap.sh minus test-only packages; runtime stage = the libraries the
-# binary links), and `cmake --install` into a temp prefix giving a working bin/armfault.
+# binary links), and `cmake --install` into a temp prefix giving a working bin/armfault and the
+# monitor plugin header a plugin builds against.
 # Usage: deploy_test.sh SOURCE_DIR BUILD_DIR. Prints "N passed, M failed"; non-zero on failure.
 set -euo pipefail
 
@@ -179,6 +180,22 @@ install_prefix() {
     [[ -f $tmp/prefix/share/armfault/campaigns/thesis-sweep.json && -f $tmp/prefix/share/armfault/campaigns/five-families.json ]]
 }
 check install_prefix install_prefix
+# The monitor plugin header (docs/monitor-api.md, "C plugin") installed beside the binary, usable
+# from C99 and C++; the example plugin built from it with the documented gcc line loads.
+installed_plugin_header() {
+  local header=$tmp/prefix/include/armfault/monitor_plugin.h
+  [[ -f $header ]] || { echo "$header not installed"; return 1; }
+  echo '#include <armfault/monitor_plugin.h>' | gcc -std=c99 -pedantic -Wall -Wextra -Werror -fsyntax-only \
+    -I "$tmp/prefix/include" -x c - &&
+    echo '#include <armfault/monitor_plugin.h>' | g++ -std=c++17 -pedantic -Wall -Wextra -Werror -fsyntax-only \
+      -I "$tmp/prefix/include" -x c++ - &&
+    mkdir -p "$tmp/plugin" &&
+    gcc -std=c99 -O2 -Wall -Wextra -Werror -fPIC -shared -I "$tmp/prefix/include" \
+      "$src/examples/plugins/current_residual.c" -o "$tmp/plugin/libcurrent_residual.so" -lm &&
+    cp "$src/tests/core/monitors/data/plugin_campaign.json" "$tmp/plugin/" &&
+    "$tmp/prefix/bin/armfault" validate "$tmp/plugin/plugin_campaign.json" | grep -q ': 28 runs'
+}
+check installed_plugin_header installed_plugin_header
 
 echo "$passed passed, $failed failed"
 [[ $failed -eq 0 ]]

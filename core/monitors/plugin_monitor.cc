@@ -1,0 +1,277 @@
+#include "core/monitors/plugin_monitor.h"
+
+#include <dlfcn.h>
+
+#include <cstring>
+#include <filesystem>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include "armfault/monitor_plugin.h"
+
+namespace armfault {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// Room for a plugin's message; longer ones are cut by the plugin (it is told the size).
+constexpr size_t kErrorSize = 1024;
+// More verdicts than any run can mean (one per joint and tick of an hour at 1 kHz is 1e7 for
+// three joints): a count beyond it is garbage, not read.
+constexpr int kMaxVerdicts = 50'000'000;
+
+std::string Quoted(const std::string& s) { return "\"" + s + "\""; }
+
+// The plugin's message from its error buffer, NUL-terminated whatever it wrote.
+std::string MessageOf(char* error, int code) {
+  error[kErrorSize - 1] = '\0';
+  if (error[0] == '\0') return "code " + std::to_string(code) + ", no message";
+  return error;
+}
+
+}  // namespace
+
+struct PluginLibrary {
+  std::string path;
+  void* handle = nullptr;
+  armfault_monitor_abi_version_fn abi_version = nullptr;
+  armfault_monitor_create_fn create = nullptr;
+  armfault_monitor_step_fn step = nullptr;
+  armfault_monitor_finish_fn finish = nullptr;
+  armfault_monitor_verdicts_fn verdicts = nullptr;
+  armfault_monitor_destroy_fn destroy = nullptr;
+
+  PluginLibrary() = default;
+  PluginLibrary(const PluginLibrary&) = delete;
+  PluginLibrary& operator=(const PluginLibrary&) = delete;
+  ~PluginLibrary() {
+    if (handle) dlclose(handle);
+  }
+};
+
+namespace {
+
+// One run's plugin instance. Its first error is thrown as a MonitorFailure, which fails the
+// run; after it the plugin is never called again (only destroyed) and later calls do nothing,
+// so a caller that goes on to Finish() (the report's second look at a run) does not fail twice.
+class PluginMonitor : public HealthMonitor {
+ public:
+  // `self` NULL: create failed with `failure`, thrown at the first Observe().
+  PluginMonitor(std::shared_ptr<const PluginLibrary> library, void* self, std::string failure)
+      : library_(std::move(library)), self_(self), pending_failure_(std::move(failure)) {}
+  ~PluginMonitor() override {
+    if (self_) library_->destroy(self_);
+  }
+  PluginMonitor(const PluginMonitor&) = delete;
+  PluginMonitor& operator=(const PluginMonitor&) = delete;
+
+  void Observe(double t_s, const std::vector<JointSignals>& joints) override {
+    if (!self_) {
+      if (!pending_failure_.empty()) Fail(std::exchange(pending_failure_, ""));
+      return;
+    }
+    if (failed_) return;
+    signals_.resize(joints.size());
+    for (size_t j = 0; j < joints.size(); ++j) {
+      const JointSignals& s = joints[j];
+      signals_[j] = {s.q_ref_rad,     s.qd_ref_rad_s, s.q_meas_rad,      s.qd_est_rad_s, s.tau_sensor_Nm,
+                     s.i_cmd_A,       s.i_supply_meas_A, s.v_bus_meas_V, s.winding_temp_C};
+    }
+    error_[0] = '\0';
+    const int code = library_->step(self_, t_s, signals_.data(), static_cast<int>(signals_.size()), error_, kErrorSize);
+    if (code != 0) Fail("step returned error: " + MessageOf(error_, code));
+    PullVerdicts();
+  }
+
+  void Finish(double t_end_s) override {
+    if (!self_) {
+      if (!pending_failure_.empty()) Fail(std::exchange(pending_failure_, ""));
+      return;
+    }
+    if (failed_) return;
+    error_[0] = '\0';
+    const int code = library_->finish(self_, t_end_s, error_, kErrorSize);
+    if (code != 0) Fail("finish returned error: " + MessageOf(error_, code));
+    PullVerdicts();
+  }
+
+  const MonitorOutput& output() const override { return output_; }
+
+ private:
+  [[noreturn]] void Fail(const std::string& what) {
+    failed_ = true;
+    throw MonitorFailure(library_->path + ": " + what);
+  }
+
+  // Copies the verdicts not seen yet. What CheckOutput cannot see once copied (a state outside
+  // the enum, a name without its NUL, a list that shrank) fails the run here.
+  void PullVerdicts() {
+    const armfault_verdict* verdicts = nullptr;
+    const int count = library_->verdicts(self_, &verdicts);
+    const size_t seen = output_.verdicts.size();
+    if (count < 0 || count > kMaxVerdicts) Fail("verdicts returned the count " + std::to_string(count));
+    if (static_cast<size_t>(count) < seen) {
+      Fail("verdicts returned " + std::to_string(count) + " verdicts after " + std::to_string(seen) +
+           ": the list must only grow");
+    }
+    if (static_cast<size_t>(count) == seen) return;
+    if (!verdicts) Fail("verdicts returned " + std::to_string(count) + " verdicts and a NULL pointer");
+    for (size_t k = seen; k < static_cast<size_t>(count); ++k) {
+      const armfault_verdict& in = verdicts[k];
+      const std::string which = "verdict " + std::to_string(k + 1) + ": ";
+      if (in.state < ARMFAULT_STATE_HEALTHY || in.state > ARMFAULT_STATE_DEFECTIVE) {
+        Fail(which + "state " + std::to_string(in.state) + ", expected 0 (healthy), 1 (worn) or 2 (defective)");
+      }
+      if (!std::memchr(in.family, '\0', sizeof in.family)) Fail(which + "family is not NUL-terminated");
+      if (!std::memchr(in.magnitude_name, '\0', sizeof in.magnitude_name)) {
+        Fail(which + "magnitude_name is not NUL-terminated");
+      }
+      Verdict v;
+      v.t_s = in.t_s;
+      v.joint = in.joint;
+      v.state = in.state == ARMFAULT_STATE_HEALTHY ? HealthState::kHealthy
+                : in.state == ARMFAULT_STATE_WORN  ? HealthState::kWorn
+                                                   : HealthState::kDefective;
+      v.alarm = v.state != HealthState::kHealthy;
+      v.family = in.family;
+      v.magnitude_name = in.magnitude_name;
+      v.magnitude = in.magnitude;
+      v.confidence = in.confidence;
+      output_.verdicts.push_back(std::move(v));
+    }
+  }
+
+  std::shared_ptr<const PluginLibrary> library_;
+  void* self_;
+  std::vector<armfault_joint_signals> signals_;  // reused at every tick
+  char error_[kErrorSize];
+  std::string pending_failure_;
+  bool failed_ = false;
+  MonitorOutput output_;
+};
+
+// Opens the library and resolves its functions; errors are InputErrors at `pointer`.
+std::shared_ptr<const PluginLibrary> OpenLibrary(const std::string& path, const std::string& source,
+                                                 const std::string& pointer) {
+  const std::string named = "plugin library " + Quoted(path);
+  std::error_code ec;
+  const fs::file_status status = fs::status(path, ec);
+  if (!fs::exists(status)) throw InputError(source, pointer, named + " does not exist");
+  if (fs::is_directory(status)) throw InputError(source, pointer, named + " is a directory");
+
+  auto library = std::make_shared<PluginLibrary>();
+  library->path = path;
+  // RTLD_LOCAL: two plugins may define the same names; RTLD_NOW: a missing dependency is an error
+  // here, not a crash in the middle of a run.
+  library->handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+  if (!library->handle) {
+    const char* why = dlerror();
+    throw InputError(source, pointer, named + " cannot be loaded: " + (why ? why : "dlopen failed"));
+  }
+  std::string missing;
+  auto resolve = [&](const char* name, auto* out) {
+    dlerror();
+    void* symbol = dlsym(library->handle, name);
+    if (!symbol) {
+      missing += (missing.empty() ? "" : ", ") + std::string(name);
+      return;
+    }
+    *out = reinterpret_cast<std::remove_pointer_t<decltype(out)>>(symbol);
+  };
+  resolve("armfault_monitor_abi_version", &library->abi_version);
+  resolve("armfault_monitor_create", &library->create);
+  resolve("armfault_monitor_step", &library->step);
+  resolve("armfault_monitor_finish", &library->finish);
+  resolve("armfault_monitor_verdicts", &library->verdicts);
+  resolve("armfault_monitor_destroy", &library->destroy);
+  if (!missing.empty()) {
+    throw InputError(source, pointer,
+                     named + " does not export " + missing + " (include/armfault/monitor_plugin.h, ABI version " +
+                         std::to_string(ARMFAULT_MONITOR_PLUGIN_ABI_VERSION) + ")");
+  }
+  const int version = library->abi_version();
+  if (version != ARMFAULT_MONITOR_PLUGIN_ABI_VERSION) {
+    throw InputError(source, pointer,
+                     named + " was built for monitor plugin ABI version " + std::to_string(version) +
+                         ", this armfault loads version " + std::to_string(ARMFAULT_MONITOR_PLUGIN_ABI_VERSION) +
+                         ": rebuild it against this armfault's include/armfault/monitor_plugin.h");
+  }
+  return library;
+}
+
+}  // namespace
+
+PluginMonitorModel::PluginMonitorModel(const std::string& library, const nlohmann::json& settings,
+                                       const RobotConfig& robot, const std::string& source,
+                                       const std::string& pointer)
+    : robot_json_(RobotToJson(robot).dump()), settings_json_(settings.dump()) {
+  const std::string at = PointerJoin(pointer, "library");
+  library_ = OpenLibrary(library, source, at);
+  // One instance at load, so settings the plugin refuses stop the campaign before any run.
+  char error[kErrorSize] = {};
+  void* probe = library_->create(robot_json_.c_str(), settings_json_.c_str(), error, kErrorSize);
+  if (!probe) {
+    throw InputError(source, at,
+                     "plugin library " + Quoted(library) + ": armfault_monitor_create returned NULL for the settings " +
+                         settings_json_ + ": " + MessageOf(error, 0));
+  }
+  library_->destroy(probe);
+}
+
+const std::string& PluginMonitorModel::library() const { return library_->path; }
+
+std::unique_ptr<HealthMonitor> PluginMonitorModel::NewMonitor() const {
+  char error[kErrorSize] = {};
+  void* self = library_->create(robot_json_.c_str(), settings_json_.c_str(), error, kErrorSize);
+  // Thrown where every caller expects a monitor to fail, at its first tick.
+  return std::make_unique<PluginMonitor>(library_, self, self ? "" : "create returned NULL: " + MessageOf(error, 0));
+}
+
+nlohmann::json ParsePluginSettings(const nlohmann::json& object, const std::string& pointer,
+                                   const InputContext& context) {
+  try {
+    ObjectReader reader(object, pointer);
+    ErrorList errors;
+    errors.Try([&] { reader.AllowOnly({"library", "settings"}); });
+    nlohmann::json out = {{"library", ""}, {"settings", nlohmann::json::object()}};
+    errors.Try([&] {
+      const std::string at = reader.PointerTo("library");
+      const std::string given = reader.RequireString("library");
+      if (given.empty()) throw InputError("", at, "expected the path of a shared library, got an empty string");
+      // Relative to the file that names it, as a csv trajectory's path; recorded absolute.
+      fs::path path = given;
+      if (path.is_relative() && !context.base_dir.empty()) path = fs::path(context.base_dir) / path;
+      const std::string resolved = fs::absolute(path).lexically_normal().string();
+      const std::string named =
+          "plugin library " + Quoted(resolved) + (resolved == given ? "" : " (resolved from " + Quoted(given) + ")");
+      std::error_code ec;
+      const fs::file_status status = fs::status(resolved, ec);
+      if (!fs::exists(status)) throw InputError("", at, named + " does not exist");
+      if (fs::is_directory(status)) throw InputError("", at, named + " is a directory");
+      out["library"] = resolved;
+    });
+    errors.Try([&] {
+      if (const nlohmann::json* s = reader.Find("settings")) {
+        if (!s->is_object()) {
+          throw InputError("", reader.PointerTo("settings"),
+                           "expected an object (the plugin's settings), got " + Describe(*s));
+        }
+        out["settings"] = *s;
+      }
+    });
+    errors.ThrowIfAny();
+    return out;
+  } catch (const InputError& e) {
+    throw e.WithSource(context.source);
+  }
+}
+
+std::shared_ptr<const MonitorModel> BuildPluginModel(const nlohmann::json& settings, const MonitorContext& context,
+                                                     const std::string& pointer) {
+  return std::make_shared<PluginMonitorModel>(settings.at("library").get<std::string>(), settings.at("settings"),
+                                              context.robot, context.input.source, pointer);
+}
+
+}  // namespace armfault

@@ -1,0 +1,50 @@
+// The "plugin" monitor type: a monitor compiled into a shared library behind the C ABI of
+// include/armfault/monitor_plugin.h, named in a campaign as
+//     "monitor": {"type": "plugin", "library": "path/to/lib.so", "settings": {...}}
+// The library is loaded once per campaign (the model owns the handle, shared read-only by every
+// thread); each run gets its own plugin instance behind a HealthMonitor. See docs/monitor-api.md,
+// "C plugin".
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <memory>
+#include <string>
+
+#include "core/monitors/registry.h"
+
+namespace armfault {
+
+// A loaded library and its six functions (plugin_monitor.cc). Closed when the model and every
+// monitor it made are gone.
+struct PluginLibrary;
+
+class PluginMonitorModel : public MonitorModel {
+ public:
+  // Loads `library` (an absolute path), checks its ABI version and that create accepts
+  // `settings` for `robot` (one instance, destroyed at once). Errors are InputErrors of `source`
+  // at `pointer`/library naming the library: not found, not loadable, a missing function, another
+  // ABI version, create returning NULL (with the plugin's message).
+  PluginMonitorModel(const std::string& library, const nlohmann::json& settings, const RobotConfig& robot,
+                     const std::string& source, const std::string& pointer);
+  std::string type() const override { return "plugin"; }
+  // A new plugin instance for one run. If create returns NULL, its first Observe() throws the
+  // MonitorFailure (create succeeded at load, so only a plugin that is not deterministic gets there).
+  std::unique_ptr<HealthMonitor> NewMonitor() const override;
+  const std::string& library() const;
+
+ private:
+  std::shared_ptr<const PluginLibrary> library_;
+  std::string robot_json_, settings_json_;  // what create gets, the same for every run
+};
+
+// The registry's row (core/monitors/registry.cc). Settings: "library" (required; a path relative
+// to the campaign's directory, context.base_dir) and "settings" (an object, default {}); other
+// keys are rejected. Resolved: {"library": the absolute path, "settings": ...}, so campaign.json
+// names the file that ran and `merge`, `tune`, `report` and `trace --run` load the same one.
+nlohmann::json ParsePluginSettings(const nlohmann::json& object, const std::string& pointer,
+                                   const InputContext& context);
+std::shared_ptr<const MonitorModel> BuildPluginModel(const nlohmann::json& settings, const MonitorContext& context,
+                                                     const std::string& pointer);
+
+}  // namespace armfault

@@ -1,0 +1,468 @@
+/* Example armfault monitor plugin (plain C99, include/armfault/monitor_plugin.h only): a
+ * current-residual monitor.
+ *
+ * Each joint's motor must supply, on its shaft, the torque the torque sensor measures (through
+ * the harmonic drive: ratio and mesh loss) plus its friction:
+ *     K_T i_cmd = a * (tau + m |tau| sgn(qd)) / N  +  c * f(qd)
+ * with the datasheet's K_T, ratio N, mesh loss fraction m and friction model
+ * f(qd) = b qd + (F_c + F_s exp(-F_t qd^2)) sgn(qd), all read from robot_json. A healthy joint
+ * has a = c = 1. K_T degraded to n (kt_degradation) makes a = c = 1/n; friction scaled by k
+ * (friction_increase) makes a = 1, c = k. The plugin fits a and c by least squares over an
+ * exponentially weighted window of the ticks where the joint moves; 1/a estimates kt_factor and
+ * c/a friction_factor. When that fit leaves the healthy range for debounce_s, a fresh fit of
+ * the ticks from then on names the fault and keeps refining its size. It sees only the signals
+ * and the robot as designed, as any monitor (docs/monitor-api.md).
+ *
+ * Settings (all optional, numbers): window_s 2 (the fits' time constant), min_speed_rad_s 0.05
+ * (slower ticks are left out: the friction's sign is unknown), min_moving_s 1 (motion in the
+ * window before the watch trusts its fit), judge_moving_s 0.5 (motion after a change before it
+ * is named), debounce_s 0.3, kt_worn 0.85, kt_defective 0.65, friction_worn 1.4,
+ * friction_defective 2.5, refine_step 0.05 (a new verdict when the size estimate moved by more).
+ *
+ * Build: gcc -std=c99 -O2 -Wall -Wextra -fPIC -shared -I include \
+ *            examples/plugins/current_residual.c -o libcurrent_residual.so -lm
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "armfault/monitor_plugin.h"
+
+/* ------------------------------------------------------------------ settings */
+
+typedef struct {
+  double window_s;           /* time constant of the exponential forgetting */
+  double min_speed_rad_s;    /* a tick counts when |qd_est| is above: sgn(qd) is known */
+  double min_moving_s;       /* moving time in the watch window before it is trusted */
+  double judge_moving_s;     /* moving time after a change before it is named */
+  double debounce_s;         /* a new state must hold this long before it is emitted */
+  double kt_worn, kt_defective;
+  double friction_worn, friction_defective;
+  double refine_step;
+} settings;
+
+static const char* const kSettingNames[] = {"window_s",      "min_speed_rad_s",    "min_moving_s",
+                                            "judge_moving_s", "debounce_s",         "kt_worn",
+                                            "kt_defective",  "friction_worn",      "friction_defective",
+                                            "refine_step"};
+
+static double* setting_slot(settings* s, int k) {
+  double* slots[] = {&s->window_s,     &s->min_speed_rad_s, &s->min_moving_s,  &s->judge_moving_s,
+                     &s->debounce_s,   &s->kt_worn,         &s->kt_defective,  &s->friction_worn,
+                     &s->friction_defective, &s->refine_step};
+  return slots[k];
+}
+
+/* Reads a flat JSON object of numbers, as armfault passes it (compact, no spaces); unknown
+ * keys and non-numbers are errors. Returns 0 or -1 with a message. */
+static int parse_settings(const char* json, settings* s, char* error, size_t error_size) {
+  const char* p = json;
+  const int count = (int)(sizeof kSettingNames / sizeof kSettingNames[0]);
+  s->window_s = 2.0;
+  s->min_speed_rad_s = 0.05;
+  s->min_moving_s = 1.0;
+  s->judge_moving_s = 0.5;
+  s->debounce_s = 0.3;
+  s->kt_worn = 0.85;
+  s->kt_defective = 0.65;
+  s->friction_worn = 1.4;
+  s->friction_defective = 2.5;
+  s->refine_step = 0.05;
+  if (*p++ != '{') goto bad;
+  if (*p == '}') goto check;
+  for (;;) {
+    const char* key;
+    size_t key_size;
+    int k;
+    char* end;
+    double value;
+    if (*p++ != '"') goto bad;
+    key = p;
+    while (*p && *p != '"') p++;
+    if (*p != '"') goto bad;
+    key_size = (size_t)(p - key);
+    p++;
+    if (*p++ != ':') goto bad;
+    for (k = 0; k < count; k++) {
+      if (strlen(kSettingNames[k]) == key_size && strncmp(kSettingNames[k], key, key_size) == 0) break;
+    }
+    if (k == count) {
+      snprintf(error, error_size,
+               "unknown setting \"%.*s\" (known: window_s, min_speed_rad_s, min_moving_s, judge_moving_s, "
+               "debounce_s, kt_worn, kt_defective, friction_worn, friction_defective, refine_step)",
+               (int)key_size, key);
+      return -1;
+    }
+    value = strtod(p, &end);
+    if (end == p || !isfinite(value)) {
+      snprintf(error, error_size, "setting \"%s\": expected a number", kSettingNames[k]);
+      return -1;
+    }
+    *setting_slot(s, k) = value;
+    p = end;
+    if (*p == '}') break;
+    if (*p++ != ',') goto bad;
+  }
+check:
+  if (!(s->window_s > 0 && s->min_speed_rad_s > 0 && s->min_moving_s > 0 && s->judge_moving_s > 0 &&
+        s->debounce_s >= 0 && s->refine_step > 0)) {
+    snprintf(error, error_size,
+             "window_s, min_speed_rad_s, min_moving_s, judge_moving_s and refine_step must be > 0, debounce_s >= 0");
+    return -1;
+  }
+  if (!(s->min_moving_s < s->window_s && s->judge_moving_s < s->window_s)) {
+    /* a window holds at most window_s of motion */
+    snprintf(error, error_size, "min_moving_s (%g) and judge_moving_s (%g) must be below window_s (%g)",
+             s->min_moving_s, s->judge_moving_s, s->window_s);
+    return -1;
+  }
+  if (!(0 < s->kt_defective && s->kt_defective < s->kt_worn && s->kt_worn < 1)) {
+    snprintf(error, error_size, "expected 0 < kt_defective < kt_worn < 1, got %g and %g", s->kt_defective, s->kt_worn);
+    return -1;
+  }
+  if (!(1 < s->friction_worn && s->friction_worn < s->friction_defective)) {
+    snprintf(error, error_size, "expected 1 < friction_worn < friction_defective, got %g and %g", s->friction_worn,
+             s->friction_defective);
+    return -1;
+  }
+  return 0;
+bad:
+  snprintf(error, error_size, "settings: expected a flat object of numbers, got %.60s", json);
+  return -1;
+}
+
+/* ------------------------------------------------------------------ the robot as designed */
+
+typedef struct {
+  double kt_Nm_per_A, ratio, mesh_loss_fraction;
+  double viscous_Nm_s_per_rad, coulomb_Nm, static_Nm, stribeck_s2_per_rad2;
+} joint_model;
+
+/* The value after the n-th (0-based) occurrence of "key": in the robot JSON; each module holds
+ * each of the keys below exactly once, modules in joint order. Returns 0 or -1. */
+static int nth_number(const char* json, const char* key, int n, double* out) {
+  char pattern[64];
+  const char* p = json;
+  snprintf(pattern, sizeof pattern, "\"%s\":", key);
+  for (;;) {
+    char* end;
+    p = strstr(p, pattern);
+    if (!p) return -1;
+    p += strlen(pattern);
+    if (n-- > 0) continue;
+    *out = strtod(p, &end);
+    return end == p ? -1 : 0;
+  }
+}
+
+static int count_of(const char* json, const char* key) {
+  char pattern[64];
+  int n = 0;
+  const char* p = json;
+  snprintf(pattern, sizeof pattern, "\"%s\":", key);
+  while ((p = strstr(p, pattern)) != NULL) {
+    n++;
+    p += strlen(pattern);
+  }
+  return n;
+}
+
+/* ------------------------------------------------------------------ the fit */
+
+/* Exponentially weighted least squares of y = a x0 + c x1 over the ticks a joint moved: sums of
+ * x x^T and x y, each tick weighted by its dt, decaying with the window's time constant. */
+typedef struct {
+  double sxx00, sxx01, sxx11, sxy0, sxy1;
+  double moving_s; /* weighted time moving */
+} fit;
+
+static void fit_decay(fit* f, double forget) {
+  f->sxx00 *= forget;
+  f->sxx01 *= forget;
+  f->sxx11 *= forget;
+  f->sxy0 *= forget;
+  f->sxy1 *= forget;
+  f->moving_s *= forget;
+}
+
+static void fit_add(fit* f, double dt_s, double x0, double x1, double y) {
+  f->sxx00 += dt_s * x0 * x0;
+  f->sxx01 += dt_s * x0 * x1;
+  f->sxx11 += dt_s * x1 * x1;
+  f->sxy0 += dt_s * x0 * y;
+  f->sxy1 += dt_s * x1 * y;
+  f->moving_s += dt_s;
+}
+
+/* The estimates 1/a (kt_factor) and c/a (friction_factor); 0 when the window cannot tell the
+ * torque gain from friction: x0 and x1 nearly proportional (1 - correlation^2 below 0.02, where
+ * one stroke of the arm is 0.05 to 0.07 and a stroke each way more). */
+static int fit_solve(const fit* f, double* kt_factor, double* friction_factor) {
+  const double det = f->sxx00 * f->sxx11 - f->sxx01 * f->sxx01;
+  double a, c;
+  if (!(det > 0.02 * f->sxx00 * f->sxx11)) return 0;
+  a = (f->sxx11 * f->sxy0 - f->sxx01 * f->sxy1) / det;
+  c = (f->sxx00 * f->sxy1 - f->sxx01 * f->sxy0) / det;
+  if (!(a > 0.05)) return 0; /* no sensible torque gain (a dead drive is not this monitor's) */
+  *kt_factor = 1 / a;
+  *friction_factor = c / a;
+  return 1;
+}
+
+/* ------------------------------------------------------------------ the monitor */
+
+enum { FAMILY_NONE = 0, FAMILY_KT = 1, FAMILY_FRICTION = 2 };
+
+/* WATCH: the long-running fit looks for a change. JUDGE: a change held for debounce_s; a fresh
+ * fit, of the ticks since, names it (the long fit mixes ticks before and after the fault, and a
+ * mix of healthy and lower torque gain can look like more friction). ALARM: that fit goes on,
+ * refining the size. */
+enum { PHASE_WATCH = 0, PHASE_JUDGE = 1, PHASE_ALARM = 2 };
+
+typedef struct {
+  joint_model model;
+  fit watch, judge;
+  int phase;
+  double suspect_s;                  /* WATCH: when the watch fit left healthy, or -1 */
+  int state, family;                 /* as last emitted */
+  double magnitude, emitted_s;       /* as last emitted */
+  int pending_state, pending_family; /* JUDGE, ALARM: another view, held since pending_s (or -1) */
+  double pending_s;
+} joint_monitor;
+
+typedef struct {
+  settings s;
+  int joints;
+  joint_monitor* joint;
+  double last_t_s;
+  int started;
+  armfault_verdict* verdicts;
+  int count, capacity;
+} monitor;
+
+static void classify(const settings* s, double kt_factor, double friction_factor, int* state, int* family,
+                     double* magnitude) {
+  *state = ARMFAULT_STATE_HEALTHY;
+  *family = FAMILY_NONE;
+  *magnitude = 0;
+  if (kt_factor < s->kt_worn) {
+    *family = FAMILY_KT;
+    *state = kt_factor < s->kt_defective ? ARMFAULT_STATE_DEFECTIVE : ARMFAULT_STATE_WORN;
+    *magnitude = kt_factor;
+  } else if (friction_factor > s->friction_worn) {
+    *family = FAMILY_FRICTION;
+    *state = friction_factor > s->friction_defective ? ARMFAULT_STATE_DEFECTIVE : ARMFAULT_STATE_WORN;
+    *magnitude = friction_factor;
+  }
+}
+
+ARMFAULT_PLUGIN_EXPORT int armfault_monitor_abi_version(void) { return ARMFAULT_MONITOR_PLUGIN_ABI_VERSION; }
+
+ARMFAULT_PLUGIN_EXPORT void* armfault_monitor_create(const char* robot_json, const char* settings_json, char* error,
+                                                     size_t error_size) {
+  static const char* const keys[] = {"kt_Nm_per_A",          "ratio",      "mesh_loss_fraction",
+                                     "viscous_Nm_s_per_rad", "coulomb_Nm", "static_Nm",
+                                     "stribeck_s2_per_rad2"};
+  monitor* self = calloc(1, sizeof *self);
+  int j, k;
+  if (!self) {
+    snprintf(error, error_size, "out of memory");
+    return NULL;
+  }
+  if (parse_settings(settings_json, &self->s, error, error_size) != 0) goto fail;
+  self->joints = count_of(robot_json, "kt_Nm_per_A");
+  if (self->joints < 1) {
+    snprintf(error, error_size, "robot_json has no module with motor/kt_Nm_per_A");
+    goto fail;
+  }
+  self->joint = calloc((size_t)self->joints, sizeof *self->joint);
+  if (!self->joint) {
+    snprintf(error, error_size, "out of memory");
+    goto fail;
+  }
+  for (j = 0; j < self->joints; j++) {
+    joint_monitor* jm = &self->joint[j];
+    joint_model* m = &jm->model;
+    double* fields[7];
+    fields[0] = &m->kt_Nm_per_A;
+    fields[1] = &m->ratio;
+    fields[2] = &m->mesh_loss_fraction;
+    fields[3] = &m->viscous_Nm_s_per_rad;
+    fields[4] = &m->coulomb_Nm;
+    fields[5] = &m->static_Nm;
+    fields[6] = &m->stribeck_s2_per_rad2;
+    for (k = 0; k < 7; k++) {
+      if (nth_number(robot_json, keys[k], j, fields[k]) != 0) {
+        snprintf(error, error_size, "robot_json: no number for %s of joint %d", keys[k], j + 1);
+        goto fail;
+      }
+    }
+    if (!(m->kt_Nm_per_A > 0 && m->ratio > 0)) {
+      snprintf(error, error_size, "robot_json: joint %d needs kt_Nm_per_A > 0 and ratio > 0", j + 1);
+      goto fail;
+    }
+    jm->suspect_s = -1;
+    jm->pending_s = -1;
+  }
+  return self;
+fail:
+  free(self->joint);
+  free(self);
+  return NULL;
+}
+
+/* Appends a verdict of joint j's view (jm->state, jm->family) with `magnitude`. 0 or -1. */
+static int emit(monitor* self, double t_s, int j, joint_monitor* jm, double magnitude) {
+  armfault_verdict* v;
+  if (self->count == self->capacity) {
+    const int capacity = self->capacity ? 2 * self->capacity : 16;
+    armfault_verdict* grown = realloc(self->verdicts, (size_t)capacity * sizeof *grown);
+    if (!grown) return -1;
+    self->verdicts = grown;
+    self->capacity = capacity;
+  }
+  v = &self->verdicts[self->count++];
+  memset(v, 0, sizeof *v);
+  v->t_s = t_s;
+  v->joint = j + 1;
+  v->state = jm->state;
+  v->confidence = 1;
+  if (jm->family == FAMILY_KT) {
+    strcpy(v->family, "kt_degradation");
+    strcpy(v->magnitude_name, "kt_factor");
+    v->magnitude = magnitude;
+    /* 0.5 at the worn threshold, 1 at the defective one and beyond */
+    v->confidence = 0.5 + 0.5 * (self->s.kt_worn - magnitude) / (self->s.kt_worn - self->s.kt_defective);
+  } else if (jm->family == FAMILY_FRICTION) {
+    strcpy(v->family, "friction_increase");
+    strcpy(v->magnitude_name, "friction_factor");
+    v->magnitude = magnitude;
+    v->confidence =
+        0.5 + 0.5 * (magnitude - self->s.friction_worn) / (self->s.friction_defective - self->s.friction_worn);
+  }
+  if (v->confidence > 1) v->confidence = 1;
+  if (v->confidence < 0) v->confidence = 0;
+  jm->magnitude = magnitude;
+  jm->emitted_s = t_s;
+  return 0;
+}
+
+/* One joint at one tick: both fits, then the phase's decision. 0, or -1 out of memory. */
+static int watch(monitor* self, double t_s, double dt_s, int j, const armfault_joint_signals* in) {
+  joint_monitor* jm = &self->joint[j];
+  const joint_model* m = &jm->model;
+  const settings* s = &self->s;
+  const double forget = exp(-dt_s / s->window_s);
+  double kt_factor, friction_factor, magnitude;
+  int state, family;
+
+  fit_decay(&jm->watch, forget);
+  fit_decay(&jm->judge, forget);
+  if (fabs(in->qd_est_rad_s) > s->min_speed_rad_s) {
+    const double qd = in->qd_est_rad_s, sign = qd > 0 ? 1.0 : -1.0, tau = in->tau_sensor_Nm;
+    /* link torque through the drive, and friction, both as motor torque [N m] */
+    const double x0 = (tau + m->mesh_loss_fraction * fabs(tau) * sign) / m->ratio;
+    const double x1 = m->viscous_Nm_s_per_rad * qd +
+                      (m->coulomb_Nm + m->static_Nm * exp(-m->stribeck_s2_per_rad2 * qd * qd)) * sign;
+    const double y = m->kt_Nm_per_A * in->i_cmd_A; /* motor torque the command asks for */
+    fit_add(&jm->watch, dt_s, x0, x1, y);
+    fit_add(&jm->judge, dt_s, x0, x1, y);
+  }
+
+  if (jm->phase == PHASE_WATCH) {
+    int suspect = 0;
+    if (jm->watch.moving_s >= s->min_moving_s &&
+        fit_solve(&jm->watch, &kt_factor, &friction_factor)) {
+      classify(s, kt_factor, friction_factor, &state, &family, &magnitude);
+      suspect = family != FAMILY_NONE;
+    }
+    if (!suspect) {
+      jm->suspect_s = -1;
+      return 0;
+    }
+    if (jm->suspect_s < 0) jm->suspect_s = t_s;
+    if (t_s - jm->suspect_s < s->debounce_s) return 0;
+    /* A change: judge it on what comes from now on. */
+    memset(&jm->judge, 0, sizeof jm->judge);
+    jm->phase = PHASE_JUDGE;
+    jm->suspect_s = -1;
+    jm->pending_s = -1;
+    return 0;
+  }
+
+  /* JUDGE and ALARM: the fresh fit, once it saw enough motion. */
+  if (jm->judge.moving_s < s->judge_moving_s || !fit_solve(&jm->judge, &kt_factor, &friction_factor)) {
+    return 0;
+  }
+  classify(s, kt_factor, friction_factor, &state, &family, &magnitude);
+  if (state == jm->state && family == jm->family) {
+    jm->pending_s = -1;
+    if (jm->phase == PHASE_JUDGE) {
+      jm->phase = PHASE_WATCH; /* judged healthy: a false start */
+      return 0;
+    }
+    /* The same view: refine its size now and then. */
+    if (fabs(magnitude - jm->magnitude) > s->refine_step && t_s - jm->emitted_s >= s->debounce_s) {
+      return emit(self, t_s, j, jm, magnitude);
+    }
+    return 0;
+  }
+  if (jm->pending_s < 0 || state != jm->pending_state || family != jm->pending_family) {
+    jm->pending_state = state;
+    jm->pending_family = family;
+    jm->pending_s = t_s;
+  }
+  if (t_s - jm->pending_s < s->debounce_s) return 0;
+  jm->state = state;
+  jm->family = family;
+  jm->pending_s = -1;
+  jm->phase = family == FAMILY_NONE ? PHASE_WATCH : PHASE_ALARM;
+  return emit(self, t_s, j, jm, magnitude);
+}
+
+ARMFAULT_PLUGIN_EXPORT int armfault_monitor_step(void* handle, double t_s, const armfault_joint_signals* joints,
+                                                 int joint_count, char* error, size_t error_size) {
+  monitor* self = handle;
+  double dt_s;
+  int j;
+  if (joint_count != self->joints) {
+    snprintf(error, error_size, "robot_json has %d joints, step got %d", self->joints, joint_count);
+    return 1;
+  }
+  if (!self->started) {
+    self->started = 1;
+    self->last_t_s = t_s;
+  }
+  dt_s = t_s - self->last_t_s;
+  self->last_t_s = t_s;
+  for (j = 0; j < joint_count; j++) {
+    if (watch(self, t_s, dt_s, j, &joints[j]) != 0) {
+      snprintf(error, error_size, "out of memory for verdicts");
+      return 1;
+    }
+  }
+  return 0;
+}
+
+ARMFAULT_PLUGIN_EXPORT int armfault_monitor_finish(void* handle, double t_end_s, char* error, size_t error_size) {
+  (void)handle;
+  (void)t_end_s;
+  (void)error;
+  (void)error_size;
+  return 0; /* every verdict was emitted at its tick */
+}
+
+ARMFAULT_PLUGIN_EXPORT int armfault_monitor_verdicts(void* handle, const armfault_verdict** verdicts) {
+  const monitor* self = handle;
+  *verdicts = self->verdicts;
+  return self->count;
+}
+
+ARMFAULT_PLUGIN_EXPORT void armfault_monitor_destroy(void* handle) {
+  monitor* self = handle;
+  if (!self) return;
+  free(self->verdicts);
+  free(self->joint);
+  free(self);
+}

@@ -1,0 +1,131 @@
+/* armfault monitor plugin ABI, version 1: a health monitor compiled into a shared library
+ * (C, C++, Rust, ... behind a C interface) that `armfault run` loads with
+ *     "monitor": {"type": "plugin", "library": "path/to/lib.so", "settings": {...}}
+ * and scores exactly like its built-in monitor (docs/monitor-api.md, "C plugin").
+ *
+ * A plugin defines the six functions declared below, with C linkage and these exact names.
+ * Including this header where they are defined lets the compiler check their signatures.
+ *
+ * Calls, per run (one instance per run):
+ *     create -> step (every controller tick, in time order) ... -> finish -> destroy
+ * `verdicts` may be called after any step and after finish. After a step or finish returned an
+ * error, armfault calls only destroy. destroy is called for every instance create returned,
+ * also after an error. At load, armfault calls abi_version, then create and destroy once with
+ * the campaign's settings (to report bad settings before any run starts).
+ *
+ * Ownership and lifetime: every pointer armfault passes in (the JSON texts, the signals, the
+ * error buffer) is valid only for the duration of that call; copy what you keep. The verdict
+ * array belongs to the instance and must stay valid, unchanged, until the next call of step,
+ * finish or destroy on that instance.
+ *
+ * Threading: an instance is called from one thread at a time, so it needs no locks. Runs of a
+ * campaign run in parallel: different instances are called concurrently from different
+ * threads, and one loaded library serves every campaign in the process, so a plugin must keep
+ * no mutable global or static state. abi_version may be called from any thread.
+ *
+ * Determinism: what an instance emits must be a function of robot_json, settings_json and the
+ * sequence of steps only (no clocks, no unseeded randomness, no state shared between
+ * instances): campaign results are then bit-identical for any thread count or shard split.
+ *
+ * Errors: a function that fails writes a NUL-terminated message of at most error_size bytes
+ * (including the NUL) into `error` and returns NULL (create) or non-zero (step, finish). At
+ * load, a failing create is an input error (exit status 2); during a run, a failing step or
+ * finish fails that run with the message, and the campaign goes on. A plugin must not crash,
+ * abort, exit or let an exception escape these functions.
+ */
+#ifndef ARMFAULT_MONITOR_PLUGIN_H_
+#define ARMFAULT_MONITOR_PLUGIN_H_
+
+#include <stddef.h>
+
+#define ARMFAULT_MONITOR_PLUGIN_ABI_VERSION 1
+
+/* Bytes of the name buffers in armfault_verdict, including the terminating NUL. */
+#define ARMFAULT_VERDICT_NAME_SIZE 32
+
+/* Verdict states. */
+#define ARMFAULT_STATE_HEALTHY 0
+#define ARMFAULT_STATE_WORN 1
+#define ARMFAULT_STATE_DEFECTIVE 2
+
+#if defined(__GNUC__) || defined(__clang__)
+#define ARMFAULT_PLUGIN_EXPORT __attribute__((visibility("default")))
+#else
+#define ARMFAULT_PLUGIN_EXPORT
+#endif
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* The signals one joint's controller has at a tick, and nothing else (JointSignals in
+ * core/monitors/monitor.h). Units are in the names: rad, rad/s, N m, A, V, degrees Celsius. */
+typedef struct armfault_joint_signals {
+  double q_ref_rad;        /* reference position the controller tracks */
+  double qd_ref_rad_s;     /* reference velocity */
+  double q_meas_rad;       /* encoder, link side */
+  double qd_est_rad_s;     /* the controller's velocity estimate */
+  double tau_sensor_Nm;    /* joint torque sensor, after the ADC */
+  double i_cmd_A;          /* commanded current, after the DAC */
+  double i_supply_meas_A;  /* driver input current, mean over the control period */
+  double v_bus_meas_V;     /* driver input (bus) voltage */
+  double winding_temp_C;   /* winding temperature sensor where the robot has one, else NaN */
+} armfault_joint_signals;
+
+/* One timestamped verdict about one joint (Verdict in core/monitors/monitor.h). Emit one when
+ * the monitor's view of a joint changes (state, family) or a magnitude estimate is refined. */
+typedef struct armfault_verdict {
+  double t_s;     /* time of the tick it was reached at, in [0, t_end_s], never decreasing */
+  int joint;      /* 1-based: 1 .. joint_count */
+  int state;      /* ARMFAULT_STATE_HEALTHY, _WORN or _DEFECTIVE; alarm = not healthy */
+  /* A fault family of docs/faults.md ("kt_degradation", "friction_increase", ...) or "unknown";
+   * "" when healthy. NUL-terminated within the buffer. */
+  char family[ARMFAULT_VERDICT_NAME_SIZE];
+  /* The family's own size parameter ("kt_factor", "friction_factor", ...) or "" for none. */
+  char magnitude_name[ARMFAULT_VERDICT_NAME_SIZE];
+  double magnitude;   /* estimate of magnitude_name; finite (0 when there is none) */
+  double confidence;  /* in [0, 1] */
+} armfault_verdict;
+
+/* Returns ARMFAULT_MONITOR_PLUGIN_ABI_VERSION as the plugin was compiled against; armfault
+ * refuses a library whose version differs from its own. */
+ARMFAULT_PLUGIN_EXPORT int armfault_monitor_abi_version(void);
+
+/* A new instance for one run. robot_json: the robot as designed (datasheet values, never a
+ * unit's draw or the fault), as armfault's robot JSON (docs/robot-format.md; "modules" is the
+ * array of joints, base first). settings_json: the campaign's "settings" object as JSON text
+ * ("{}" when absent). Returns NULL on error, with the message in `error`. */
+ARMFAULT_PLUGIN_EXPORT void* armfault_monitor_create(const char* robot_json, const char* settings_json, char* error,
+                                                     size_t error_size);
+
+/* One controller tick at time t_s [s] (strictly increasing from call to call): joints[k] holds
+ * the signals of joint k + 1, k = 0 .. joint_count - 1 (the same count at every tick). Returns
+ * 0, or non-zero with a message in `error`. */
+ARMFAULT_PLUGIN_EXPORT int armfault_monitor_step(void* self, double t_s, const armfault_joint_signals* joints,
+                                                 int joint_count, char* error, size_t error_size);
+
+/* The end of the run at t_end_s [s] (the last tick's time); the last chance to emit verdicts.
+ * Returns 0, or non-zero with a message in `error`. */
+ARMFAULT_PLUGIN_EXPORT int armfault_monitor_finish(void* self, double t_end_s, char* error, size_t error_size);
+
+/* Every verdict the instance emitted so far, in time order: sets *verdicts to the first of
+ * them (may be NULL when there are none) and returns their count. The list only grows: a
+ * verdict once returned must not change. armfault copies the ones it has not seen yet. */
+ARMFAULT_PLUGIN_EXPORT int armfault_monitor_verdicts(void* self, const armfault_verdict** verdicts);
+
+/* Frees the instance; `self` is not used again. */
+ARMFAULT_PLUGIN_EXPORT void armfault_monitor_destroy(void* self);
+
+/* The same functions as pointer types, for a host resolving them with dlsym. */
+typedef int (*armfault_monitor_abi_version_fn)(void);
+typedef void* (*armfault_monitor_create_fn)(const char*, const char*, char*, size_t);
+typedef int (*armfault_monitor_step_fn)(void*, double, const armfault_joint_signals*, int, char*, size_t);
+typedef int (*armfault_monitor_finish_fn)(void*, double, char*, size_t);
+typedef int (*armfault_monitor_verdicts_fn)(void*, const armfault_verdict**);
+typedef void (*armfault_monitor_destroy_fn)(void*);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* ARMFAULT_MONITOR_PLUGIN_H_ */

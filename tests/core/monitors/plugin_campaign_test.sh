@@ -1,0 +1,98 @@
+#!/usr/bin/env bash
+# The example C plugin through the command line (docs/monitor-api.md, "C plugin"):
+# tests/core/monitors/data/plugin_campaign.json names "libcurrent_residual.so" beside itself;
+# this script puts the built example there, in a temp directory, and checks that
+#   - `armfault run` meets the campaign's floors (exit 0), with 1 and with 2 threads giving the
+#     same results.jsonl, and campaign.json records the library's absolute path;
+#   - a library that is missing, or whose create refuses its settings, is exit 2 naming the
+#     campaign file, /monitor/library and the library;
+#   - a plugin whose step returns an error fails those runs (exit 3) with the reason, and the
+#     campaign goes on; `report` and `trace` of such a run say so (trace: exit 3), never crash.
+# Usage: plugin_campaign_test.sh ARMFAULT EXAMPLE_PLUGIN TEST_PLUGIN. Prints "N passed, M failed".
+set -euo pipefail
+
+if [[ $# -ne 3 ]]; then
+  echo "usage: $0 ARMFAULT EXAMPLE_PLUGIN TEST_PLUGIN" >&2
+  exit 2
+fi
+armfault=$1
+example=$2
+test_plugin=$3
+here=$(cd "$(dirname "$0")" && pwd)
+tmp=$(mktemp -d "${TMPDIR:-/tmp}/armfault_plugin_campaign.XXXXXX")
+trap 'rm -rf "$tmp"' EXIT
+
+passed=0
+failed=0
+check() {  # check NAME CONDITION-COMMAND...
+  local name=$1
+  shift
+  if "$@" >"$tmp/out" 2>&1; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAIL: $name: $(head -c 800 "$tmp/out")"; fi
+}
+
+cp "$here/data/plugin_campaign.json" "$tmp/plugin_campaign.json"
+cp "$example" "$tmp/libcurrent_residual.so"
+
+runs_with() {  # runs_with THREADS: the campaign meets its floors, no run failed
+  "$armfault" run "$tmp/plugin_campaign.json" -o "$tmp/out$1" -j "$1" -q
+}
+check run_one_thread runs_with 1
+check run_two_threads runs_with 2
+check same_results_any_thread_count cmp "$tmp/out1/results.jsonl" "$tmp/out2/results.jsonl"
+recorded() {
+  grep -qF "\"library\": \"$tmp/libcurrent_residual.so\"" "$tmp/out1/campaign.json"
+}
+check campaign_json_records_the_absolute_library recorded
+
+# A campaign with another "monitor" value, beside the first.
+with_monitor() {  # with_monitor NAME MONITOR_JSON
+  sed "s|\"monitor\": {[^}]*}}|\"monitor\": $2|" "$tmp/plugin_campaign.json" >"$tmp/$1.json"
+}
+exit_2_naming() {  # exit_2_naming NAME TEXT...: `run` exits 2 and its error names each TEXT
+  local name=$1 status=0
+  shift
+  "$armfault" run "$tmp/$name.json" -o "$tmp/out_$name" -q 2>"$tmp/err_$name" || status=$?
+  [[ $status -eq 2 ]] || { echo "exit status $status, expected 2: $(cat "$tmp/err_$name")"; return 1; }
+  for text in "$@"; do
+    grep -qF -- "$text" "$tmp/err_$name" || { echo "the error does not name $text: $(cat "$tmp/err_$name")"; return 1; }
+  done
+}
+with_monitor missing '{"type": "plugin", "library": "libnowhere.so"}'
+check missing_library exit_2_naming missing "$tmp/missing.json: /monitor/library:" \
+  "plugin library \"$tmp/libnowhere.so\" (resolved from \"libnowhere.so\") does not exist"
+with_monitor refused "{\"type\": \"plugin\", \"library\": \"$test_plugin\", \"settings\": {\"mode\": \"create_error\"}}"
+check create_refuses exit_2_naming refused "$tmp/refused.json: /monitor/library:" "$test_plugin" \
+  "settings rejected: mode create_error"
+with_monitor bad_setting '{"type": "plugin", "library": "libcurrent_residual.so", "settings": {"kt_wron": 0.8}}'
+check bad_example_setting exit_2_naming bad_setting "/monitor/library:" "unknown setting \"kt_wron\""
+
+step_error() {
+  local status=0
+  "$armfault" run "$tmp/step_error.json" -o "$tmp/out_step_error" -q 2>"$tmp/err_step_error" || status=$?
+  [[ $status -eq 3 ]] || { echo "exit status $status, expected 3: $(cat "$tmp/err_step_error")"; return 1; }
+  # Every run where joint 3 moves (all of them here) failed with the plugin's message, and all ran.
+  [[ $(wc -l <"$tmp/out_step_error/results.jsonl") -eq 28 ]] &&
+    [[ $(grep -c "monitor plugin failed: $test_plugin: step returned error: sensor model diverged at t = 1 s" \
+          "$tmp/out_step_error/results.jsonl") -eq 28 ]]
+}
+with_monitor step_error "{\"type\": \"plugin\", \"library\": \"$test_plugin\", \"settings\": {\"mode\": \"step_error\"}}"
+check step_error_fails_runs_campaign_goes_on step_error
+# The commands that simulate one run again (report, trace) say so too, and do not crash.
+report_after_step_error() {  # the page's run re-simulated shows the reason
+  "$armfault" report "$tmp/out_step_error" &&
+    grep -qF "$test_plugin: step returned error: sensor model diverged" "$tmp/out_step_error/report.html"
+}
+check report_after_step_error report_after_step_error
+trace_step_error() {
+  local status=0
+  printf '%s\n' '{"duration_s": 2, "joints": {"3": {"type": "sine_pair", "amplitude_deg": 25, "omega_rad_s": 1.2732}},' \
+    " \"monitor\": {\"type\": \"plugin\", \"library\": \"$test_plugin\", \"settings\": {\"mode\": \"step_error\"}}}" \
+    >"$tmp/run.json"
+  "$armfault" trace "$tmp/run.json" -o "$tmp/trace.csv" >/dev/null 2>"$tmp/err_trace" || status=$?
+  [[ $status -eq 3 ]] || { echo "exit status $status, expected 3: $(cat "$tmp/err_trace")"; return 1; }
+  grep -qF "armfault: error: monitor failed: $test_plugin: step returned error: sensor model diverged" "$tmp/err_trace"
+}
+check trace_step_error trace_step_error
+
+echo "$passed passed, $failed failed"
+[[ $failed -eq 0 ]]

@@ -1,0 +1,223 @@
+// The "plugin" monitor type: a C plugin (include/armfault/monitor_plugin.h) loaded from a campaign,
+// scored like any monitor; a library that does not load is an InputError naming the file, the
+// pointer and the library; a plugin that returns errors or garbage fails its run with the reason
+// while the campaign goes on. The plugins are built by tests/CMakeLists.txt (paths below).
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "campaigns/campaign.h"
+#include "campaigns/run_record.h"
+#include "campaigns/runner.h"
+#include "core/monitors/plugin_monitor.h"
+#include "core/monitors/registry.h"
+#include "tests/core/test_support.h"
+
+namespace armfault {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using testing::HasSubstr;
+using testing_support::ErrorOf;
+using testing_support::ScratchDir;
+
+const char* const kExample = ARMFAULT_EXAMPLE_PLUGIN;
+const char* const kTest = ARMFAULT_TEST_PLUGIN;
+const char* const kTestAbi2 = ARMFAULT_TEST_PLUGIN_ABI2;
+const char* const kTestNoFinish = ARMFAULT_TEST_PLUGIN_NOFINISH;
+
+// Two trajectories, as the runner's own monitor tests: joint 3 moves in exp1 (where the test
+// plugin acts), joint 2 in j2; one fault and one healthy run each.
+json TwoRuns(const json& monitor, double duration_s = 2) {
+  json c = json::parse(R"({
+    "name": "plugin", "seed": 5,
+    "trajectories": [{"name": "exp1", "joints": {"3": {"type": "sine_pair", "amplitude_deg": 25, "omega_rad_s": 1.2732}}},
+                     {"name": "j2", "joints": {"2": {"type": "sine_pair", "amplitude_deg": 10, "omega_rad_s": 1.0}}}],
+    "faults": [{"family": "friction_increase", "joint": 3, "friction_factor": 2.0, "onset_s": 0.5}],
+    "healthy": 1
+  })");
+  c["monitor"] = monitor;
+  c["duration_s"] = duration_s;
+  return c;
+}
+
+json TestPlugin(const std::string& mode, const char* library = kTest) {
+  return {{"type", "plugin"}, {"library", library}, {"settings", {{"mode", mode}}}};
+}
+
+std::string ReadText(const fs::path& path) {
+  std::ifstream f(path, std::ios::binary);
+  std::ostringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+TEST(PluginMonitor, IsARegisteredType) {
+  std::vector<std::string> types;
+  for (const MonitorTypeInfo& t : MonitorTypes()) types.push_back(t.type);
+  EXPECT_THAT(types, testing::Contains("plugin"));
+}
+
+TEST(PluginMonitor, LibraryResolvesAgainstTheCampaignsDirectoryAndIsRecordedAbsolute) {
+  ScratchDir dir("plugin_relative");
+  fs::create_directories(dir.path() / "lib");
+  fs::copy_file(kTest, dir.path() / "lib" / "libtest.so");
+  const std::string path = dir.Write("c.json", TwoRuns({{"type", "plugin"}, {"library", "lib/libtest.so"}}).dump());
+  const Campaign c = ReadCampaignFile(path);
+  ASSERT_NE(c.monitor_model, nullptr);
+  EXPECT_EQ(c.monitor_model->type(), "plugin");
+  const std::string absolute = (dir.path() / "lib" / "libtest.so").string();
+  EXPECT_EQ(c.resolved["monitor"], (json{{"type", "plugin"}, {"library", absolute}, {"settings", json::object()}}));
+  // campaign.json read again from elsewhere (merge, tune, report) loads the same library.
+  const Campaign again = CampaignFromJson(c.resolved, "out/campaign.json", "out");
+  EXPECT_EQ(again.resolved["monitor"], c.resolved["monitor"]);
+  // A monitor file names the library relative to itself.
+  fs::create_directories(dir.path() / "monitors");
+  dir.Write("monitors/m.json", json{{"type", "plugin"}, {"library", "../lib/libtest.so"}}.dump());
+  const Campaign via_file = ReadCampaignFile(dir.Write("d.json", TwoRuns("monitors/m.json").dump()));
+  EXPECT_EQ(via_file.resolved["monitor"]["library"], absolute);
+}
+
+TEST(PluginMonitor, SettingsErrorsNameTheFileThePointerAndTheValue) {
+  ScratchDir dir("plugin_settings");
+  const std::string campaign = (dir.path() / "c.json").string();
+  auto load = [&](const json& monitor) { return ReadCampaignFile(dir.Write("c.json", TwoRuns(monitor).dump())); };
+
+  const InputError missing = ErrorOf([&] { load({{"type", "plugin"}, {"library", "nowhere/libx.so"}}); });
+  EXPECT_EQ(missing.source(), campaign);
+  EXPECT_EQ(missing.pointer(), "/monitor/library");
+  EXPECT_THAT(missing.message(), HasSubstr("plugin library \"" + (dir.path() / "nowhere/libx.so").string() +
+                                           "\" (resolved from \"nowhere/libx.so\") does not exist"));
+  const InputError unknown = ErrorOf([&] { load({{"type", "plugin"}, {"library", kTest}, {"setings", json::object()}}); });
+  EXPECT_EQ(unknown.pointer(), "/monitor/setings");
+  EXPECT_THAT(unknown.hint(), HasSubstr("settings"));
+  const InputError no_library = ErrorOf([&] { load({{"type", "plugin"}}); });
+  EXPECT_EQ(no_library.pointer(), "/monitor/library");
+  const InputError not_object = ErrorOf([&] { load({{"type", "plugin"}, {"library", kTest}, {"settings", 3}}); });
+  EXPECT_EQ(not_object.pointer(), "/monitor/settings");
+  EXPECT_THAT(not_object.message(), HasSubstr("got 3"));
+  const InputError directory = ErrorOf([&] { load({{"type", "plugin"}, {"library", "."}}); });
+  EXPECT_THAT(directory.message(), HasSubstr("is a directory"));
+}
+
+TEST(PluginMonitor, ALibraryThatDoesNotLoadIsAnInputErrorNamingIt) {
+  ScratchDir dir("plugin_load");
+  const std::string campaign = (dir.path() / "c.json").string();
+  auto error_of = [&](const json& monitor) {
+    return ErrorOf([&] { ReadCampaignFile(dir.Write("c.json", TwoRuns(monitor).dump())); });
+  };
+  const std::string text = dir.Write("libtext.so", "not a library\n");
+  const InputError not_elf = error_of({{"type", "plugin"}, {"library", "libtext.so"}});
+  EXPECT_EQ(not_elf.source(), campaign);
+  EXPECT_EQ(not_elf.pointer(), "/monitor/library");
+  EXPECT_THAT(not_elf.message(), HasSubstr("plugin library \"" + text + "\" cannot be loaded: "));
+
+  const InputError symbol = error_of(TestPlugin("quiet", kTestNoFinish));
+  EXPECT_EQ(symbol.source(), campaign);
+  EXPECT_EQ(symbol.pointer(), "/monitor/library");
+  EXPECT_THAT(symbol.message(), HasSubstr(std::string("plugin library \"") + kTestNoFinish + "\""));
+  EXPECT_THAT(symbol.message(), HasSubstr("does not export armfault_monitor_finish"));
+
+  const InputError abi = error_of(TestPlugin("quiet", kTestAbi2));
+  EXPECT_EQ(abi.pointer(), "/monitor/library");
+  EXPECT_THAT(abi.message(), HasSubstr(kTestAbi2));
+  EXPECT_THAT(abi.message(), HasSubstr("built for monitor plugin ABI version 2, this armfault loads version 1"));
+
+  const InputError create = error_of(TestPlugin("create_error"));
+  EXPECT_EQ(create.pointer(), "/monitor/library");
+  EXPECT_THAT(create.message(), HasSubstr(kTest));
+  EXPECT_THAT(create.message(), HasSubstr("armfault_monitor_create returned NULL for the settings {\"mode\":\"create_error\"}: "
+                                          "settings rejected: mode create_error"));
+  // The example checks its own settings.
+  const InputError example = error_of({{"type", "plugin"}, {"library", kExample}, {"settings", {{"kt_wron", 0.8}}}});
+  EXPECT_THAT(example.message(), HasSubstr("unknown setting \"kt_wron\""));
+}
+
+TEST(PluginMonitor, ScoredFromItsVerdictsLikeAnyMonitor) {
+  const Campaign c = CampaignFromJson(TwoRuns(TestPlugin("alarm")), "c.json", ".");
+  const std::vector<CaseSpec> cases = ExpandCases(c);
+  const RunRecord faulty = RunCase(c, cases[0]);
+  ASSERT_TRUE(faulty.ok) << faulty.failure_reason;
+  EXPECT_TRUE(faulty.detected);
+  EXPECT_EQ(faulty.isolated_family, "friction_increase");
+  EXPECT_EQ(faulty.isolated_joint, 3);
+  EXPECT_EQ(faulty.magnitude_name, "friction_factor");
+  EXPECT_EQ(*faulty.magnitude_estimate, 2.0);
+  EXPECT_NEAR(*faulty.latency_s, 0.5, 1e-9);
+  EXPECT_TRUE(faulty.decision.is_null());  // a plugin publishes no statistics
+  const RunRecord quiet_joint = RunCase(c, cases[3]);  // j2, healthy: joint 3 never moves
+  ASSERT_TRUE(quiet_joint.ok) << quiet_joint.failure_reason;
+  EXPECT_FALSE(quiet_joint.detected);
+}
+
+TEST(PluginMonitor, ErrorsAndGarbageFailTheRunWithTheReasonAndTheCampaignGoesOn) {
+  const std::vector<std::pair<std::string, std::string>> garbage = {
+      {"joint0", "monitor plugin emitted a bad verdict: verdict 1 (t_s 1, joint 0): joint out of range, expected 1..3"},
+      {"nan", "magnitude is not a finite number"},
+      {"backwards", "time goes backwards"},
+      {"bad_state", ": verdict 1: state 7, expected 0 (healthy), 1 (worn) or 2 (defective)"},
+      {"unterminated", ": verdict 1: family is not NUL-terminated"},
+      {"step_error", std::string("monitor plugin failed: ") + kTest + ": step returned error: sensor model diverged at t = 1 s"},
+      {"finish_error", std::string("monitor plugin failed: ") + kTest + ": finish returned error: cannot finish at 2 s"}};
+  for (const auto& [mode, message] : garbage) {
+    const Campaign c = CampaignFromJson(TwoRuns(TestPlugin(mode)), "c.json", ".");
+    ScratchDir dir("plugin_garbage_" + mode);
+    RunnerOptions o;
+    o.output_dir = dir.path().string();
+    o.threads = 2;
+    const RunnerResult r = RunCampaign(c, o);
+    EXPECT_EQ(r.ran, 4) << mode;
+    // finish fails on every run; the others only where joint 3 moves (exp1).
+    EXPECT_EQ(r.failed, mode == "finish_error" ? 4 : 2) << mode;
+    std::istringstream lines(ReadText(dir.path() / "results.jsonl"));
+    std::string line;
+    int failed = 0;
+    while (std::getline(lines, line)) {
+      const json record = json::parse(line);
+      if (record["status"] != "failed") continue;
+      ++failed;
+      EXPECT_THAT(record["reason"].get<std::string>(), HasSubstr(message)) << mode;
+    }
+    EXPECT_EQ(failed, r.failed) << mode;
+  }
+}
+
+TEST(PluginMonitor, TheExampleDetectsKtAndFrictionOnTheMovingJointAndIsQuietWhenHealthy) {
+  json campaign = json::parse(R"({
+    "name": "example", "seed": 11, "duration_s": 7,
+    "trajectories": [{"name": "exp1", "joints": {"3": {"type": "sine_pair", "amplitude_deg": 25, "omega_rad_s": 1.2732}}}],
+    "faults": [{"family": "kt_degradation", "joint": 3, "kt_factor": 0.5, "onset_s": 2.0},
+               {"family": "friction_increase", "joint": 3, "friction_factor": 3.0, "onset_s": 2.0}],
+    "healthy": 2
+  })");
+  campaign["monitor"] = {{"type", "plugin"}, {"library", kExample}};
+  const Campaign c = CampaignFromJson(campaign, "c.json", ".");
+  std::vector<std::string> lines[2];
+  for (int threads : {1, 2}) {
+    ScratchDir dir("plugin_example_" + std::to_string(threads));
+    RunnerOptions o;
+    o.output_dir = dir.path().string();
+    o.threads = threads;
+    const RunnerResult r = RunCampaign(c, o);
+    EXPECT_EQ(r.failed, 0);
+    std::istringstream text(ReadText(dir.path() / "results.jsonl"));
+    for (std::string line; std::getline(text, line);) lines[threads - 1].push_back(line);
+  }
+  EXPECT_EQ(lines[0], lines[1]);  // the same bytes for any thread count
+  ASSERT_EQ(lines[0].size(), 4u);
+  const json kt = json::parse(lines[0][0]), friction = json::parse(lines[0][1]);
+  EXPECT_EQ(kt["isolated_family"], "kt_degradation");
+  EXPECT_EQ(kt["isolated_joint"], 3);
+  EXPECT_NEAR(kt["magnitude_estimate"].get<double>(), 0.5, 0.1);
+  EXPECT_EQ(friction["isolated_family"], "friction_increase");
+  EXPECT_EQ(friction["isolated_joint"], 3);
+  EXPECT_NEAR(friction["magnitude_estimate"].get<double>(), 3.0, 0.6);
+  for (int k : {2, 3}) EXPECT_EQ(json::parse(lines[0][k])["detected"], false) << lines[0][k];
+}
+
+}  // namespace
+}  // namespace armfault

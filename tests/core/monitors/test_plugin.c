@@ -1,0 +1,113 @@
+/* A monitor plugin that misbehaves on request, for tests/core/monitors/plugin_monitor_test.cc.
+ * settings {"mode": M}:
+ *   "quiet"        emits nothing (also the no-op plugin of the overhead benchmark)
+ *   "alarm"        friction_increase on the last joint at the first tick at or after 1 s
+ *                  where that joint's reference moves
+ *   "joint0", "nan", "backwards", "bad_state", "unterminated"
+ *                  that alarm, broken in that way (joint 0, NaN magnitude, a second verdict
+ *                  earlier than the first, state 7, a family without its NUL)
+ *   "step_error"   step returns -3 with a message at that tick
+ *   "finish_error" finish returns 1 with a message
+ *   "create_error" create returns NULL with a message
+ * Built three times (tests/CMakeLists.txt): as is; with TEST_PLUGIN_ABI_VERSION=2 (another
+ * ABI); with TEST_PLUGIN_WITHOUT_FINISH (a missing function). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "armfault/monitor_plugin.h"
+
+#ifndef TEST_PLUGIN_ABI_VERSION
+#define TEST_PLUGIN_ABI_VERSION ARMFAULT_MONITOR_PLUGIN_ABI_VERSION
+#endif
+
+typedef struct {
+  char mode[32];
+  int fired;
+  int count;
+  armfault_verdict verdicts[2];
+} test_plugin;
+
+ARMFAULT_PLUGIN_EXPORT int armfault_monitor_abi_version(void) { return TEST_PLUGIN_ABI_VERSION; }
+
+/* The value of "mode" in the compact JSON armfault passes ({"mode":"nan"}), or "quiet". */
+static void read_mode(const char* settings_json, char* mode, size_t size) {
+  const char* key = strstr(settings_json, "\"mode\":\"");
+  size_t n = 0;
+  snprintf(mode, size, "quiet");
+  if (!key) return;
+  key += strlen("\"mode\":\"");
+  while (key[n] && key[n] != '"' && n + 1 < size) n++;
+  memcpy(mode, key, n);
+  mode[n] = '\0';
+}
+
+ARMFAULT_PLUGIN_EXPORT void* armfault_monitor_create(const char* robot_json, const char* settings_json, char* error,
+                                                     size_t error_size) {
+  test_plugin* self;
+  (void)robot_json;
+  self = calloc(1, sizeof *self);
+  if (!self) {
+    snprintf(error, error_size, "out of memory");
+    return NULL;
+  }
+  read_mode(settings_json, self->mode, sizeof self->mode);
+  if (strcmp(self->mode, "create_error") == 0) {
+    snprintf(error, error_size, "settings rejected: mode create_error");
+    free(self);
+    return NULL;
+  }
+  return self;
+}
+
+ARMFAULT_PLUGIN_EXPORT int armfault_monitor_step(void* handle, double t_s, const armfault_joint_signals* joints,
+                                                 int joint_count, char* error, size_t error_size) {
+  test_plugin* self = handle;
+  armfault_verdict* v = &self->verdicts[0];
+  if (self->fired || strcmp(self->mode, "quiet") == 0 || t_s < 1.0) return 0;
+  if (joints[joint_count - 1].qd_ref_rad_s == 0) return 0;
+  self->fired = 1;
+  if (strcmp(self->mode, "step_error") == 0) {
+    snprintf(error, error_size, "sensor model diverged at t = %g s", t_s);
+    return -3;
+  }
+  memset(v, 0, sizeof *v);
+  v->t_s = t_s;
+  v->joint = joint_count;
+  v->state = ARMFAULT_STATE_WORN;
+  strcpy(v->family, "friction_increase");
+  strcpy(v->magnitude_name, "friction_factor");
+  v->magnitude = 2.0;
+  v->confidence = 0.9;
+  self->count = 1;
+  if (strcmp(self->mode, "joint0") == 0) v->joint = 0;
+  if (strcmp(self->mode, "nan") == 0) v->magnitude = NAN;
+  if (strcmp(self->mode, "bad_state") == 0) v->state = 7;
+  if (strcmp(self->mode, "unterminated") == 0) memset(v->family, 'x', sizeof v->family);
+  if (strcmp(self->mode, "backwards") == 0) {
+    self->verdicts[1] = *v;
+    self->verdicts[1].t_s = t_s / 2;
+    self->count = 2;
+  }
+  return 0;
+}
+
+#ifndef TEST_PLUGIN_WITHOUT_FINISH
+ARMFAULT_PLUGIN_EXPORT int armfault_monitor_finish(void* handle, double t_end_s, char* error, size_t error_size) {
+  test_plugin* self = handle;
+  if (strcmp(self->mode, "finish_error") == 0) {
+    snprintf(error, error_size, "cannot finish at %g s", t_end_s);
+    return 1;
+  }
+  return 0;
+}
+#endif
+
+ARMFAULT_PLUGIN_EXPORT int armfault_monitor_verdicts(void* handle, const armfault_verdict** verdicts) {
+  test_plugin* self = handle;
+  *verdicts = self->verdicts;
+  return self->count;
+}
+
+ARMFAULT_PLUGIN_EXPORT void armfault_monitor_destroy(void* handle) { free(handle); }
