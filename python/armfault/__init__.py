@@ -248,13 +248,13 @@ def run_campaign(campaign, output_dir=None, threads=0, monitor=None, *, as_frame
     if progress is True:
         progress = _progress_printer
     try:
-        lines = _armfault.run_cases(campaign, int(threads), progress)
+        lines, decision_lines = _armfault.run_cases(campaign, int(threads), progress)
     except KeyboardInterrupt:
         if progress is _progress_printer:
             print(file=sys.stderr)
         raise
     if output_dir is not None:
-        _armfault.write_outputs(os.fspath(output_dir), campaign, lines)
+        _armfault.write_outputs(os.fspath(output_dir), campaign, lines, decision_lines)
     return _records(lines, as_frame)
 
 

@@ -137,12 +137,14 @@ const CaseSpec& FindCase(const Campaign& campaign, const std::vector<CaseSpec>& 
 // its results.jsonl line, in case order whatever the threads. The GIL is released throughout;
 // this thread only waits, and every 0.2 s takes the GIL to call `progress(done, total)` and to
 // let Ctrl-C through (then the runs in flight finish, no other starts, KeyboardInterrupt).
-std::vector<std::string> RunCases(const PyCampaign& pc, int threads, py::object progress) {
+// Returns (results lines, decisions lines), both in case order.
+std::pair<std::vector<std::string>, std::vector<std::string>> RunCases(const PyCampaign& pc, int threads,
+                                                                       py::object progress) {
   if (threads < 0) throw py::value_error("threads must be >= 0 (0: all cores), got " + std::to_string(threads));
   const Campaign& campaign = *pc.campaign;
   const std::vector<CaseSpec> cases = ExpandCases(campaign);
   const size_t n = cases.size();
-  std::vector<std::string> lines(n);
+  std::vector<std::string> lines(n), decision_lines(n);
   std::atomic<long> done{0};
   std::atomic<bool> stop{false};
   std::exception_ptr worker_error;
@@ -159,7 +161,9 @@ std::vector<std::string> RunCases(const PyCampaign& pc, int threads, py::object 
         arena.execute([&] {
           tbb::parallel_for(size_t{0}, n, [&](size_t k) {
             if (stop.load()) return;
-            lines[k] = ToJson(RunCase(campaign, cases[k], nullptr, &units)).dump();
+            const RunRecord r = RunCase(campaign, cases[k], nullptr, &units);
+            lines[k] = ToJson(r).dump();
+            decision_lines[k] = DecisionLineJson(r).dump();
             done.fetch_add(1);
           });
         });
@@ -190,13 +194,14 @@ std::vector<std::string> RunCases(const PyCampaign& pc, int threads, py::object 
   if (python_error) throw *python_error;
   if (worker_error) std::rethrow_exception(worker_error);
   if (!progress.is_none()) progress(n, n);
-  return lines;
+  return {std::move(lines), std::move(decision_lines)};
 }
 
 // What `armfault run` writes beside results.jsonl (app/campaign_command.cc's
 // FinishCampaignOutputs, without its printing): records read back from their lines, so every
 // number is the one results.jsonl holds.
-void WriteOutputs(const std::string& dir_name, const PyCampaign& pc, const std::vector<std::string>& lines) {
+void WriteOutputs(const std::string& dir_name, const PyCampaign& pc, const std::vector<std::string>& lines,
+                  const std::vector<std::string>& decision_lines) {
   const Campaign& campaign = *pc.campaign;
   py::gil_scoped_release release;
   const fs::path dir(dir_name);
@@ -213,6 +218,9 @@ void WriteOutputs(const std::string& dir_name, const PyCampaign& pc, const std::
     csv += ResultsCsvRow(record);
   }
   WriteAtomically(dir / "results.jsonl", jsonl);
+  std::string decisions;  // what `armfault tune` reads
+  for (const std::string& line : decision_lines) decisions += line + "\n";
+  WriteAtomically(dir / "decisions.jsonl", decisions);
   WriteAtomically(dir / "results.csv", csv);
   WriteAtomically(dir / "summary.json", builder.Build(campaign.floors, campaign.resolved, ARMFAULT_VERSION).dump(2) + "\n");
   WriteAtomically(dir / "junit.xml", JUnitXml(campaign.name, builder, campaign.floors, "campaign.json"));
@@ -446,7 +454,7 @@ PYBIND11_MODULE(_armfault, m) {
   m.def("load_campaign_text", &LoadText, "text"_a, "source"_a, "base_dir"_a);
   m.def("with_monitor", &WithMonitor, "campaign"_a, "factory"_a, "name"_a);
   m.def("run_cases", &RunCases, "campaign"_a, "threads"_a, "progress"_a);
-  m.def("write_outputs", &WriteOutputs, "output_dir"_a, "campaign"_a, "lines"_a);
+  m.def("write_outputs", &WriteOutputs, "output_dir"_a, "campaign"_a, "lines"_a, "decision_lines"_a);
   m.def("summary", &SummaryOf, "lines"_a, "campaign"_a);
   m.def("simulate", &SimulateCase, "campaign"_a, "run"_a);
   m.def("replay", &ReplayTrace, "instance"_a, "name"_a, "robot_json"_a, "joints"_a, "t_s"_a, "rows"_a);

@@ -70,7 +70,7 @@ def test_builtin_monitor_gives_the_cli_records_and_files(cli, small_file, tmp_pa
     records = armfault.run_campaign(small_file, output_dir=tmp_path / "py", threads=2, as_frame=False,
                                     progress=lambda done, total: progress.append((done, total)))
     assert progress[-1] == (4, 4)
-    for name in ["campaign.json", "results.jsonl", "results.csv", "summary.json", "junit.xml"]:
+    for name in ["campaign.json", "results.jsonl", "decisions.jsonl", "results.csv", "summary.json", "junit.xml"]:
         assert (tmp_path / "py" / name).read_bytes() == (tmp_path / "cli" / name).read_bytes(), name
     lines = (tmp_path / "cli" / "results.jsonl").read_text().splitlines()
     assert records == [json.loads(line) for line in lines]
