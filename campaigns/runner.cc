@@ -298,13 +298,15 @@ RunnerResult RunCampaign(const Campaign& campaign, const RunnerOptions& o) {
   const fs::path decisions_path = dir / "decisions.jsonl";
   const nlohmann::json campaign_file = CampaignFileJson(campaign, o.shard);
 
-  std::vector<CaseSpec> all = ExpandCases(campaign);
-  std::vector<const CaseSpec*> mine;
-  for (const CaseSpec& c : all) {
-    if (o.shard.Contains(c.index)) mine.push_back(&c);
-  }
+  // The shard's cases by index (CaseAt): nothing is held per case, so memory stays flat in
+  // the campaign's size and the first run starts at once.
+  const size_t mine = static_cast<size_t>(o.shard.Size(CaseCount(campaign)));
+  auto is_case = [&](size_t k, long case_index, const std::string& run_id) {
+    const long index = o.shard.CaseIndex(static_cast<long>(k));
+    return case_index == index && run_id == CaseAt(campaign, index).run_id;
+  };
   RunnerResult out;
-  out.total = static_cast<long>(mine.size());
+  out.total = static_cast<long>(mine);
 
   size_t next = 0;
   if (o.resume && fs::exists(results_path)) {
@@ -318,10 +320,10 @@ RunnerResult RunCampaign(const Campaign& campaign, const RunnerOptions& o) {
     // missing one (removed, or an older armfault's directory) keeps nothing.
     std::vector<bool> ok;
     const std::vector<std::streamoff> result_ends =
-        AcceptedLineEnds(results_path, mine.size(), [&](size_t k, const std::string& line) {
+        AcceptedLineEnds(results_path, mine, [&](size_t k, const std::string& line) {
           try {
             const RunRecord r = RunRecordFromJson(nlohmann::json::parse(line));
-            if (r.case_index != mine[k]->index || r.run_id != mine[k]->run_id) return false;
+            if (!is_case(k, r.case_index, r.run_id)) return false;
             ok.push_back(r.ok);
             return true;
           } catch (const std::exception&) {
@@ -332,7 +334,7 @@ RunnerResult RunCampaign(const Campaign& campaign, const RunnerOptions& o) {
         AcceptedLineEnds(decisions_path, result_ends.size(), [&](size_t k, const std::string& line) {
           try {
             const DecisionLine d = DecisionLineFromJson(nlohmann::json::parse(line));
-            return d.case_index == mine[k]->index && d.run_id == mine[k]->run_id;
+            return is_case(k, d.case_index, d.run_id);
           } catch (const std::exception&) {
             return false;
           }
@@ -367,7 +369,7 @@ RunnerResult RunCampaign(const Campaign& campaign, const RunnerOptions& o) {
         static_cast<size_t>(4 * threads),
         tbb::make_filter<void, size_t>(tbb::filter_mode::serial_in_order,
                                        [&](tbb::flow_control& fc) -> size_t {
-                                         if (cursor >= mine.size()) {
+                                         if (cursor >= mine) {
                                            fc.stop();
                                            return 0;
                                          }
@@ -380,7 +382,9 @@ RunnerResult RunCampaign(const Campaign& campaign, const RunnerOptions& o) {
                                        }) &
             tbb::make_filter<size_t, RunLines>(tbb::filter_mode::parallel,
                                                [&](size_t k) {
-                                                 const RunRecord r = RunCase(campaign, *mine[k], nullptr, &units);
+                                                 const RunRecord r = RunCase(
+                                                     campaign, CaseAt(campaign, o.shard.CaseIndex(static_cast<long>(k))),
+                                                     nullptr, &units);
                                                  return RunLines{DecisionLineJson(r).dump() + "\n",
                                                                  ToJson(r).dump() + "\n", r.ok};
                                                }) &
