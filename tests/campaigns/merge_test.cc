@@ -327,6 +327,36 @@ TEST_F(CampaignMerge, ACaseRunAloneGivesItsResultsLine) {
   }
 }
 
+TEST(CampaignMergeShards, MoreShardsThanRunsGiveEmptyValidShardsThatMerge) {
+  json j = Small();
+  j["faults"] = json::array();
+  j["healthy"] = 2;
+  j["repetitions"] = 1;
+  const Campaign c = Parse(j);
+  ASSERT_EQ(CaseCount(c), 2);
+  const fs::path dir = fs::temp_directory_path() / ("merge_empty_" + std::to_string(getpid()));
+  std::vector<std::string> shards;
+  for (int k = 0; k < 4; ++k) {
+    RunnerOptions o;
+    o.output_dir = (dir / ("s" + std::to_string(k))).string();
+    o.shard = {k, 4};
+    const RunnerResult r = RunCampaign(c, o);
+    EXPECT_EQ(r.total, k < 2 ? 1 : 0);
+    shards.push_back(o.output_dir);
+  }
+  EXPECT_EQ(ReadAll(dir / "s3" / "results.jsonl"), "");  // empty, and there
+  EXPECT_TRUE(fs::exists(dir / "s3" / "decisions.jsonl"));
+  const MergeResult m = MergeShards(shards, (dir / "merged").string());
+  EXPECT_EQ(m.shards, 4);
+  EXPECT_EQ(m.runs, 2);
+  RunnerOptions whole;
+  whole.output_dir = (dir / "full").string();
+  RunCampaign(c, whole);
+  EXPECT_EQ(ReadAll(dir / "merged" / "results.jsonl"), ReadAll(dir / "full" / "results.jsonl"));
+  std::error_code ec;
+  fs::remove_all(dir, ec);
+}
+
 TEST(CampaignMergeFiles, TrajectoryFilesAreNotNeededToMerge) {
   // A csv trajectory is read relative to the campaign file; merge runs elsewhere, after the
   // shards, and must not need it.
