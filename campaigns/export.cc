@@ -357,20 +357,7 @@ ScoreResult ScoreExternalVerdicts(const Campaign& campaign, const std::string& d
       }
       const auto it = by_id.find(run_id);
       if (it == by_id.end()) fail("unknown run_id \"" + run_id + "\" (not a run of " + truth_path.string() + ")");
-      const double end_s = campaign.duration_s;
-      if (!std::isfinite(v.t_s) || v.t_s < 0 || v.t_s > end_s + 5e-7) {
-        fail("t_s " + FormatNumber(v.t_s) + " outside the run [0, " + FormatNumber(end_s) + "] s");
-      }
-      if (v.joint < 1 || v.joint > joints) {
-        fail("joint " + std::to_string(v.joint) + " does not exist (1.." + std::to_string(joints) + ")");
-      }
-      if (v.alarm && v.family != "unknown" && std::find(families.begin(), families.end(), v.family) == families.end()) {
-        std::string known;
-        for (const std::string& f : families) known += f + ", ";
-        fail("unknown fault family \"" + v.family + "\" (known: " + known + "unknown)");
-      }
-      if (!std::isfinite(v.magnitude)) fail("magnitude is not a finite number");
-      if (!(v.confidence >= 0 && v.confidence <= 1)) fail("confidence " + FormatNumber(v.confidence) + " outside [0, 1]");
+      if (const std::string why = CheckVerdict(v, joints, campaign.duration_s, families); !why.empty()) fail(why);
       outputs[it->second].verdicts.push_back(v);
       ++result.verdicts;
     }

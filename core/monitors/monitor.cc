@@ -117,6 +117,26 @@ std::string ExplainFromVerdicts(const RunScore& score, const std::string& family
   return "";
 }
 
+std::string CheckVerdict(const Verdict& v, int joints, double t_end_s, const std::vector<std::string>& families) {
+  if (!std::isfinite(v.t_s)) return "time is not a finite number";
+  // Half a microsecond of slack: times pass through decimal text.
+  if (v.t_s < -5e-7 || v.t_s > t_end_s + 5e-7) {
+    return "t_s " + FormatNumber(v.t_s) + " outside the run [0, " + FormatNumber(t_end_s) + "] s";
+  }
+  if (v.joint < 1 || v.joint > joints) {
+    return "joint " + std::to_string(v.joint) + " out of range, expected 1.." + std::to_string(joints);
+  }
+  if (!std::isfinite(v.magnitude)) return "magnitude is not a finite number";
+  if (!std::isfinite(v.confidence) || v.confidence < 0 || v.confidence > 1) {
+    return "confidence " + FormatNumber(v.confidence) + " outside [0, 1]";
+  }
+  if (v.alarm != (v.state != HealthState::kHealthy)) return "alarm and state disagree";
+  if (v.alarm && v.family != "unknown" && std::find(families.begin(), families.end(), v.family) == families.end()) {
+    return "unknown fault family \"" + v.family + "\" (known: " + JoinNames(families) + ", unknown)";
+  }
+  return "";
+}
+
 std::string CheckOutput(const MonitorOutput& output, int joints, double t_end_s,
                         const std::vector<std::string>& families) {
   double t_prev_s = 0;
@@ -124,22 +144,9 @@ std::string CheckOutput(const MonitorOutput& output, int joints, double t_end_s,
     const Verdict& v = output.verdicts[k];
     const std::string where = "verdict " + std::to_string(k + 1) + " (t_s " + FormatNumber(v.t_s) + ", joint " +
                               std::to_string(v.joint) + "): ";
-    if (!std::isfinite(v.t_s)) return where + "time is not a finite number";
-    // Half a microsecond of slack: times pass through decimal text.
-    if (v.t_s < -5e-7 || v.t_s > t_end_s + 5e-7) {
-      return where + "time outside the run [0, " + FormatNumber(t_end_s) + "] s";
-    }
+    if (const std::string why = CheckVerdict(v, joints, t_end_s, families); !why.empty()) return where + why;
     if (v.t_s < t_prev_s) return where + "time goes backwards (previous verdict at " + FormatNumber(t_prev_s) + " s)";
     t_prev_s = v.t_s;
-    if (v.joint < 1 || v.joint > joints) return where + "joint out of range, expected 1.." + std::to_string(joints);
-    if (!std::isfinite(v.magnitude)) return where + "magnitude is not a finite number";
-    if (!std::isfinite(v.confidence) || v.confidence < 0 || v.confidence > 1) {
-      return where + "confidence " + FormatNumber(v.confidence) + " outside [0, 1]";
-    }
-    if (v.alarm != (v.state != HealthState::kHealthy)) return where + "alarm and state disagree";
-    if (v.alarm && v.family != "unknown" && std::find(families.begin(), families.end(), v.family) == families.end()) {
-      return where + "unknown fault family \"" + v.family + "\" (known: " + JoinNames(families) + ", unknown)";
-    }
   }
   return "";
 }

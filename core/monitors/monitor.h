@@ -119,6 +119,10 @@ RunScore ScoreVerdicts(const MonitorOutput& output, double onset_s, double first
 // "no alarm", what was named instead, or what alarmed on a healthy run. "" when scored right.
 std::string ExplainFromVerdicts(const RunScore& score, const std::string& family, int joint);
 
+// One verdict against the contract, time order aside: "" or why not ("joint 0 out of range,
+// expected 1..3"). What CheckOutput and `armfault score` check of every verdict.
+std::string CheckVerdict(const Verdict& v, int joints, double t_end_s, const std::vector<std::string>& families);
+
 // Checks what a monitor emitted against the contract (docs/monitor-api.md): verdict times
 // finite, in [0, t_end_s] and in time order; joints 1..joints; an alarm names a family from
 // `families` or "unknown"; magnitudes and confidences finite, confidence in [0, 1]. Returns ""

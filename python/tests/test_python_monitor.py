@@ -73,7 +73,7 @@ class Garbage(armfault.Monitor):
 
 
 @pytest.mark.parametrize("kind, reason", [
-    ("joint0", "monitor python emitted a bad verdict: verdict 1 (t_s 1, joint 0): joint out of range, expected 1..3"),
+    ("joint0", "monitor python emitted a bad verdict: verdict 1 (t_s 1, joint 0): joint 0 out of range, expected 1..3"),
     ("nan", "monitor python emitted a bad verdict: verdict 1 (t_s 1, joint 3): magnitude is not a finite number"),
     ("backwards", "monitor python emitted a bad verdict: verdict 2 (t_s 0.5, joint 3): time goes backwards "
                   "(previous verdict at 1 s)"),

@@ -339,7 +339,9 @@ TEST(CampaignRunner, DecisionsGoToTheirOwnFileInTheOrderOfTheResults) {
     ASSERT_TRUE(d["decision"].is_object()) << k;
     EXPECT_TRUE(d["decision"].contains("traces")) << k;
     // The decision line is the record's, as RunCase makes it (trace --run relies on RunCase).
-    if (k == 0) EXPECT_EQ(DecisionLineJson(RunCase(c, cases[k])).dump(), decisions[k]);
+    if (k == 0) {
+      EXPECT_EQ(DecisionLineJson(RunCase(c, cases[k])).dump(), decisions[k]);
+    }
   }
   // An older line with the decision inline still reads, keeping it.
   json old = json::parse(results[0]);
@@ -391,7 +393,9 @@ TEST(CampaignFleet, RunsOfOneUnitShareItsDrawsAndUnitsDiffer) {
     ASSERT_EQ(cs.tolerance_draws.size(), 3u);
     const json drawn = {{"tolerances", cs.VariationJson()["tolerances"]}, {"friction", cs.friction_factors}};
     auto [it, inserted] = by_unit.emplace(cs.unit, drawn);
-    if (!inserted) EXPECT_EQ(it->second, drawn) << "unit " << cs.unit;  // one unit, one draw
+    if (!inserted) {
+      EXPECT_EQ(it->second, drawn) << "unit " << cs.unit;  // one unit, one draw
+    }
     ambients.insert(cs.ambient_C);  // ambient is the run's
   }
   EXPECT_GE(by_unit.size(), 2u);

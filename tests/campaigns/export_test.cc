@@ -196,7 +196,7 @@ TEST(Score, BadVerdictLinesNameTheLine) {
   EXPECT_THAT(error(json{{"run_id", id}, {"t_s", 2.0}, {"joint", 3}, {"family", "gremlins"}, {"alarm", true}, {"magnitude", 1}}.dump()),
               HasSubstr("line 2: unknown fault family \"gremlins\""));
   EXPECT_THAT(error(json{{"run_id", id}, {"t_s", 2.0}, {"joint", 0}, {"family", ""}, {"alarm", false}, {"magnitude", 0}}.dump()),
-              HasSubstr("line 2: joint 0 does not exist (1..3)"));
+              HasSubstr("line 2: joint 0 out of range, expected 1..3"));
   EXPECT_THAT(error(json{{"run_id", id}, {"t_s", 2.0}, {"joint", 1}, {"family", ""}, {"alarm", "yes"}, {"magnitude", 0}}.dump()),
               HasSubstr("line 2: /alarm: expected true or false"));
   EXPECT_THAT(error("{not json"), HasSubstr("line 2: "));

@@ -104,7 +104,7 @@ TEST(RunnerWithAnyMonitor, ScoresItsVerdictsAlone) {
 
 TEST(RunnerWithAnyMonitor, GarbageVerdictsFailTheRunAndTheCampaignGoesOn) {
   const std::vector<std::pair<std::string, std::string>> garbage = {
-      {"joint0", "joint out of range, expected 1..3"},
+      {"joint0", "joint 0 out of range, expected 1..3"},
       {"nan", "magnitude is not a finite number"},
       {"backwards", "time goes backwards"},
       {"throw", "monitor scripted failed: step returned error -3: out of memory"}};
@@ -125,7 +125,9 @@ TEST(RunnerWithAnyMonitor, GarbageVerdictsFailTheRunAndTheCampaignGoesOn) {
       const RunRecord rec = RunRecordFromJson(json::parse(line));
       ++lines;
       EXPECT_EQ(rec.ok, rec.trajectory != "exp1") << kind << " " << rec.run_id;
-      if (!rec.ok) EXPECT_THAT(rec.failure_reason, HasSubstr(message)) << kind;
+      if (!rec.ok) {
+        EXPECT_THAT(rec.failure_reason, HasSubstr(message)) << kind;
+      }
     }
     EXPECT_EQ(lines, 4) << kind;
   }

@@ -133,13 +133,13 @@ TEST(CheckOutput, GarbageVerdictsAreNamed) {
   out.verdicts = {Alarm(1.0, 1, "kt_degradation"), Healthy(1.5, 3)};
   EXPECT_EQ(CheckOutput(out, 3, 10.0, families), "");
   out.verdicts = {Alarm(1.0, 0, "kt_degradation")};
-  EXPECT_THAT(CheckOutput(out, 3, 10.0, families), HasSubstr("verdict 1 (t_s 1, joint 0): joint out of range, expected 1..3"));
+  EXPECT_THAT(CheckOutput(out, 3, 10.0, families), HasSubstr("verdict 1 (t_s 1, joint 0): joint 0 out of range, expected 1..3"));
   out.verdicts = {Alarm(1.0, 1, "kt_degradation", std::numeric_limits<double>::quiet_NaN())};
   EXPECT_THAT(CheckOutput(out, 3, 10.0, families), HasSubstr("magnitude is not a finite number"));
   out.verdicts = {Alarm(2.0, 1, "kt_degradation"), Alarm(1.0, 2, "kt_degradation")};
   EXPECT_THAT(CheckOutput(out, 3, 10.0, families), HasSubstr("verdict 2 (t_s 1, joint 2): time goes backwards"));
   out.verdicts = {Alarm(11.0, 1, "kt_degradation")};
-  EXPECT_THAT(CheckOutput(out, 3, 10.0, families), HasSubstr("time outside the run [0, 10] s"));
+  EXPECT_THAT(CheckOutput(out, 3, 10.0, families), HasSubstr("t_s 11 outside the run [0, 10] s"));
   out.verdicts = {Alarm(1.0, 1, "gremlins")};
   EXPECT_THAT(CheckOutput(out, 3, 10.0, families), HasSubstr("unknown fault family \"gremlins\""));
   out.verdicts = {Alarm(1.0, 1, "unknown")};
