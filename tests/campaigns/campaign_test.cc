@@ -20,6 +20,8 @@ namespace {
 using nlohmann::json;
 using testing::HasSubstr;
 using testing_support::ErrorOf;
+using testing_support::Lines;
+using testing_support::ReadAll;
 using testing_support::ScratchDir;
 
 json Small() {
@@ -271,13 +273,6 @@ TEST(CampaignParse, ShippedCampaignsAreValid) {
   EXPECT_EQ(DefaultCampaign().name, "thesis-sweep");
 }
 
-std::string ReadAll(const std::filesystem::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
-
 // A short campaign for the runner tests: 1.5 s runs.
 Campaign Quick() {
   json j = Small();
@@ -304,14 +299,6 @@ TEST(CampaignRunner, ResultsAreIdenticalForAnyThreadCount) {
   EXPECT_EQ(a, b);
   EXPECT_EQ(std::count(a.begin(), a.end(), '\n'), 16);
   EXPECT_EQ(ReadAll(dir.path() / "j1" / "decisions.jsonl"), ReadAll(dir.path() / "j2" / "decisions.jsonl"));
-}
-
-std::vector<std::string> Lines(const std::string& text) {
-  std::vector<std::string> out;
-  std::istringstream in(text);
-  std::string line;
-  while (std::getline(in, line)) out.push_back(line);
-  return out;
 }
 
 TEST(CampaignRunner, DecisionsGoToTheirOwnFileInTheOrderOfTheResults) {

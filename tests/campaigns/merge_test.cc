@@ -21,6 +21,8 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 using testing::HasSubstr;
 using testing_support::ErrorOf;
+using testing_support::Lines;
+using testing_support::ReadAll;
 using testing_support::ScratchDir;
 
 // 16 runs of 1.5 s: two fault entries (one with a uniform onset), healthy runs, variation.
@@ -40,21 +42,6 @@ json Small() {
 }
 
 Campaign Parse(const json& j) { return CampaignFromJson(j, "c.json", "."); }
-
-std::string ReadAll(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
-
-std::vector<std::string> Lines(const std::string& text) {
-  std::vector<std::string> out;
-  std::istringstream in(text);
-  std::string line;
-  while (std::getline(in, line)) out.push_back(line);
-  return out;
-}
 
 // An output directory a refused merge must leave without results: no results.jsonl or
 // decisions.jsonl, and no temporary file of either.

@@ -22,6 +22,8 @@ namespace {
 using nlohmann::json;
 using testing::HasSubstr;
 using testing_support::ErrorOf;
+using testing_support::Lines;
+using testing_support::ReadAll;
 using testing_support::ScratchDir;
 
 TEST(SlidingMin, IsTheMinimumOfTheLastSpanValues) {
@@ -351,21 +353,6 @@ TEST(Tune, ARerunWithTheTunedMonitorGivesThePredictedRates) {
   }
 }
 
-std::string ReadText(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-std::vector<std::string> Lines(const std::string& text) {
-  std::vector<std::string> out;
-  std::istringstream in(text);
-  std::string line;
-  while (std::getline(in, line)) out.push_back(line);
-  return out;
-}
-
 void WriteLines(const std::filesystem::path& path, const std::vector<std::string>& lines) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
   for (const std::string& l : lines) out << l << "\n";
@@ -374,8 +361,8 @@ void WriteLines(const std::filesystem::path& path, const std::vector<std::string
 // The directory as an older armfault wrote it: each results line with its decision inline
 // (keys sorted, as ToJson wrote them) and no decisions.jsonl.
 void ReInline(const std::filesystem::path& dir) {
-  const std::vector<std::string> results = Lines(ReadText(dir / "results.jsonl"));
-  const std::vector<std::string> decisions = Lines(ReadText(dir / "decisions.jsonl"));
+  const std::vector<std::string> results = Lines(ReadAll(dir / "results.jsonl"));
+  const std::vector<std::string> decisions = Lines(ReadAll(dir / "decisions.jsonl"));
   ASSERT_EQ(results.size(), decisions.size());
   std::vector<std::string> old;
   for (size_t k = 0; k < results.size(); ++k) {
@@ -440,7 +427,7 @@ TEST_F(TuneLayouts, DecisionsJsonlTunesExactlyAsTheOlderInlineDecisions) {
 TEST_F(TuneLayouts, RefusesDecisionsThatDoNotGoWithTheResultsNamingTheLine) {
   const std::filesystem::path d = Copy("bad");
   const std::filesystem::path decisions = d / "decisions.jsonl", results = d / "results.jsonl";
-  const std::vector<std::string> lines = Lines(ReadText(decisions));
+  const std::vector<std::string> lines = Lines(ReadAll(decisions));
   auto error = [&] { return ErrorOf([&] { TuneCampaignDir(d.string(), Options()); }); };
 
   std::vector<std::string> swapped = lines;

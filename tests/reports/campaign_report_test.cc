@@ -29,14 +29,9 @@ using nlohmann::json;
 using testing::HasSubstr;
 using testing::Not;
 using testing_support::ErrorOf;
+using testing_support::Lines;
+using testing_support::ReadAll;
 using testing_support::ScratchDir;
-
-std::string ReadAll(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
 
 // The <svg> element with this id, or "" if there is none.
 std::string SvgById(const std::string& html, const std::string& id) {
