@@ -50,7 +50,7 @@ int TuneCommand(const TuneCommandOptions& o) {
   const std::filesystem::path dir(o.dir);
   const std::string monitor_path = o.monitor_output.empty() ? (dir / "tuned-monitor.json").string() : o.monitor_output;
   WriteAtomically(dir / "tuning.json", r.report.dump(2) + "\n");
-  WriteAtomically(monitor_path, MonitorConfigToJson(r.tuned).dump(2) + "\n");
+  WriteAtomically(monitor_path, r.tuned_monitor.dump(2) + "\n");
 
   std::printf("scored %ld threshold settings on %ld runs in %.2f s (rule %s)\n", r.settings, r.runs, seconds,
               r.report["rule"].dump().c_str());

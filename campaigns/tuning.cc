@@ -17,6 +17,7 @@
 #include "campaigns/provenance.h"
 #include "campaigns/run_record.h"
 #include "core/base/json_input.h"
+#include "core/monitors/threshold_statistics.h"
 
 namespace armfault {
 
@@ -94,6 +95,25 @@ struct FamilyTable {
   }
 };
 
+// What tune sweeps: one axis per threshold (a power-monitor detector's worn limit, or a published
+// statistic's threshold), and the significance the power monitor's detectors share.
+struct TuneAxis {
+  std::string name;     // "kt_factor.worn", or the statistic's name
+  std::string family;   // the family its alarms name
+  double default_value = 0;
+  std::vector<double> values;
+  std::vector<double> thresholds;  // the threshold each value sets (tie margins compare these)
+};
+struct TuneSpace {
+  std::vector<TuneAxis> axes;
+  std::vector<double> significance;  // empty: none (published statistics)
+  double default_significance = 0;
+  bool joint_first = false;  // ties at one instant: the lower joint first, else the axis order
+  size_t SignificanceCount() const { return std::max<size_t>(1, significance.size()); }
+};
+// One index per axis, then the significance's (0 when there is none).
+using Setting = std::vector<int>;
+
 struct RunTable {
   bool select = true;  // in the half the operating point is chosen on (even seed)
   int family = -1;  // true family id, -1 healthy
@@ -103,19 +123,23 @@ struct RunTable {
   std::string category;  // magnitude of a family without a numeric one (the stuck lead...)
   double onset_s = 0;
   Hit event;
-  std::array<std::vector<std::vector<Hit>>, kDetectorCount> detector;  // [significance][worn limit]
+  std::vector<std::vector<std::vector<Hit>>> hits;  // [axis][significance][value]
 };
 
-// The first alarm of a run under the setting k: the same order as Decide().
-Hit Combine(const RunTable& r, const SettingIndex& k) {
+// The first alarm of a run under the setting k: the same order as Decide() (power monitor) or
+// DecideThresholds() (published statistics).
+Hit Combine(const RunTable& r, const Setting& k, const TuneSpace& space) {
   Hit best = r.event;
   int best_priority = -1;
   bool pre = r.event.pre;
-  for (int d = 0; d < kDetectorCount; ++d) {
-    const Hit& h = r.detector[d][k[kDetectorCount]][k[d]];
+  const int axes = static_cast<int>(space.axes.size());
+  for (int d = 0; d < axes; ++d) {
+    const Hit& h = r.hits[d][k[axes]][k[d]];
     pre = pre || h.pre;
     if (h.t == kInf) continue;
-    if (best.t == kInf || std::tie(h.t, d, h.joint) < std::tie(best.t, best_priority, best.joint)) {
+    const bool better = space.joint_first ? std::tie(h.t, h.joint, d) < std::tie(best.t, best.joint, best_priority)
+                                          : std::tie(h.t, d, h.joint) < std::tie(best.t, best_priority, best.joint);
+    if (best.t == kInf || better) {
       best = h;
       best_priority = d;
     }
@@ -163,6 +187,7 @@ struct Score {
 
 struct Scorer {
   const std::vector<RunTable>& runs;
+  const TuneSpace& space;
   long faulty = 0, healthy = 0;
   std::vector<long> family_runs;
   int part = -1;  // -1: every run; 1: the selection half; 0: the held-out half
@@ -183,14 +208,14 @@ struct Scorer {
     }
   }
 
-  Score Evaluate(const SettingIndex& k, std::vector<double>* latencies = nullptr,
+  Score Evaluate(const Setting& k, std::vector<double>* latencies = nullptr,
                  int latency_family = -2) const {
     Score s;
     s.family_detected.assign(family_runs.size(), 0);
     s.family_isolated.assign(family_runs.size(), 0);
     for (const RunTable& r : runs) {
       if (!Counts(r)) continue;
-      const Hit h = Combine(r, k);
+      const Hit h = Combine(r, k, space);
       const bool detected = h.t != kInf;
       if (r.family < 0) {
         if (detected) ++s.false_alarms;
@@ -440,147 +465,23 @@ long SettingCount(const SweepGrid& grid) {
   return n;
 }
 
-TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& options) {
-  const fs::path dir(dir_name);
-  const fs::path campaign_path = dir / "campaign.json", results_path = dir / "results.jsonl";
-  const fs::path decisions_path = dir / "decisions.jsonl";
-  const nlohmann::json campaign_file = ReadJsonFile(campaign_path.string());
-  if (!campaign_file.is_object() || !campaign_file.contains("campaign")) {
-    throw InputError(campaign_path.string(), "/campaign", "missing: not a campaign output directory");
-  }
-  const Campaign campaign = CampaignFromJson(campaign_file["campaign"], campaign_path.string(), dir.string());
-  // Nothing of another campaign is tuned on: summary.json, when there, must be of this
-  // campaign.json, and every line of results.jsonl one of its cases (same run_id and seed).
-  const std::string campaign_hash = CampaignHash(campaign_file["campaign"]);
-  if (const fs::path summary_path = dir / "summary.json"; fs::exists(summary_path)) {
-    RequireOneCampaign({{campaign_path.string(), campaign_hash, ""},
-                        {summary_path.string(), ClaimedCampaignHash(ReadJsonFile(summary_path.string()), summary_path.string()),
-                         "run the campaign into " + dir_name + " again (or merge its shards there), or remove the stale summary.json"}});
-  }
-  const CaseMatcher matcher(campaign);
-  // Only a monitor that publishes the statistics behind its alarms can be re-scored; the
-  // power-efficiency monitor does (DecisionStats). Another type is scored at its own point.
-  const auto* power = dynamic_cast<const PowerEfficiencyModel*>(campaign.monitor_model.get());
-  if (!power) {
-    throw InputError(campaign_path.string(), "/campaign/monitor/type",
-                     "monitor type \"" + campaign.monitor_model->type() +
-                         "\" publishes no decision statistics tune can re-score: its runs are scored at its own "
-                         "operating point (see summary.json); tune sweeps the power_efficiency monitor's thresholds");
-  }
-  const MonitorConfig& base = power->model().config;
-  const SweepGrid grid = MakeSweepGrid(base, options.sweep);
-  const DetectorThresholds as_run = power->model().thresholds;
+namespace {
 
-  // Load the runs: per run, the first alarm of each detector at each axis value.
-  FamilyTable families;
-  for (const DetectorInfo& d : Detectors()) families.Id(d.family);
-  std::vector<RunTable> runs;
-  long failed = 0;
-  {
-    std::ifstream in(results_path, std::ios::binary);
-    if (!in) throw InputError(results_path.string(), "", "cannot read (run the campaign first)");
-    // Each run's statistics are the same line of decisions.jsonl, of the same run; in an older
-    // armfault's directory, without that file, the results line's own "decision".
-    const bool separate = fs::exists(decisions_path);
-    std::ifstream decisions_in;
-    if (separate) {
-      decisions_in.open(decisions_path, std::ios::binary);
-      if (!decisions_in) throw InputError(decisions_path.string(), "", "cannot read the file");
-    }
-    std::string line, decision_line;
-    long n = 0;
-    while (std::getline(in, line)) {
-      ++n;
-      auto where = [&] { return "line " + std::to_string(n) + ": "; };
-      RunRecord rec;
-      DecisionStats stats;
-      try {
-        rec = RunRecordFromJson(nlohmann::json::parse(line));
-        if (const std::string why = matcher.Mismatch(rec); !why.empty()) {
-          throw std::runtime_error(why + ": this results.jsonl is not a run of " + campaign_path.string() +
-                                   " (files of different campaigns are not read together); run the campaign into " +
-                                   dir_name + " again");
-        }
-      } catch (const std::exception& e) {
-        throw InputError(results_path.string(), "", where() + e.what());
-      }
-      nlohmann::json decision = std::move(rec.decision);
-      if (separate) {
-        try {
-          if (!std::getline(decisions_in, decision_line)) {
-            throw std::runtime_error("missing: the file ends after " + std::to_string(n - 1) + " lines, but " +
-                                     results_path.string() + " has more");
-          }
-          if (decisions_in.eof()) {
-            throw std::runtime_error("cut: the line has no newline (a killed run? finish it with `armfault run ... --resume`)");
-          }
-          DecisionLine d = DecisionLineFromJson(nlohmann::json::parse(decision_line));
-          if (d.case_index != rec.case_index || d.run_id != rec.run_id) {
-            throw std::runtime_error("case " + std::to_string(d.case_index) + " \"" + d.run_id + "\", but line " +
-                                     std::to_string(n) + " of " + results_path.string() + " is case " +
-                                     std::to_string(rec.case_index) + " \"" + rec.run_id +
-                                     "\": decisions.jsonl does not go with results.jsonl");
-          }
-          decision = std::move(d.decision);
-        } catch (const std::exception& e) {
-          throw InputError(decisions_path.string(), "", where() + e.what());
-        }
-      }
-      if (!rec.ok) {
-        ++failed;
-        continue;
-      }
-      try {
-        if (decision.is_null()) {
-          throw std::runtime_error(separate ? "run \"" + rec.run_id + "\" has no decision statistics (null)"
-                                            : "no decision statistics: " + decisions_path.string() +
-                                                  " does not exist and this line carries no inline \"decision\" (was "
-                                                  "the campaign run with --summary-only? run it again without)");
-        }
-        stats = DecisionStatsFromJson(decision);
-      } catch (const std::exception& e) {
-        throw InputError(separate ? decisions_path.string() : results_path.string(), "", where() + e.what());
-      }
-      // The stored statistics must give the recorded outcome under the thresholds the run used.
-      const DecisionOutcome check = Decide(stats, as_run, base.significance);
-      if (check.detected != rec.detected || check.alarm_before_onset != rec.alarm_before_onset ||
-          (check.detected && (check.detection_time_s != *rec.detection_time_s || check.family != rec.isolated_family ||
-                              check.joint != rec.isolated_joint))) {
-        throw InputError(results_path.string(), "",
-                         where() + "run " + rec.run_id + ": its decision statistics do not reproduce its result");
-      }
-      RunTable r;
-      r.select = rec.seed % 2 == 0;
-      r.family = rec.family.empty() ? -1 : families.Id(rec.family);
-      r.joint = rec.joint;
-      r.magnitude_key = rec.magnitude_key;
-      r.magnitude = rec.magnitude;
-      r.category = PodCategory(rec.fault);
-      r.onset_s = rec.onset_s;
-      r.event = EventHit(stats, &families);
-      for (const SweepAxis& axis : grid.axes) {
-        const DetectorInfo& info = Detectors()[static_cast<int>(axis.detector)];
-        auto& hits = r.detector[static_cast<int>(axis.detector)];
-        for (double z : grid.significance) {
-          hits.emplace_back();
-          for (double worn : axis.worn_values) {
-            hits.back().push_back(DetectorHit(stats, axis.detector, ThresholdFor(info, worn), z, &families));
-          }
-        }
-      }
-      runs.push_back(std::move(r));
-    }
-    if (separate && std::getline(decisions_in, decision_line)) {
-      throw InputError(decisions_path.string(), "",
-                       "line " + std::to_string(n + 1) + ": more lines than the " + std::to_string(n) + " runs of " +
-                           results_path.string() + ": decisions.jsonl does not go with results.jsonl");
-    }
-  }
-  if (runs.empty()) throw InputError(results_path.string(), "", "no completed runs to tune on");
+struct Scored {
+  nlohmann::json report;
+  Setting op;
+  long settings = 0;
+};
 
+// Scores every setting of `space` on the runs, picks the operating point by the rule and writes
+// the report (docs/tuning.md): the same for the power monitor's detectors and for published
+// statistics.
+Scored ScoreRuns(const TuneSpace& space, const std::vector<RunTable>& runs, const FamilyTable& families, long failed,
+                 const std::string& campaign_name, const std::string& campaign_hash, const TuneOptions& options,
+                 const std::vector<std::string>& extra_warnings) {
   // Every run; the half with even seeds, on which the operating point is chosen; the other
   // half, on which its rates are reported without having chosen it (honest rates).
-  Scorer scorer{runs, 0, 0, {}, -1}, chooser{runs, 0, 0, {}, 1}, held_out{runs, 0, 0, {}, 0};
+  Scorer scorer{runs, space, 0, 0, {}, -1}, chooser{runs, space, 0, 0, {}, 1}, held_out{runs, space, 0, 0, {}, 0};
   scorer.CountRuns(families.names.size());
   chooser.CountRuns(families.names.size());
   held_out.CountRuns(families.names.size());
@@ -589,13 +490,16 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
   const Scorer& choose_on = split ? chooser : scorer;
 
   // Score every setting (mixed radix over the axes), in parallel: each setting is independent.
-  const long settings = SettingCount(grid);
+  const int axes = static_cast<int>(space.axes.size());
+  long settings = static_cast<long>(space.SignificanceCount());
+  for (const TuneAxis& a : space.axes) settings *= static_cast<long>(a.values.size());
   auto indices = [&](long s) {
-    SettingIndex k{};
-    k[kDetectorCount] = static_cast<int>(s % static_cast<long>(grid.significance.size()));
-    s /= static_cast<long>(grid.significance.size());
-    for (int d = kDetectorCount - 1; d >= 0; --d) {
-      const long size = static_cast<long>(grid.axes[d].worn_values.size());
+    Setting k(static_cast<size_t>(axes) + 1, 0);
+    const long z = static_cast<long>(space.SignificanceCount());
+    k[axes] = static_cast<int>(s % z);
+    s /= z;
+    for (int d = axes - 1; d >= 0; --d) {
+      const long size = static_cast<long>(space.axes[d].values.size());
       k[d] = static_cast<int>(s % size);
       s /= size;
     }
@@ -619,11 +523,10 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
   // healthy joints the campaign did not cover), each normalised by its axis.
   auto margin = [&](long s) {
     const auto k = indices(s);
-    double sum = grid.significance[k[kDetectorCount]] / grid.significance.back();
-    for (int d = 0; d < kDetectorCount; ++d) {
-      const auto& v = grid.axes[d].worn_values;
-      const double h = ThresholdFor(Detectors()[d], v[k[d]]);
-      sum += h / std::max(1e-12, ThresholdFor(Detectors()[d], v.back()) + ThresholdFor(Detectors()[d], v.front()));
+    double sum = space.significance.empty() ? 0.0 : space.significance[k[axes]] / space.significance.back();
+    for (int d = 0; d < axes; ++d) {
+      const auto& h = space.axes[d].thresholds;
+      sum += h[k[d]] / std::max(1e-12, h.back() + h.front());
     }
     return sum;
   };
@@ -664,24 +567,25 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
                      "no setting keeps the false-alarm rate at or below " + std::to_string(rule.false_alarm_ceiling) +
                          "; raise the ceiling or widen the sweep");
   }
-  const SettingIndex op = indices(best);
-  SettingIndex as_run_k{};
-  for (int d = 0; d < kDetectorCount; ++d) {
-    const auto& v = grid.axes[d].worn_values;
-    as_run_k[d] = static_cast<int>(std::find(v.begin(), v.end(), (base.*LimitsOf(grid.axes[d].detector)).worn) - v.begin());
+  const Setting op = indices(best);
+  Setting as_run_k(static_cast<size_t>(axes) + 1, 0);
+  for (int d = 0; d < axes; ++d) {
+    const auto& v = space.axes[d].values;
+    as_run_k[d] = static_cast<int>(std::find(v.begin(), v.end(), space.axes[d].default_value) - v.begin());
   }
-  as_run_k[kDetectorCount] = static_cast<int>(
-      std::find(grid.significance.begin(), grid.significance.end(), base.significance) - grid.significance.begin());
+  if (!space.significance.empty()) {
+    as_run_k[axes] = static_cast<int>(std::find(space.significance.begin(), space.significance.end(),
+                                                space.default_significance) -
+                                      space.significance.begin());
+  }
 
-  auto setting_json = [&](const SettingIndex& k) {
+  auto setting_json = [&](const Setting& k) {
     nlohmann::json j = nlohmann::json::object();
-    for (int d = 0; d < kDetectorCount; ++d) {
-      j[std::string(Detectors()[d].parameter) + ".worn"] = grid.axes[d].worn_values[k[d]];
-    }
-    j["significance"] = grid.significance[k[kDetectorCount]];
+    for (int d = 0; d < axes; ++d) j[space.axes[d].name] = space.axes[d].values[k[d]];
+    if (!space.significance.empty()) j["significance"] = space.significance[k[axes]];
     return j;
   };
-  auto point_json = [&](const SettingIndex& k, const Scorer& scorer) {
+  auto point_json = [&](const Setting& k, const Scorer& scorer) {
     std::vector<double> all;
     const Score s = scorer.Evaluate(k, &all, -1);
     nlohmann::json j;
@@ -710,17 +614,16 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
 
   nlohmann::json report;
   report["armfault_version"] = ARMFAULT_VERSION;
-  report["campaign"] = campaign.name;
+  report["campaign"] = campaign_name;
   report["campaign_hash"] = campaign_hash;
   report["runs"] = {{"faulty", scorer.faulty}, {"healthy", scorer.healthy}, {"failed", failed}};
   nlohmann::json parameters = nlohmann::json::array();
-  for (const SweepAxis& a : grid.axes) {
-    const DetectorInfo& info = Detectors()[static_cast<int>(a.detector)];
-    parameters.push_back({{"name", std::string(info.parameter) + ".worn"},
-                          {"default", (base.*LimitsOf(a.detector)).worn},
-                          {"values", a.worn_values}});
+  for (const TuneAxis& a : space.axes) {
+    parameters.push_back({{"name", a.name}, {"default", a.default_value}, {"values", a.values}});
   }
-  parameters.push_back({{"name", "significance"}, {"default", base.significance}, {"values", grid.significance}});
+  if (!space.significance.empty()) {
+    parameters.push_back({{"name", "significance"}, {"default", space.default_significance}, {"values", space.significance}});
+  }
   report["parameters"] = parameters;
   report["settings"] = settings;
   switch (rule.kind) {
@@ -745,18 +648,19 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
   report["selection"] = selection;
   // A point on the edge of the grid may lie beyond it: widen the sweep to see.
   nlohmann::json warnings = nlohmann::json::array();
-  for (int d = 0; d < kDetectorCount; ++d) {
-    const auto& v = grid.axes[d].worn_values;
+  for (const std::string& w : extra_warnings) warnings.push_back(w);
+  for (int d = 0; d < axes; ++d) {
+    const auto& v = space.axes[d].values;
     if (v.size() > 1 && (op[d] == 0 || op[d] + 1 == static_cast<int>(v.size()))) {
-      warnings.push_back(std::string(Detectors()[d].parameter) + ".worn = " + FormatNumber(v[op[d]]) +
+      warnings.push_back(space.axes[d].name + " = " + FormatNumber(v[op[d]]) +
                          " is at the edge of the swept range [" + FormatNumber(v.front()) + ", " + FormatNumber(v.back()) +
                          "]: widen the sweep to see beyond it");
     }
   }
-  if (grid.significance.size() > 1 && (op[kDetectorCount] == 0 || op[kDetectorCount] + 1 == static_cast<int>(grid.significance.size()))) {
-    warnings.push_back("significance = " + FormatNumber(grid.significance[op[kDetectorCount]]) +
-                       " is at the edge of the swept range [" + FormatNumber(grid.significance.front()) + ", " +
-                       FormatNumber(grid.significance.back()) + "]: widen the sweep to see beyond it");
+  if (space.significance.size() > 1 && (op[axes] == 0 || op[axes] + 1 == static_cast<int>(space.significance.size()))) {
+    warnings.push_back("significance = " + FormatNumber(space.significance[op[axes]]) +
+                       " is at the edge of the swept range [" + FormatNumber(space.significance.front()) + ", " +
+                       FormatNumber(space.significance.back()) + "]: widen the sweep to see beyond it");
   }
   report["warnings"] = warnings;
 
@@ -790,18 +694,18 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
     if (scorer.family_runs[f] == 0) continue;
     const std::string& name = families.names[f];
     int own = -1;
-    for (int d = 0; d < kDetectorCount; ++d) {
-      if (name == Detectors()[d].family) own = d;
+    for (int d = axes - 1; d >= 0; --d) {
+      if (name == space.axes[d].family) own = d;
     }
     nlohmann::json points = nlohmann::json::array(), lat_points = nlohmann::json::array();
     std::vector<std::pair<double, double>> pts;
     if (own >= 0) {
-      SettingIndex k = op;
-      for (size_t i = 0; i < grid.axes[own].worn_values.size(); ++i) {
+      Setting k = op;
+      for (size_t i = 0; i < space.axes[own].values.size(); ++i) {
         k[own] = static_cast<int>(i);
         std::vector<double> lat;
         const Score s = scorer.Evaluate(k, &lat, static_cast<int>(f));
-        const double worn = grid.axes[own].worn_values[i];
+        const double worn = space.axes[own].values[i];
         const double x = fa(s), y = Ratio(s.family_detected[f], scorer.family_runs[f]);
         points.push_back({{"threshold", worn}, {"false_alarm_rate", x}, {"detection_rate", y}});
         pts.emplace_back(x, y);
@@ -809,7 +713,7 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
         lat_points.push_back({{"threshold", worn}, {"median_s", m}, {"p95_s", p}, {"detected", s.family_detected[f]},
                               {"detection_rate", y}});
       }
-      latency[name] = {{"parameter", std::string(Detectors()[own].parameter) + ".worn"}, {"points", lat_points}};
+      latency[name] = {{"parameter", space.axes[own].name}, {"points", lat_points}};
     } else {
       for (long s : frontier) {
         const double x = fa(scores[s]), y = Ratio(scores[s].family_detected[f], scorer.family_runs[f]);
@@ -819,7 +723,7 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
     }
     // A family without a threshold of its own (tick-level detectors) is not swept: its points
     // only show where the overall frontier leaves it.
-    roc[name] = RocCurve(own >= 0 ? nlohmann::json(std::string(Detectors()[own].parameter) + ".worn") : nlohmann::json(nullptr),
+    roc[name] = RocCurve(own >= 0 ? nlohmann::json(space.axes[own].name) : nlohmann::json(nullptr),
                          own >= 0, points, pts);
   }
   report["roc"] = roc;
@@ -835,7 +739,7 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
     std::string key;
     for (const RunTable& r : runs) {
       if (r.family != static_cast<int>(f)) continue;
-      const bool hit = Combine(r, op).t != kInf;
+      const bool hit = Combine(r, op, space).t != kInf;
       if (!r.magnitude_key.empty()) {
         key = r.magnitude_key;
         auto& c = by_magnitude[r.magnitude];
@@ -877,19 +781,348 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
   report["detection_probability"] = pod;
   report["latency"] = latency;
 
-  TuningResult result;
-  result.tuned = base;
-  for (int d = 0; d < kDetectorCount; ++d) {
-    StateLimits& l = result.tuned.*LimitsOf(grid.axes[d].detector);
-    l.worn = grid.axes[d].worn_values[op[d]];
-    // Keep the defective limit beyond the worn one.
-    l.defective =
-        grid.axes[d].detector == Detector::kKtFactor ? std::min(l.defective, l.worn) : std::max(l.defective, l.worn);
+  return {std::move(report), op, settings};
+}
+
+// The levels a published statistic's threshold may be re-scored at (threshold_statistics.h).
+std::vector<double> Levels(double threshold, int from, int to, int step) {
+  std::vector<double> v;
+  for (int k = from; k <= to; k += step) v.push_back(LevelThreshold(threshold, k));
+  return v;
+}
+
+// The axes of published statistics: by default every 4th level (a factor 4 either way, 19 %
+// apart), coarser when there are many statistics; a spec "NAME=FROM:TO:STEPS" or "NAME=VALUE"
+// sets thresholds, each moved to the nearest level (levels only: the stored runs re-score those
+// exactly). The declared threshold is always a value.
+TuneSpace StatisticSpace(const std::vector<StatisticInfo>& statistics, const std::string& spec) {
+  TuneSpace space;
+  space.joint_first = true;
+  const size_t n = statistics.size();
+  const int step = n <= 3 ? 4 : n <= 5 ? 8 : 16;
+  for (const StatisticInfo& info : statistics) {
+    TuneAxis a;
+    a.name = info.name;
+    a.family = info.family;
+    a.default_value = info.threshold;
+    a.values = Levels(info.threshold, -kLevelSteps, kLevelSteps, step);
+    space.axes.push_back(std::move(a));
   }
-  result.tuned.significance = grid.significance[op[kDetectorCount]];
-  Validate(result.tuned, "", "<tuned monitor>");
-  result.report = std::move(report);
-  result.settings = settings;
+  size_t start = 0;
+  while (start < spec.size()) {
+    size_t comma = spec.find(',', start);
+    if (comma == std::string::npos) comma = spec.size();
+    const std::string item = spec.substr(start, comma - start);
+    start = comma + 1;
+    const size_t eq = item.find('=');
+    const std::string name = item.substr(0, eq);
+    auto it = std::find_if(space.axes.begin(), space.axes.end(), [&](const TuneAxis& a) { return a.name == name; });
+    if (eq == std::string::npos || it == space.axes.end()) {
+      std::string known;
+      for (const TuneAxis& a : space.axes) known += (known.empty() ? "" : ", ") + a.name;
+      throw InputError("--sweep", "",
+                       "expected NAME=FROM:TO:STEPS or NAME=VALUE with NAME a statistic the monitor publishes (" + known +
+                           "), got \"" + item + "\"");
+    }
+    std::vector<double> values;
+    for (double v : ParseValues(item.substr(eq + 1), name)) {
+      const double h = it->default_value;
+      if (!(v > 0)) throw InputError("--sweep", "", name + ": " + FormatNumber(v) + " is not a threshold > 0");
+      const double k = std::round(std::log2(v / h) * kLevelsPerOctave);
+      if (std::fabs(k) > kLevelSteps) {
+        throw InputError("--sweep", "",
+                         name + ": " + FormatNumber(v) + " is outside the range the runs stored, " +
+                             FormatNumber(LevelThreshold(h, -kLevelSteps)) + " to " +
+                             FormatNumber(LevelThreshold(h, kLevelSteps)) + " (a factor 4 either way of the threshold " +
+                             FormatNumber(h) + ")");
+      }
+      values.push_back(LevelThreshold(h, static_cast<int>(k)));
+    }
+    it->values = values;
+  }
+  long settings = 1;
+  for (TuneAxis& a : space.axes) {
+    a.values.push_back(a.default_value);
+    std::sort(a.values.begin(), a.values.end());
+    a.values.erase(std::unique(a.values.begin(), a.values.end()), a.values.end());
+    a.thresholds = a.values;
+    settings *= static_cast<long>(a.values.size());
+    if (settings > 2'000'000) {
+      throw InputError("--sweep", "",
+                       "the monitor publishes " + std::to_string(n) +
+                           " statistics: the default grid is too large; fix some with NAME=VALUE in --sweep");
+    }
+  }
+  return space;
+}
+
+// The power monitor's grid as a space: its detectors' worn limits and the shared significance.
+TuneSpace PowerSpace(const SweepGrid& grid, const MonitorConfig& base) {
+  TuneSpace space;
+  for (const SweepAxis& a : grid.axes) {
+    const DetectorInfo& info = Detectors()[static_cast<int>(a.detector)];
+    TuneAxis axis;
+    axis.name = std::string(info.parameter) + ".worn";
+    axis.family = info.family;
+    axis.default_value = (base.*LimitsOf(a.detector)).worn;
+    axis.values = a.worn_values;
+    for (double worn : a.worn_values) axis.thresholds.push_back(ThresholdFor(info, worn));
+    space.axes.push_back(std::move(axis));
+  }
+  space.significance = grid.significance;
+  space.default_significance = base.significance;
+  return space;
+}
+
+// A run's hits under every setting of a published-statistics space.
+void StatisticHits(const ThresholdStats& stats, const TuneSpace& space, FamilyTable* families, RunTable* r) {
+  for (size_t s = 0; s < space.axes.size(); ++s) {
+    const int family = families->Id(stats.statistics[s].family);
+    std::vector<Hit> hits;
+    for (double h : space.axes[s].values) {
+      Hit out;
+      for (const ThresholdStats::Trace& t : stats.traces) {
+        if (t.statistic != static_cast<int>(s)) continue;
+        if (t.pre_max > h) out.pre = true;
+        const ThresholdStats::Rise* it = FirstAlarm(t, h);
+        if (!it) continue;
+        if (out.t == kInf || std::tie(it->t_s, t.joint) < std::tie(out.t, out.joint)) {
+          out.t = it->t_s;
+          out.joint = t.joint;
+          out.family = family;
+        }
+      }
+      hits.push_back(out);
+    }
+    r->hits.push_back({std::move(hits)});
+  }
+}
+
+bool SameDeclarations(const std::vector<StatisticInfo>& a, const std::vector<StatisticInfo>& b) {
+  if (a.size() != b.size()) return false;
+  for (size_t k = 0; k < a.size(); ++k) {
+    if (a[k].name != b[k].name || a[k].family != b[k].family || a[k].threshold != b[k].threshold ||
+        a[k].setting != b[k].setting) {
+      return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& options) {
+  const fs::path dir(dir_name);
+  const fs::path campaign_path = dir / "campaign.json", results_path = dir / "results.jsonl";
+  const fs::path decisions_path = dir / "decisions.jsonl";
+  const nlohmann::json campaign_file = ReadJsonFile(campaign_path.string());
+  if (!campaign_file.is_object() || !campaign_file.contains("campaign")) {
+    throw InputError(campaign_path.string(), "/campaign", "missing: not a campaign output directory");
+  }
+  // A campaign run from Python with a Python monitor names it ({"type": "python", ...}), which
+  // the command line cannot build; tune needs only the cases and the stored statistics.
+  nlohmann::json campaign_json = campaign_file["campaign"];
+  const nlohmann::json monitor_json = campaign_json.is_object() ? campaign_json.value("monitor", nlohmann::json()) : nlohmann::json();
+  const bool python_monitor = monitor_json.is_object() && monitor_json.value("type", "") == "python";
+  if (python_monitor) campaign_json.erase("monitor");
+  const Campaign campaign = CampaignFromJson(campaign_json, campaign_path.string(), dir.string());
+  const std::string monitor_type = python_monitor ? "python" : campaign.monitor_model->type();
+  // Nothing of another campaign is tuned on: summary.json, when there, must be of this
+  // campaign.json, and every line of results.jsonl one of its cases (same run_id and seed).
+  const std::string campaign_hash = CampaignHash(campaign_file["campaign"]);
+  if (const fs::path summary_path = dir / "summary.json"; fs::exists(summary_path)) {
+    RequireOneCampaign({{campaign_path.string(), campaign_hash, ""},
+                        {summary_path.string(), ClaimedCampaignHash(ReadJsonFile(summary_path.string()), summary_path.string()),
+                         "run the campaign into " + dir_name + " again (or merge its shards there), or remove the stale summary.json"}});
+  }
+  const CaseMatcher matcher(campaign);
+  // Only a monitor that publishes the statistics behind its alarms can be re-scored: the
+  // power-efficiency monitor (DecisionStats), or any type whose runs stored published statistics
+  // (ThresholdStats). Another is scored at its own operating point.
+  const auto* power = python_monitor ? nullptr : dynamic_cast<const PowerEfficiencyModel*>(campaign.monitor_model.get());
+  const std::string cannot_sweep = "monitor type \"" + monitor_type +
+                                   "\" publishes no statistics tune can re-score: its runs are scored at its own "
+                                   "operating point (see summary.json); a monitor that declares statistics "
+                                   "(docs/monitor-api.md, \"Statistics for tune\") can be swept";
+  TuneSpace space;
+  std::vector<StatisticInfo> declared;  // published statistics: what the first run declared
+  const MonitorConfig* base = power ? &power->model().config : nullptr;
+  if (power) space = PowerSpace(MakeSweepGrid(*base, options.sweep), *base);
+
+  // Load the runs: per run, the first alarm of each axis at each of its values.
+  FamilyTable families;
+  if (power) {
+    for (const DetectorInfo& d : Detectors()) families.Id(d.family);
+  }
+  std::vector<RunTable> runs;
+  long failed = 0;
+  {
+    std::ifstream in(results_path, std::ios::binary);
+    if (!in) throw InputError(results_path.string(), "", "cannot read (run the campaign first)");
+    // Each run's statistics are the same line of decisions.jsonl, of the same run; in an older
+    // armfault's directory, without that file, the results line's own "decision".
+    const bool separate = fs::exists(decisions_path);
+    std::ifstream decisions_in;
+    if (separate) {
+      decisions_in.open(decisions_path, std::ios::binary);
+      if (!decisions_in) throw InputError(decisions_path.string(), "", "cannot read the file");
+    }
+    std::string line, decision_line;
+    long n = 0;
+    while (std::getline(in, line)) {
+      ++n;
+      auto where = [&] { return "line " + std::to_string(n) + ": "; };
+      RunRecord rec;
+      try {
+        rec = RunRecordFromJson(nlohmann::json::parse(line));
+        if (const std::string why = matcher.Mismatch(rec); !why.empty()) {
+          throw std::runtime_error(why + ": this results.jsonl is not a run of " + campaign_path.string() +
+                                   " (files of different campaigns are not read together); run the campaign into " +
+                                   dir_name + " again");
+        }
+      } catch (const std::exception& e) {
+        throw InputError(results_path.string(), "", where() + e.what());
+      }
+      nlohmann::json decision = std::move(rec.decision);
+      if (separate) {
+        try {
+          if (!std::getline(decisions_in, decision_line)) {
+            throw std::runtime_error("missing: the file ends after " + std::to_string(n - 1) + " lines, but " +
+                                     results_path.string() + " has more");
+          }
+          if (decisions_in.eof()) {
+            throw std::runtime_error("cut: the line has no newline (a killed run? finish it with `armfault run ... --resume`)");
+          }
+          DecisionLine d = DecisionLineFromJson(nlohmann::json::parse(decision_line));
+          if (d.case_index != rec.case_index || d.run_id != rec.run_id) {
+            throw std::runtime_error("case " + std::to_string(d.case_index) + " \"" + d.run_id + "\", but line " +
+                                     std::to_string(n) + " of " + results_path.string() + " is case " +
+                                     std::to_string(rec.case_index) + " \"" + rec.run_id +
+                                     "\": decisions.jsonl does not go with results.jsonl");
+          }
+          decision = std::move(d.decision);
+        } catch (const std::exception& e) {
+          throw InputError(decisions_path.string(), "", where() + e.what());
+        }
+      }
+      if (!rec.ok) {
+        ++failed;
+        continue;
+      }
+      const std::string decision_file = separate ? decisions_path.string() : results_path.string();
+      if (!power && decision.is_null()) throw InputError(campaign_path.string(), "/campaign/monitor/type", cannot_sweep);
+      RunTable r;
+      r.select = rec.seed % 2 == 0;
+      r.family = rec.family.empty() ? -1 : families.Id(rec.family);
+      r.joint = rec.joint;
+      r.magnitude_key = rec.magnitude_key;
+      r.magnitude = rec.magnitude;
+      r.category = PodCategory(rec.fault);
+      r.onset_s = rec.onset_s;
+      // The stored statistics must give the recorded outcome under the thresholds the run used.
+      auto reproduces = [&](bool alarm_before_onset, bool detected, double time_s, const std::string& family, int joint) {
+        if (detected != rec.detected || alarm_before_onset != rec.alarm_before_onset ||
+            (detected && (time_s != *rec.detection_time_s || family != rec.isolated_family || joint != rec.isolated_joint))) {
+          throw InputError(results_path.string(), "",
+                           where() + "run " + rec.run_id + ": its decision statistics do not reproduce its result" +
+                               (power ? "" : " (the monitor's alarms are not the threshold test on the statistics it "
+                                             "publishes: docs/monitor-api.md, \"Statistics for tune\")"));
+        }
+      };
+      if (power) {
+        DecisionStats stats;
+        try {
+          if (decision.is_null()) {
+            throw std::runtime_error(separate ? "run \"" + rec.run_id + "\" has no decision statistics (null)"
+                                              : "no decision statistics: " + decisions_path.string() +
+                                                    " does not exist and this line carries no inline \"decision\" (was "
+                                                    "the campaign run with --summary-only? run it again without)");
+          }
+          stats = DecisionStatsFromJson(decision);
+        } catch (const std::exception& e) {
+          throw InputError(decision_file, "", where() + e.what());
+        }
+        const DecisionOutcome check = Decide(stats, power->model().thresholds, base->significance);
+        reproduces(check.alarm_before_onset, check.detected, check.detection_time_s, check.family, check.joint);
+        r.event = EventHit(stats, &families);
+        for (size_t d = 0; d < space.axes.size(); ++d) {
+          const DetectorInfo& info = Detectors()[d];
+          auto& hits = r.hits.emplace_back();
+          for (double z : space.significance) {
+            hits.emplace_back();
+            for (double worn : space.axes[d].values) {
+              hits.back().push_back(DetectorHit(stats, info.detector, ThresholdFor(info, worn), z, &families));
+            }
+          }
+        }
+      } else {
+        ThresholdStats stats;
+        try {
+          stats = ThresholdStatsFromJson(decision);
+          if (declared.empty()) {
+            declared = stats.statistics;
+            space = StatisticSpace(declared, options.sweep);
+          } else if (!SameDeclarations(declared, stats.statistics)) {
+            throw std::runtime_error("run \"" + rec.run_id + "\" declares other statistics than the first run");
+          }
+        } catch (const std::exception& e) {
+          if (dynamic_cast<const InputError*>(&e)) throw;
+          throw InputError(decision_file, "", where() + e.what());
+        }
+        std::vector<double> thresholds;
+        for (const StatisticInfo& info : declared) thresholds.push_back(info.threshold);
+        const ThresholdOutcome check = DecideThresholds(stats, thresholds);
+        reproduces(check.alarm_before_onset, check.detected, check.detection_time_s, check.family, check.joint);
+        StatisticHits(stats, space, &families, &r);
+      }
+      runs.push_back(std::move(r));
+    }
+    if (separate && std::getline(decisions_in, decision_line)) {
+      throw InputError(decisions_path.string(), "",
+                       "line " + std::to_string(n + 1) + ": more lines than the " + std::to_string(n) + " runs of " +
+                           results_path.string() + ": decisions.jsonl does not go with results.jsonl");
+    }
+  }
+  if (runs.empty()) throw InputError(results_path.string(), "", "no completed runs to tune on");
+
+  // The tuned monitor: the power monitor's config with the operating point's limits; another
+  // type's "monitor" value with each statistic's threshold written where it declared it lives.
+  std::vector<std::string> warnings;
+  if (!power) {
+    for (const StatisticInfo& info : declared) {
+      if (info.setting.empty() || python_monitor) {
+        warnings.push_back("statistic " + info.name +
+                           " names no setting that holds its threshold: set it in the monitor yourself (tuned-monitor.json "
+                           "holds the monitor as it ran)");
+      }
+    }
+  }
+  Scored scored = ScoreRuns(space, runs, families, failed, campaign.name, campaign_hash, options, warnings);
+  const Setting& op = scored.op;
+
+  TuningResult result;
+  if (power) {
+    result.tuned = *base;
+    for (size_t d = 0; d < space.axes.size(); ++d) {
+      StateLimits& l = result.tuned.*LimitsOf(Detectors()[d].detector);
+      l.worn = space.axes[d].values[op[d]];
+      // Keep the defective limit beyond the worn one.
+      l.defective =
+          Detectors()[d].detector == Detector::kKtFactor ? std::min(l.defective, l.worn) : std::max(l.defective, l.worn);
+    }
+    result.tuned.significance = space.significance[op[space.axes.size()]];
+    Validate(result.tuned, "", "<tuned monitor>");
+    result.tuned_monitor = MonitorConfigToJson(result.tuned);
+  } else {
+    result.tuned_monitor = monitor_json.is_null() ? campaign.monitor.ToJson() : monitor_json;
+    for (size_t s = 0; s < declared.size(); ++s) {
+      if (declared[s].setting.empty() || python_monitor) continue;
+      const nlohmann::json::json_pointer at("/settings" + declared[s].setting);
+      result.tuned_monitor[at] = space.axes[s].values[op[s]];
+    }
+  }
+  result.report = std::move(scored.report);
+  result.settings = scored.settings;
   result.runs = static_cast<long>(runs.size());
   return result;
 }

@@ -62,7 +62,10 @@ struct TuneOptions {
 
 struct TuningResult {
   nlohmann::json report;       // DIR/tuning.json
-  MonitorConfig tuned;         // the campaign's monitor with the operating point's limits
+  MonitorConfig tuned;         // power_efficiency: the campaign's monitor with the operating point's limits
+  // What tuned-monitor.json holds: MonitorConfigToJson(tuned) for power_efficiency; for a monitor
+  // that publishes statistics, its "monitor" value with each threshold written at its setting.
+  nlohmann::json tuned_monitor;
   long settings = 0;
   long runs = 0;
 };

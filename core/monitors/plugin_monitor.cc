@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "armfault/monitor_plugin.h"
+#include "core/monitors/threshold_statistics.h"
 
 namespace armfault {
 
@@ -42,6 +43,9 @@ struct PluginLibrary {
   armfault_monitor_finish_fn finish = nullptr;
   armfault_monitor_verdicts_fn verdicts = nullptr;
   armfault_monitor_destroy_fn destroy = nullptr;
+  // Optional, both or neither: the statistics behind the alarms (tune).
+  armfault_monitor_statistics_fn statistics = nullptr;
+  armfault_monitor_statistic_values_fn statistic_values = nullptr;
 
   PluginLibrary() = default;
   PluginLibrary(const PluginLibrary&) = delete;
@@ -53,14 +57,43 @@ struct PluginLibrary {
 
 namespace {
 
+// The statistics an instance declares (none without the optional functions), or why they break
+// the contract ("" when they keep it).
+std::string DeclaredStatistics(const PluginLibrary& library, void* self, std::vector<StatisticInfo>* out) {
+  out->clear();
+  if (!library.statistics) return "";
+  const armfault_statistic* declared = nullptr;
+  const int count = library.statistics(self, &declared);
+  if (count < 0 || count > 64 || (count > 0 && !declared)) {
+    return "armfault_monitor_statistics returned the count " + std::to_string(count) + (declared ? "" : " and NULL");
+  }
+  for (int k = 0; k < count; ++k) {
+    const armfault_statistic& in = declared[k];
+    if (!std::memchr(in.name, '\0', sizeof in.name) || !std::memchr(in.family, '\0', sizeof in.family) ||
+        !std::memchr(in.setting, '\0', sizeof in.setting)) {
+      return "statistic " + std::to_string(k + 1) + ": a name that is not NUL-terminated";
+    }
+    out->push_back({in.name, in.family, in.threshold, in.setting});
+  }
+  return CheckStatistics(*out);
+}
+
 // One run's plugin instance. Its first error is thrown as a MonitorFailure, which fails the
 // run; after it the plugin is never called again (only destroyed) and later calls do nothing,
 // so a caller that goes on to Finish() (the report's second look at a run) does not fail twice.
 class PluginMonitor : public HealthMonitor {
  public:
-  // `self` NULL: create failed with `failure`, thrown at the first Observe().
-  PluginMonitor(std::shared_ptr<const PluginLibrary> library, void* self, std::string failure)
-      : library_(std::move(library)), self_(self), pending_failure_(std::move(failure)) {}
+  // `self` NULL: create failed with `failure`, thrown at the first Observe() (as are statistics
+  // declared against the contract).
+  PluginMonitor(std::shared_ptr<const PluginLibrary> library, void* self, std::string failure, int joints)
+      : library_(std::move(library)), self_(self), pending_failure_(std::move(failure)), joints_(joints) {
+    if (self_) {
+      if (std::string why = DeclaredStatistics(*library_, self_, &statistics_); !why.empty()) {
+        pending_failure_ = why;
+        statistics_.clear();
+      }
+    }
+  }
   ~PluginMonitor() override {
     if (self_) library_->destroy(self_);
   }
@@ -68,10 +101,8 @@ class PluginMonitor : public HealthMonitor {
   PluginMonitor& operator=(const PluginMonitor&) = delete;
 
   void Observe(double t_s, const std::vector<JointSignals>& joints) override {
-    if (!self_) {
-      if (!pending_failure_.empty()) Fail(std::exchange(pending_failure_, ""));
-      return;
-    }
+    if (!pending_failure_.empty()) Fail(std::exchange(pending_failure_, ""));
+    if (!self_) return;
     if (failed_) return;
     signals_.resize(joints.size());
     for (size_t j = 0; j < joints.size(); ++j) {
@@ -83,13 +114,16 @@ class PluginMonitor : public HealthMonitor {
     const int code = library_->step(self_, t_s, signals_.data(), static_cast<int>(signals_.size()), error_, kErrorSize);
     if (code != 0) Fail("step returned error: " + MessageOf(error_, code));
     PullVerdicts();
+    if (recorder_) {
+      const double* values = library_->statistic_values(self_);
+      if (!values) Fail("statistic_values returned NULL after the step at t_s " + FormatNumber(t_s));
+      recorder_->Record(t_s, values);
+    }
   }
 
   void Finish(double t_end_s) override {
-    if (!self_) {
-      if (!pending_failure_.empty()) Fail(std::exchange(pending_failure_, ""));
-      return;
-    }
+    if (!pending_failure_.empty()) Fail(std::exchange(pending_failure_, ""));
+    if (!self_) return;
     if (failed_) return;
     error_[0] = '\0';
     const int code = library_->finish(self_, t_end_s, error_, kErrorSize);
@@ -98,6 +132,14 @@ class PluginMonitor : public HealthMonitor {
   }
 
   const MonitorOutput& output() const override { return output_; }
+
+  // The plugin's statistics, recorded after every step (threshold_statistics.h).
+  std::unique_ptr<DecisionTap> NewDecisionTap(double onset_s) const override {
+    if (statistics_.empty()) return nullptr;
+    auto tap = std::make_unique<ThresholdTap>(statistics_, joints_, onset_s);
+    recorder_ = tap->recorder();
+    return tap;
+  }
 
  private:
   [[noreturn]] void Fail(const std::string& what) {
@@ -150,6 +192,10 @@ class PluginMonitor : public HealthMonitor {
   std::string pending_failure_;
   bool failed_ = false;
   MonitorOutput output_;
+  int joints_;
+  std::vector<StatisticInfo> statistics_;
+  // The tap's recorder: set by NewDecisionTap, whose tap the runner keeps for the whole run.
+  mutable ThresholdRecorder* recorder_ = nullptr;
 };
 
 // Opens the library and resolves its functions; errors are InputErrors at `pointer`.
@@ -186,6 +232,15 @@ std::shared_ptr<const PluginLibrary> OpenLibrary(const std::string& path, const 
   resolve("armfault_monitor_finish", &library->finish);
   resolve("armfault_monitor_verdicts", &library->verdicts);
   resolve("armfault_monitor_destroy", &library->destroy);
+  // The two optional functions come together or not at all.
+  library->statistics = reinterpret_cast<armfault_monitor_statistics_fn>(dlsym(library->handle, "armfault_monitor_statistics"));
+  library->statistic_values =
+      reinterpret_cast<armfault_monitor_statistic_values_fn>(dlsym(library->handle, "armfault_monitor_statistic_values"));
+  if (!library->statistics != !library->statistic_values) {
+    missing += std::string(missing.empty() ? "" : ", ") +
+               (library->statistics ? "armfault_monitor_statistic_values (it exports armfault_monitor_statistics)"
+                                    : "armfault_monitor_statistics (it exports armfault_monitor_statistic_values)");
+  }
   if (!missing.empty()) {
     throw InputError(source, pointer,
                      named + " does not export " + missing + " (include/armfault/monitor_plugin.h, ABI version " +
@@ -206,7 +261,8 @@ std::shared_ptr<const PluginLibrary> OpenLibrary(const std::string& path, const 
 PluginMonitorModel::PluginMonitorModel(const std::string& library, const nlohmann::json& settings,
                                        const RobotConfig& robot, const std::string& source,
                                        const std::string& pointer)
-    : robot_json_(RobotToJson(robot).dump()), settings_json_(settings.dump()) {
+    : robot_json_(RobotToJson(robot).dump()), settings_json_(settings.dump()),
+      joints_(static_cast<int>(robot.modules.size())) {
   const std::string at = PointerJoin(pointer, "library");
   library_ = OpenLibrary(library, source, at);
   // One instance at load, so settings the plugin refuses stop the campaign before any run.
@@ -217,7 +273,13 @@ PluginMonitorModel::PluginMonitorModel(const std::string& library, const nlohman
                      "plugin library " + Quoted(library) + ": armfault_monitor_create returned NULL for the settings " +
                          settings_json_ + ": " + MessageOf(error, 0));
   }
+  // Statistics declared against the contract are the plugin's input error too.
+  std::vector<StatisticInfo> statistics;
+  const std::string bad_statistics = DeclaredStatistics(*library_, probe, &statistics);
   library_->destroy(probe);
+  if (!bad_statistics.empty()) {
+    throw InputError(source, at, "plugin library " + Quoted(library) + ": " + bad_statistics);
+  }
 }
 
 const std::string& PluginMonitorModel::library() const { return library_->path; }
@@ -226,7 +288,8 @@ std::unique_ptr<HealthMonitor> PluginMonitorModel::NewMonitor() const {
   char error[kErrorSize] = {};
   void* self = library_->create(robot_json_.c_str(), settings_json_.c_str(), error, kErrorSize);
   // Thrown where every caller expects a monitor to fail, at its first tick.
-  return std::make_unique<PluginMonitor>(library_, self, self ? "" : "create returned NULL: " + MessageOf(error, 0));
+  return std::make_unique<PluginMonitor>(library_, self, self ? "" : "create returned NULL: " + MessageOf(error, 0),
+                                         joints_);
 }
 
 nlohmann::json ParsePluginSettings(const nlohmann::json& object, const std::string& pointer,

@@ -15,7 +15,7 @@
 
 namespace armfault {
 
-// A loaded library and its six functions (plugin_monitor.cc). Closed when the model and every
+// A loaded library and its functions (plugin_monitor.cc). Closed when the model and every
 // monitor it made are gone.
 struct PluginLibrary;
 
@@ -36,6 +36,7 @@ class PluginMonitorModel : public MonitorModel {
  private:
   std::shared_ptr<const PluginLibrary> library_;
   std::string robot_json_, settings_json_;  // what create gets, the same for every run
+  int joints_;
 };
 
 // The registry's row (core/monitors/registry.cc). Settings: "library" (required; a path relative

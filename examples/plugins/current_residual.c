@@ -19,6 +19,14 @@
  * is named), debounce_s 0.3, kt_worn 0.85, kt_defective 0.65, friction_worn 1.4,
  * friction_defective 2.5, refine_step 0.05 (a new verdict when the size estimate moved by more).
  *
+ * Threshold mode (setting threshold_alarm 1): no judge phase; a joint alarms, latched, as soon
+ * as its watch fit's K_T deficit (1 - kt_factor) passes kt_deficit_threshold (default 0.15) or
+ * its friction excess (friction_factor - 1) passes friction_excess_threshold (0.4), the first
+ * naming the family. The plugin then publishes those two statistics (their running maxima, so
+ * the latched alarm is exactly "statistic above threshold", docs/monitor-api.md "Statistics for
+ * tune") and `armfault tune` can sweep both thresholds. In the default mode it publishes none:
+ * the judge phase's alarm is not a threshold test on one statistic.
+ *
  * Build: gcc -std=c99 -O2 -Wall -Wextra -fPIC -shared -I include \
  *            examples/plugins/current_residual.c -o libcurrent_residual.so -lm
  */
@@ -40,17 +48,21 @@ typedef struct {
   double kt_worn, kt_defective;
   double friction_worn, friction_defective;
   double refine_step;
+  double threshold_alarm; /* 1: threshold mode (see the top) */
+  double kt_deficit_threshold, friction_excess_threshold;
 } settings;
 
 static const char* const kSettingNames[] = {"window_s",      "min_speed_rad_s",    "min_moving_s",
                                             "judge_moving_s", "debounce_s",         "kt_worn",
                                             "kt_defective",  "friction_worn",      "friction_defective",
-                                            "refine_step"};
+                                            "refine_step",   "threshold_alarm",    "kt_deficit_threshold",
+                                            "friction_excess_threshold"};
 
 static double* setting_slot(settings* s, int k) {
   double* slots[] = {&s->window_s,     &s->min_speed_rad_s, &s->min_moving_s,  &s->judge_moving_s,
                      &s->debounce_s,   &s->kt_worn,         &s->kt_defective,  &s->friction_worn,
-                     &s->friction_defective, &s->refine_step};
+                     &s->friction_defective, &s->refine_step,   &s->threshold_alarm,
+                     &s->kt_deficit_threshold, &s->friction_excess_threshold};
   return slots[k];
 }
 
@@ -69,6 +81,9 @@ static int parse_settings(const char* json, settings* s, char* error, size_t err
   s->friction_worn = 1.4;
   s->friction_defective = 2.5;
   s->refine_step = 0.05;
+  s->threshold_alarm = 0;
+  s->kt_deficit_threshold = 0.15;
+  s->friction_excess_threshold = 0.4;
   if (*p++ != '{') goto bad;
   if (*p == '}') goto check;
   for (;;) {
@@ -90,7 +105,8 @@ static int parse_settings(const char* json, settings* s, char* error, size_t err
     if (k == count) {
       snprintf(error, error_size,
                "unknown setting \"%.*s\" (known: window_s, min_speed_rad_s, min_moving_s, judge_moving_s, "
-               "debounce_s, kt_worn, kt_defective, friction_worn, friction_defective, refine_step)",
+               "debounce_s, kt_worn, kt_defective, friction_worn, friction_defective, refine_step, "
+               "threshold_alarm, kt_deficit_threshold, friction_excess_threshold)",
                (int)key_size, key);
       return -1;
     }
@@ -109,6 +125,11 @@ check:
         s->debounce_s >= 0 && s->refine_step > 0)) {
     snprintf(error, error_size,
              "window_s, min_speed_rad_s, min_moving_s, judge_moving_s and refine_step must be > 0, debounce_s >= 0");
+    return -1;
+  }
+  if (!((s->threshold_alarm == 0 || s->threshold_alarm == 1) && s->kt_deficit_threshold > 0 &&
+        s->friction_excess_threshold > 0)) {
+    snprintf(error, error_size, "threshold_alarm must be 0 or 1, kt_deficit_threshold and friction_excess_threshold > 0");
     return -1;
   }
   if (!(s->min_moving_s < s->window_s && s->judge_moving_s < s->window_s)) {
@@ -229,6 +250,8 @@ typedef struct {
   double magnitude, emitted_s;       /* as last emitted */
   int pending_state, pending_family; /* JUDGE, ALARM: another view, held since pending_s (or -1) */
   double pending_s;
+  double max_deficit, max_excess; /* threshold mode: running maxima of the watch fit's deviations */
+  int has_value;                  /* threshold mode: the watch fit was trusted at least once */
 } joint_monitor;
 
 typedef struct {
@@ -239,6 +262,8 @@ typedef struct {
   int started;
   armfault_verdict* verdicts;
   int count, capacity;
+  armfault_statistic statistics[2]; /* threshold mode */
+  double* values;                   /* threshold mode: [joint][2] */
 } monitor;
 
 static void classify(const settings* s, double kt_factor, double friction_factor, int* state, int* family,
@@ -305,6 +330,22 @@ ARMFAULT_PLUGIN_EXPORT void* armfault_monitor_create(const char* robot_json, con
     jm->suspect_s = -1;
     jm->pending_s = -1;
   }
+  if (self->s.threshold_alarm == 1) {
+    self->values = malloc(2 * (size_t)self->joints * sizeof *self->values);
+    if (!self->values) {
+      snprintf(error, error_size, "out of memory");
+      goto fail;
+    }
+    for (j = 0; j < 2 * self->joints; j++) self->values[j] = NAN;
+    strcpy(self->statistics[0].name, "kt_deficit");
+    strcpy(self->statistics[0].family, "kt_degradation");
+    self->statistics[0].threshold = self->s.kt_deficit_threshold;
+    strcpy(self->statistics[0].setting, "/kt_deficit_threshold");
+    strcpy(self->statistics[1].name, "friction_excess");
+    strcpy(self->statistics[1].family, "friction_increase");
+    self->statistics[1].threshold = self->s.friction_excess_threshold;
+    strcpy(self->statistics[1].setting, "/friction_excess_threshold");
+  }
   return self;
 fail:
   free(self->joint);
@@ -368,6 +409,30 @@ static int watch(monitor* self, double t_s, double dt_s, int j, const armfault_j
     const double y = m->kt_Nm_per_A * in->i_cmd_A; /* motor torque the command asks for */
     fit_add(&jm->watch, dt_s, x0, x1, y);
     fit_add(&jm->judge, dt_s, x0, x1, y);
+  }
+
+  if (s->threshold_alarm == 1) {
+    double* value = &self->values[2 * j];
+    if (jm->watch.moving_s >= s->min_moving_s && fit_solve(&jm->watch, &kt_factor, &friction_factor)) {
+      if (!jm->has_value || 1 - kt_factor > jm->max_deficit) jm->max_deficit = 1 - kt_factor;
+      if (!jm->has_value || friction_factor - 1 > jm->max_excess) jm->max_excess = friction_factor - 1;
+      jm->has_value = 1;
+    }
+    if (!jm->has_value) return 0;
+    value[0] = jm->max_deficit;
+    value[1] = jm->max_excess;
+    if (jm->state != ARMFAULT_STATE_HEALTHY) return 0; /* latched */
+    if (jm->max_deficit > s->kt_deficit_threshold) {
+      jm->family = FAMILY_KT;
+      magnitude = 1 - jm->max_deficit;
+    } else if (jm->max_excess > s->friction_excess_threshold) {
+      jm->family = FAMILY_FRICTION;
+      magnitude = 1 + jm->max_excess;
+    } else {
+      return 0;
+    }
+    jm->state = ARMFAULT_STATE_WORN;
+    return emit(self, t_s, j, jm, magnitude);
   }
 
   if (jm->phase == PHASE_WATCH) {
@@ -459,9 +524,22 @@ ARMFAULT_PLUGIN_EXPORT int armfault_monitor_verdicts(void* handle, const armfaul
   return self->count;
 }
 
+/* Threshold mode publishes its two statistics; the default mode none. */
+ARMFAULT_PLUGIN_EXPORT int armfault_monitor_statistics(void* handle, const armfault_statistic** statistics) {
+  const monitor* self = handle;
+  *statistics = self->statistics;
+  return self->s.threshold_alarm == 1 ? 2 : 0;
+}
+
+ARMFAULT_PLUGIN_EXPORT const double* armfault_monitor_statistic_values(void* handle) {
+  const monitor* self = handle;
+  return self->values;
+}
+
 ARMFAULT_PLUGIN_EXPORT void armfault_monitor_destroy(void* handle) {
   monitor* self = handle;
   if (!self) return;
+  free(self->values);
   free(self->verdicts);
   free(self->joint);
   free(self);

@@ -3,7 +3,8 @@
  *     "monitor": {"type": "plugin", "library": "path/to/lib.so", "settings": {...}}
  * and scores exactly like its built-in monitor (docs/monitor-api.md, "C plugin").
  *
- * A plugin defines the six functions declared below, with C linkage and these exact names.
+ * A plugin defines the six functions declared below, with C linkage and these exact names (and
+ * may define the two optional ones that publish its statistics).
  * Including this header where they are defined lets the compiler check their signatures.
  *
  * Calls, per run (one instance per run):
@@ -116,6 +117,35 @@ ARMFAULT_PLUGIN_EXPORT int armfault_monitor_verdicts(void* self, const armfault_
 /* Frees the instance; `self` is not used again. */
 ARMFAULT_PLUGIN_EXPORT void armfault_monitor_destroy(void* self);
 
+/* Optional, both or neither: the statistics behind the alarms, so that `armfault tune` can
+ * re-score other thresholds from a campaign's stored runs without simulating again
+ * (docs/monitor-api.md, "Statistics for tune"). A plugin without them is scored at its own
+ * operating point, and tune says it cannot sweep it.
+ *
+ * The contract: at every tick, joint j alarms exactly while some statistic s has
+ *     value(j, s) > threshold(s),
+ * and its verdict names the family of the first such s in declaration order (a monitor whose
+ * alarm latches publishes the running maximum of its statistic). tune checks this on every run
+ * (the stored statistics must give the run's scored outcome at the declared thresholds) and
+ * refuses a campaign whose runs break it. */
+typedef struct armfault_statistic {
+  char name[ARMFAULT_VERDICT_NAME_SIZE];    /* unique, e.g. "kt_deficit" */
+  char family[ARMFAULT_VERDICT_NAME_SIZE];  /* the family its alarm names, or "unknown" */
+  double threshold;                         /* > 0: alarms while the value is above it */
+  /* The JSON pointer of the threshold in the plugin's settings ("/kt_worn"), so tune can write
+   * the tuned settings; "" when the settings do not hold it. */
+  char setting[2 * ARMFAULT_VERDICT_NAME_SIZE];
+} armfault_statistic;
+
+/* The instance's statistics: sets *statistics to the first and returns their count (0 .. 64).
+ * Called once, right after create; the array must stay valid and unchanged until destroy. */
+ARMFAULT_PLUGIN_EXPORT int armfault_monitor_statistics(void* self, const armfault_statistic** statistics);
+
+/* After each step: the values at that tick, joint_count x count doubles, joint-major
+ * (values[(joint - 1) * count + s]); NaN: no value at this tick. Valid until the next call of
+ * step, finish or destroy. */
+ARMFAULT_PLUGIN_EXPORT const double* armfault_monitor_statistic_values(void* self);
+
 /* The same functions as pointer types, for a host resolving them with dlsym. */
 typedef int (*armfault_monitor_abi_version_fn)(void);
 typedef void* (*armfault_monitor_create_fn)(const char*, const char*, char*, size_t);
@@ -123,6 +153,8 @@ typedef int (*armfault_monitor_step_fn)(void*, double, const armfault_joint_sign
 typedef int (*armfault_monitor_finish_fn)(void*, double, char*, size_t);
 typedef int (*armfault_monitor_verdicts_fn)(void*, const armfault_verdict**);
 typedef void (*armfault_monitor_destroy_fn)(void*);
+typedef int (*armfault_monitor_statistics_fn)(void*, const armfault_statistic**);
+typedef const double* (*armfault_monitor_statistic_values_fn)(void*);
 
 #ifdef __cplusplus
 }

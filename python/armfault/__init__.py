@@ -23,6 +23,7 @@ Runs go through the same code as the `armfault` command (RunCase), so the record
 byte for byte. docs/monitor-api.md, "Python", documents the package.
 """
 
+import collections
 import json
 import math
 import os
@@ -35,7 +36,7 @@ from ._armfault import (FAULT_FAMILIES, SIGNAL_FIELDS, Campaign, InputError, Ver
                         magnitude_key)
 
 __all__ = [
-    "Campaign", "FAULT_FAMILIES", "InputError", "Monitor", "SIGNAL_FIELDS", "Signals", "Trace",
+    "Campaign", "FAULT_FAMILIES", "InputError", "Monitor", "SIGNAL_FIELDS", "Signals", "Statistic", "Trace",
     "Verdict", "load_campaign", "magnitude_key", "replay", "run_campaign", "simulate", "summary",
     "with_monitor", "__version__",
 ]
@@ -65,6 +66,13 @@ class Signals:
         return "Signals(" + ", ".join(f"{n}={getattr(self, n).tolist()}" for n in SIGNAL_FIELDS) + ")"
 
 
+Statistic = collections.namedtuple("Statistic", "name family threshold setting", defaults=("",))
+Statistic.__doc__ = """A statistic behind a monitor's alarms, declared so that `armfault tune` can re-score other
+thresholds (docs/monitor-api.md, "Statistics for tune"): its name, the fault family its alarm
+names (or "unknown"), its threshold (> 0; the joint alarms while the value is above it) and,
+optionally, the JSON pointer of that threshold in the monitor's settings."""
+
+
 class Monitor:
     """Base class of a health monitor written in Python.
 
@@ -76,12 +84,23 @@ class Monitor:
     datasheet values only, never the unit's draw, the fault or its onset. A fresh dict per run.
     The base __init__ keeps it as self.robot and sets self.joints (the joint count) and
     self.dt_s (the controller period, s); call it from yours (super().__init__(robot)).
+
+    Statistics for tune (optional): declare ``statistics = [armfault.Statistic(name, family,
+    threshold)]`` on the class and write each joint's values into ``self.values[joint - 1, k]``
+    (a float64 array the base __init__ makes, NaN: no value) in step(). The contract: at every
+    tick a joint alarms exactly while some statistic is above its threshold, naming the family of
+    the first such one (a latched alarm publishes the running maximum). `armfault tune` then
+    sweeps the thresholds from the stored runs, and checks the contract on every run.
     """
+
+    statistics = ()
 
     def __init__(self, robot):
         self.robot = robot
         self.joints = len(robot["modules"])
         self.dt_s = 1.0 / robot["modules"][0]["controller"]["rate_Hz"]
+        if self.statistics:
+            self.values = _np.full((self.joints, len(self.statistics)), math.nan)
 
     def step(self, t_s, signals):
         """Called at every controller tick in time order, with the tick's time [s] and the

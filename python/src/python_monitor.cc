@@ -161,6 +161,7 @@ PythonMonitor::PythonMonitor(const PythonMonitorModel& model, PyObject* given) :
       finish_ = PyCallable_Check(finish.ptr()) ? finish.release().ptr() : nullptr;
       array_ = array.release().ptr();
       signals_ = signals.release().ptr();
+      failure = ReadStatistics(py::reinterpret_borrow<py::object>(instance_));
     }
   } catch (py::error_already_set& e) {
     e.restore();
@@ -187,7 +188,56 @@ PythonMonitor::~PythonMonitor() {
   PyGILState_Release(gil_state_);
 }
 
+std::string PythonMonitor::ReadStatistics(const py::object& instance) {
+  const py::object declared = py::getattr(instance, "statistics", py::tuple());
+  const std::string who = ShortName(model_.name());
+  if (declared.is_none()) return "";
+  if (!py::isinstance<py::sequence>(declared) || py::isinstance<py::str>(declared)) {
+    return who + ".statistics must be a sequence of armfault.Statistic";
+  }
+  for (py::handle item : declared) {
+    try {
+      StatisticInfo info;
+      info.name = py::getattr(item, "name").cast<std::string>();
+      info.family = py::getattr(item, "family").cast<std::string>();
+      info.threshold = py::getattr(item, "threshold").cast<double>();
+      info.setting = py::getattr(item, "setting", py::str("")).cast<std::string>();
+      statistics_.push_back(std::move(info));
+    } catch (const std::exception&) {
+      PyErr_Clear();
+      return who + ".statistics holds a " + py::str(py::type::handle_of(item).attr("__name__")).cast<std::string>() +
+             ", expected armfault.Statistic(name, family, threshold, setting)";
+    }
+  }
+  if (statistics_.empty()) return "";
+  if (std::string why = CheckStatistics(statistics_); !why.empty()) return who + ".statistics: " + why;
+  const py::object values = py::getattr(instance, "values", py::none());
+  const py::ssize_t rows = model_.joints(), columns = static_cast<py::ssize_t>(statistics_.size());
+  bool usable = py::isinstance<py::array>(values);
+  if (usable) {
+    const py::array a = py::reinterpret_borrow<py::array>(values);
+    usable = a.dtype().is(py::dtype::of<double>()) && (a.flags() & py::array::c_style) && a.ndim() == 2 &&
+             a.shape(0) == rows && a.shape(1) == columns;
+  }
+  if (!usable) {
+    return who + " declares statistics but its `values` is not a float64 array of shape (" + std::to_string(rows) +
+           ", " + std::to_string(columns) + "): call armfault.Monitor.__init__ (super().__init__(robot))";
+  }
+  values_ = values.inc_ref().ptr();
+  values_data_ = static_cast<const double*>(py::reinterpret_borrow<py::array>(values).data());
+  return "";
+}
+
+std::unique_ptr<DecisionTap> PythonMonitor::NewDecisionTap(double onset_s) const {
+  if (statistics_.empty()) return nullptr;
+  auto tap = std::make_unique<ThresholdTap>(statistics_, model_.joints(), onset_s);
+  recorder_ = tap->recorder();
+  return tap;
+}
+
 void PythonMonitor::Release() {
+  Py_CLEAR(values_);
+  values_data_ = nullptr;
   Py_CLEAR(signals_);
   Py_CLEAR(array_);
   Py_CLEAR(finish_);
@@ -219,7 +269,21 @@ void PythonMonitor::Flush() {
   for (size_t k = 0; k < kept_t_s_.size(); ++k) {
     std::memcpy(rows_, kept_rows_.data() + k * row_size_, sizeof(double) * row_size_);
     Call(step_, "step", kept_t_s_[k], true);
+    if (recorder_) RecordValues(kept_t_s_[k]);
   }
+}
+
+void PythonMonitor::RecordValues(double t_s) {
+  // The values are read in place: the array must stay the one declared at the start.
+  PyObject* now = PyObject_GetAttrString(instance_, "values");
+  if (!now) Fail("values", t_s);
+  Py_DECREF(now);
+  if (now != values_) {
+    throw MonitorFailure(ShortName(model_.name()) + ".values at t_s " + FormatNumber(t_s) +
+                         " is another object than at the start: write into it (self.values[j, s] = v), do not "
+                         "assign a new one");
+  }
+  recorder_->Record(t_s, values_data_);
 }
 
 void PythonMonitor::Observe(double t_s, const std::vector<JointSignals>& joints) {

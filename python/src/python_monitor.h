@@ -21,6 +21,7 @@
 
 #include "core/monitors/monitor.h"
 #include "core/monitors/registry.h"
+#include "core/monitors/threshold_statistics.h"
 
 namespace armfault::python {
 
@@ -88,6 +89,8 @@ class PythonMonitor : public HealthMonitor {
   // step() for the ticks still kept, then finish().
   void Finish(double t_end_s) override;
   const MonitorOutput& output() const override { return output_; }
+  // A monitor that declares `statistics` gets a tap recording self.values after every step().
+  std::unique_ptr<DecisionTap> NewDecisionTap(double onset_s) const override;
 
   // The Python exception that failed the monitor (a new reference, or nullptr); needs the GIL.
   PyObject* TakeError();
@@ -99,6 +102,9 @@ class PythonMonitor : public HealthMonitor {
   [[noreturn]] void Fail(const char* what, double t_s);
   void Collect(PyObject* result, const char* what, double t_s);
   void Release();
+  // Reads `statistics` and `values` of a new instance: "" or why they break the contract.
+  std::string ReadStatistics(const pybind11::object& instance);
+  void RecordValues(double t_s);  // after a step(), with the GIL
 
   const PythonMonitorModel& model_;
   PyGILState_STATE gil_state_;
@@ -114,6 +120,10 @@ class PythonMonitor : public HealthMonitor {
   std::vector<double> kept_rows_;   // ... and their rows, one row_size_ each
   PyObject* error_ = nullptr;       // the exception that failed the run
   MonitorOutput output_;
+  std::vector<StatisticInfo> statistics_;  // what the instance declares (`statistics`)
+  PyObject* values_ = nullptr;             // its `values` array, [joint][statistic]
+  const double* values_data_ = nullptr;
+  mutable ThresholdRecorder* recorder_ = nullptr;  // the tap's, while the run lasts
 };
 
 // Builds a Verdict the way armfault.Verdict(...) does (for the bindings and their tests).

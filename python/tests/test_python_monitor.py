@@ -23,7 +23,7 @@ def test_example_monitor_detects_a_strong_fault_and_not_a_healthy_run(small):
     assert faulty["isolated_family"] == "kt_degradation" and faulty["isolated_joint"] == 3
     assert 0 < faulty["latency_s"] < 2
     assert faulty["magnitude_name"] == "kt_factor" and 0.4 < faulty["magnitude_estimate"] < 0.7
-    assert faulty.get("decision") is None  # a Python monitor publishes no statistics
+    assert faulty.get("decision") is None  # statistics go to decisions.jsonl, not the records
     healthy = records["exp1/healthy/0"]
     assert not healthy["detected"] and healthy["miss_reason"] is None
 
@@ -195,3 +195,46 @@ def test_the_documented_example_is_the_tested_one(small):
     exec(compile(source, "docs/monitor-api.md", "exec"), namespace)
     trace = armfault.simulate(small, "exp1/kt_degradation#0/-/j3/r0")
     assert armfault.replay(namespace["TorqueRatioMonitor"], trace) == armfault.replay(TorqueRatioMonitor, trace)
+
+
+def test_published_statistics_are_swept_by_tune(small, tmp_path, cli):
+    """TorqueRatioMonitor publishes kt_deficit: its runs store it, and `armfault tune` sweeps its
+    threshold from the stored runs (docs/monitor-api.md, "Statistics for tune")."""
+    from conftest import run_cli
+    armfault.run_campaign(small, output_dir=tmp_path, monitor=TorqueRatioMonitor, threads=2)
+    decisions = [json.loads(line)["decision"] for line in (tmp_path / "decisions.jsonl").read_text().splitlines()]
+    assert all(d["kind"] == "threshold_statistics" for d in decisions), decisions
+    assert decisions[0]["statistics"] == [{"name": "kt_deficit", "family": "kt_degradation", "threshold": 0.2,
+                                           "setting": ""}]
+    done = run_cli(cli, "tune", tmp_path, "--sweep", "kt_deficit=0.1:0.8:8")
+    assert done.returncode == 0, done.stderr
+    tuning = json.loads((tmp_path / "tuning.json").read_text())
+    assert tuning["parameters"][0]["name"] == "kt_deficit"
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    as_run = tuning["default_point"]
+    assert as_run["setting"] == {"kt_deficit": 0.2}
+    assert as_run["detection_rate"]["count"] == summary["overall"]["detection"]["successes"] == 1
+    assert as_run["false_alarm_rate"]["count"] == summary["overall"]["false_alarm"]["successes"] == 0
+    assert "statistic kt_deficit names no setting" in tuning["warnings"][0]
+
+
+class Rebinds(TorqueRatioMonitor):
+    """Replaces self.values instead of writing into it."""
+
+    def step(self, t_s, signals):
+        self.values = self.values.copy()
+        return super().step(t_s, signals)
+
+
+class ZeroThreshold(TorqueRatioMonitor):
+    statistics = [armfault.Statistic("kt_deficit", "kt_degradation", 0.0)]
+
+
+@pytest.mark.parametrize("monitor, reason", [
+    (Rebinds, "monitor python failed: Rebinds.values at t_s 0 is another object than at the start: write into it"),
+    (ZeroThreshold, "run could not be set up: ZeroThreshold.statistics: statistic 1 (\"kt_deficit\"): threshold 0 is "
+                    "not a number > 0"),
+])
+def test_statistics_that_break_the_contract_fail_the_run(small, monitor, reason):
+    records = armfault.run_campaign(small, monitor=monitor, as_frame=False)
+    assert all(r["status"] == "failed" and r["reason"].startswith(reason) for r in records), records[0]["reason"]

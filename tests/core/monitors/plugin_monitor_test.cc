@@ -12,7 +12,9 @@
 #include "campaigns/campaign.h"
 #include "campaigns/run_record.h"
 #include "campaigns/runner.h"
+#include "campaigns/tuning.h"
 #include "core/monitors/plugin_monitor.h"
+#include "core/monitors/threshold_statistics.h"
 #include "core/monitors/registry.h"
 #include "tests/core/test_support.h"
 
@@ -217,6 +219,67 @@ TEST(PluginMonitor, TheExampleDetectsKtAndFrictionOnTheMovingJointAndIsQuietWhen
   EXPECT_EQ(friction["isolated_joint"], 3);
   EXPECT_NEAR(friction["magnitude_estimate"].get<double>(), 3.0, 0.6);
   for (int k : {2, 3}) EXPECT_EQ(json::parse(lines[0][k])["detected"], false) << lines[0][k];
+}
+
+// Statistics for tune (docs/monitor-api.md): a plugin that publishes them and keeps the threshold
+// contract is swept by tune, which writes the tuned threshold into its settings; one whose
+// statistics do not give its alarms is refused with the run named; bad declarations are load
+// errors; a plugin that publishes none cannot be swept, and tune says so.
+TEST(PluginMonitor, PublishedStatisticsAreSweptByTune) {
+  ScratchDir dir("plugin_statistics");
+  RunnerOptions o;
+  o.output_dir = dir.path().string();
+  o.threads = 2;
+  RunCampaign(CampaignFromJson(TwoRuns(TestPlugin("stats_true")), "c.json", "."), o);
+  const std::string decisions = ReadText(dir.path() / "decisions.jsonl");
+  EXPECT_THAT(decisions, HasSubstr(R"("kind":"threshold_statistics")"));
+  TuneOptions tune;
+  tune.sweep = "alarmed=0.26:1.9:2";
+  const TuningResult t = TuneCampaignDir(o.output_dir, tune);
+  EXPECT_EQ(t.report["parameters"][0]["name"], "alarmed");
+  // The values asked for, each moved to the nearest stored level, and the threshold as run.
+  std::vector<double> values;
+  for (int k : {-15, 0, 31}) values.push_back(LevelThreshold(0.5, k));
+  EXPECT_EQ(t.report["parameters"][0]["values"], json(values));
+  // As run: the fault on joint 3 found at 1 s where joint 3 moves (exp1, not j2); the healthy
+  // exp1 run alarms as well.
+  EXPECT_EQ(t.report["default_point"]["detection_rate"]["count"], 1);
+  EXPECT_EQ(t.report["default_point"]["false_alarm_rate"]["count"], 1);
+  // Above 1 nothing alarms: the rule's operating point (false alarms <= 1 %).
+  EXPECT_EQ(t.report["operating_point"]["setting"]["alarmed"], LevelThreshold(0.5, 31));
+  EXPECT_EQ(t.report["operating_point"]["false_alarm_rate"]["count"], 0);
+  EXPECT_EQ(t.tuned_monitor["type"], "plugin");
+  EXPECT_EQ(t.tuned_monitor["settings"]["mode"], "stats_true");
+  // The statistic names no setting: tune says so instead of writing it.
+  EXPECT_THAT(t.report["warnings"][0].get<std::string>(), HasSubstr("statistic alarmed names no setting"));
+
+  tune.sweep = "alarmed=9";
+  EXPECT_THAT(ErrorOf([&] { TuneCampaignDir(o.output_dir, tune); }).what(),
+              HasSubstr("alarmed: 9 is outside the range the runs stored, 0.125 to 2"));
+  tune.sweep = "nope=1";
+  EXPECT_THAT(ErrorOf([&] { TuneCampaignDir(o.output_dir, tune); }).what(),
+              HasSubstr("with NAME a statistic the monitor publishes (alarmed)"));
+}
+
+TEST(PluginMonitor, TuneRefusesStatisticsThatDoNotGiveTheAlarms) {
+  ScratchDir dir("plugin_statistics_lie");
+  RunnerOptions o;
+  o.output_dir = dir.path().string();
+  RunCampaign(CampaignFromJson(TwoRuns(TestPlugin("stats_lie")), "c.json", "."), o);
+  EXPECT_THAT(ErrorOf([&] { TuneCampaignDir(o.output_dir, TuneOptions()); }).what(),
+              HasSubstr("results.jsonl: line 1: run exp1/friction_increase#0/-/j3/r0: its decision statistics do not "
+                        "reproduce its result (the monitor's alarms are not the threshold test"));
+
+  ScratchDir quiet("plugin_statistics_none");
+  o.output_dir = quiet.path().string();
+  RunCampaign(CampaignFromJson(TwoRuns(TestPlugin("alarm")), "c.json", "."), o);
+  const InputError e = ErrorOf([&] { TuneCampaignDir(o.output_dir, TuneOptions()); });
+  EXPECT_EQ(e.pointer(), "/campaign/monitor/type");
+  EXPECT_THAT(e.what(), HasSubstr("monitor type \"plugin\" publishes no statistics tune can re-score"));
+
+  EXPECT_THAT(ErrorOf([&] { CampaignFromJson(TwoRuns(TestPlugin("stats_zero")), "c.json", "."); }).what(),
+              HasSubstr("c.json: /monitor/library: plugin library \"" + std::string(kTest) +
+                        "\": statistic 1 (\"alarmed\"): threshold 0 is not a number > 0"));
 }
 
 }  // namespace

@@ -9,6 +9,10 @@
  *   "step_error"   step returns -3 with a message at that tick
  *   "finish_error" finish returns 1 with a message
  *   "create_error" create returns NULL with a message
+ *   "stats_true"   the alarm, publishing the statistic "alarmed" (1 from the alarm on, else 0;
+ *                  threshold 0.5, friction_increase): the threshold contract kept
+ *   "stats_lie"    the alarm, publishing "alarmed" as 0 throughout: the contract broken
+ *   "stats_zero"   declares a statistic with threshold 0 (refused at load)
  * Built three times (tests/CMakeLists.txt): as is; with TEST_PLUGIN_ABI_VERSION=2 (another
  * ABI); with TEST_PLUGIN_WITHOUT_FINISH (a missing function). */
 #include <math.h>
@@ -27,6 +31,8 @@ typedef struct {
   int fired;
   int count;
   armfault_verdict verdicts[2];
+  armfault_statistic statistic;
+  double values[16]; /* [joint][1] */
 } test_plugin;
 
 ARMFAULT_PLUGIN_EXPORT int armfault_monitor_abi_version(void) { return TEST_PLUGIN_ABI_VERSION; }
@@ -53,6 +59,9 @@ ARMFAULT_PLUGIN_EXPORT void* armfault_monitor_create(const char* robot_json, con
     return NULL;
   }
   read_mode(settings_json, self->mode, sizeof self->mode);
+  strcpy(self->statistic.name, "alarmed");
+  strcpy(self->statistic.family, "friction_increase");
+  self->statistic.threshold = strcmp(self->mode, "stats_zero") == 0 ? 0.0 : 0.5;
   if (strcmp(self->mode, "create_error") == 0) {
     snprintf(error, error_size, "settings rejected: mode create_error");
     free(self);
@@ -81,6 +90,7 @@ ARMFAULT_PLUGIN_EXPORT int armfault_monitor_step(void* handle, double t_s, const
   v->magnitude = 2.0;
   v->confidence = 0.9;
   self->count = 1;
+  if (strcmp(self->mode, "stats_true") == 0 && joint_count <= 16) self->values[joint_count - 1] = 1.0;
   if (strcmp(self->mode, "joint0") == 0) v->joint = 0;
   if (strcmp(self->mode, "nan") == 0) v->magnitude = NAN;
   if (strcmp(self->mode, "bad_state") == 0) v->state = 7;
@@ -108,6 +118,17 @@ ARMFAULT_PLUGIN_EXPORT int armfault_monitor_verdicts(void* handle, const armfaul
   test_plugin* self = handle;
   *verdicts = self->verdicts;
   return self->count;
+}
+
+ARMFAULT_PLUGIN_EXPORT int armfault_monitor_statistics(void* handle, const armfault_statistic** statistics) {
+  test_plugin* self = handle;
+  *statistics = &self->statistic;
+  return strncmp(self->mode, "stats_", 6) == 0 ? 1 : 0;
+}
+
+ARMFAULT_PLUGIN_EXPORT const double* armfault_monitor_statistic_values(void* handle) {
+  test_plugin* self = handle;
+  return self->values; /* calloc'd: 0 until the alarm */
 }
 
 ARMFAULT_PLUGIN_EXPORT void armfault_monitor_destroy(void* handle) { free(handle); }
