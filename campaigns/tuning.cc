@@ -76,6 +76,19 @@ std::vector<double> ParseValues(const std::string& range, const std::string& nam
   return Grid(from, to, static_cast<int>(steps));
 }
 
+// The comma-separated items of a --sweep spec ("NAME=FROM:TO:STEPS,NAME=VALUE").
+std::vector<std::string> SplitSpec(const std::string& spec) {
+  std::vector<std::string> items;
+  size_t start = 0;
+  while (start < spec.size()) {
+    size_t comma = spec.find(',', start);
+    if (comma == std::string::npos) comma = spec.size();
+    items.push_back(spec.substr(start, comma - start));
+    start = comma + 1;
+  }
+  return items;
+}
+
 // Outcome of one detector (over all joints) or of the tick-level events, for one threshold.
 struct Hit {
   double t = kInf;
@@ -411,12 +424,7 @@ SweepGrid MakeSweepGrid(const MonitorConfig& base, const std::string& spec) {
     grid.axes.push_back({info.detector, Grid(a.from, a.to, a.steps)});
   }
   grid.significance = Grid(1.0, 5.0, 9);
-  size_t start = 0;
-  while (start < spec.size()) {
-    size_t comma = spec.find(',', start);
-    if (comma == std::string::npos) comma = spec.size();
-    const std::string item = spec.substr(start, comma - start);
-    start = comma + 1;
+  for (const std::string& item : SplitSpec(spec)) {
     const size_t eq = item.find('=');
     const std::string name = item.substr(0, eq);
     const std::string suffix = ".worn";
@@ -808,12 +816,7 @@ TuneSpace StatisticSpace(const std::vector<StatisticInfo>& statistics, const std
     a.values = Levels(info.threshold, -kLevelSteps, kLevelSteps, step);
     space.axes.push_back(std::move(a));
   }
-  size_t start = 0;
-  while (start < spec.size()) {
-    size_t comma = spec.find(',', start);
-    if (comma == std::string::npos) comma = spec.size();
-    const std::string item = spec.substr(start, comma - start);
-    start = comma + 1;
+  for (const std::string& item : SplitSpec(spec)) {
     const size_t eq = item.find('=');
     const std::string name = item.substr(0, eq);
     auto it = std::find_if(space.axes.begin(), space.axes.end(), [&](const TuneAxis& a) { return a.name == name; });
