@@ -266,6 +266,64 @@ void StepDriveNetwork(const DriveConstants& c, const HardwareCondition& cond, co
 
 }  // namespace
 
+namespace {
+
+// The fast path's sums over a step (see StepDrive).
+struct FastSums {
+  double torque = 0, rail = 0, copper = 0, switching = 0, peak = 0;
+};
+// What stays fixed over a run of fast sub-steps.
+struct FastRun {
+  const DriveConstants& c;
+  double reference, ud, h, decay, gain_per_ohm, e_pair, sw_loss_per_A;
+  int substeps;
+  double step_e;
+  int sector;
+};
+
+// The fast sub-steps from *k on while the electrical angle stays in the run's sector (and
+// needs no wrapping), with the state in registers: a function of its own so that the general
+// path's many values do not push these sums out to memory. Leaves *k and *theta at the last
+// sub-step it ran. The same operations, in the same order, as one sub-step at a time.
+[[gnu::noinline]] void RunSector(const FastRun& f, int* k_io, double* theta_io, double* ih_io, double* integral_io,
+                                 FastSums* sums) {
+  const DriveConstants& c = f.c;
+  double ih = *ih_io, integral = *integral_io, theta = *theta_io;
+  double torque = sums->torque, rail = sums->rail, copper = sums->copper, switching = sums->switching;
+  double peak = sums->peak;
+  int k = *k_io;
+  for (;;) {
+    const double error = f.reference - ih;
+    const double u = std::clamp(c.kp_V_per_A * error + integral, -f.ud, f.ud);
+    integral = std::clamp(integral + c.ki_V_per_A_s * error * f.h, -f.ud, f.ud);
+    const double ih_new = ih * f.decay + 0.5 * (u - f.e_pair) * f.gain_per_ohm;
+    const double i_mid = 0.5 * (ih + ih_new);
+    const double i_sq = (ih * ih + ih * ih_new + ih_new * ih_new) * (1.0 / 3.0);
+    torque += 2.0 * i_mid;
+    copper += 2.0 * i_sq;
+    rail += u * i_mid;
+    switching += 2.0 * (c.inverter.switch_resistance_ohm * i_sq + f.sw_loss_per_A * std::fabs(i_mid));
+    peak = std::max(peak, std::fabs(ih_new));
+    ih = ih_new;
+    if (k + 1 == f.substeps) break;
+    const double next = theta + f.step_e;
+    if (next >= 2.0 * M_PI || next < 0 || SectorWrapped(next) != f.sector) break;
+    ++k;
+    theta = next;
+  }
+  *ih_io = ih;
+  *integral_io = integral;
+  *theta_io = theta;
+  *k_io = k;
+  sums->torque = torque;
+  sums->rail = rail;
+  sums->copper = copper;
+  sums->switching = switching;
+  sums->peak = peak;
+}
+
+}  // namespace
+
 void StepDrive(const DriveConstants& c, const HardwareCondition& cond, const DriveInputs& in,
                int substeps, DriveState* s, DriveOutputs* out) {
   if (cond.short_kind != ShortKind::kNone) {
@@ -288,14 +346,22 @@ void StepDrive(const DriveConstants& c, const HardwareCondition& cond, const Dri
   const double reference = driving ? in.current_command_A : 0.0;
   if (!driving) s->pi_integral_V = 0.0;
 
-  double torque_sum = 0, p_rail = 0, p_copper = 0, p_switch = 0, p_diode = 0;
-  double peak = 0;
+  FastSums sums;  // the fast path's running sums; the general path adds to them too
+  double& torque_sum = sums.torque;
+  double& p_rail = sums.rail;
+  double& p_copper = sums.copper;
+  double& p_switch = sums.switching;
+  double& peak = sums.peak;
+  double p_diode = 0;
   std::array<double, 3>& i = s->phase_current_A;
   const double stored0 = i[0] * i[0] + i[1] * i[1] + i[2] * i[2];
 
   // Electrical angle at the middle of each sub-step, kept wrapped to [0, 2 pi).
   const double step_e = c.pole_pairs * omega * h;
   double theta = WrapAngle(c.pole_pairs * in.motor_angle_rad + 0.5 * step_e);
+  // The fast path's back-EMF across the conducting pair: within its sector the high phase is on
+  // its +1 plateau and the low phase on its -1 plateau, so e_high - e_low = 2 ke omega.
+  const double e_pair = ke * omega * 2.0;
   for (int k = 0; k < substeps; ++k, theta += step_e) {
     if (theta >= 2.0 * M_PI || theta < 0) theta = WrapAngle(theta);
     int high = -1, low = -1, off = -1;
@@ -305,28 +371,22 @@ void StepDrive(const DriveConstants& c, const HardwareCondition& cond, const Dri
       high = kHigh[sector];
       low = kLow[sector];
       off = 3 - high - low;
+      if (i[off] == 0.0) {
+        // Fast path, almost every sub-step: one current I through the conducting pair in series,
+        // 2L dI/dt = u - 2R I - (e_high - e_low); the same equations as the general path below.
+        FastRun run{c, reference, ud, h, decay, gain_per_ohm, e_pair, sw_loss_per_A, substeps, step_e, sector};
+        double ih = i[high], integral = s->pi_integral_V;
+        RunSector(run, &k, &theta, &ih, &integral, &sums);
+        i[high] = ih;
+        i[low] = -ih;
+        s->pi_integral_V = integral;
+        continue;
+      }
       const double error = reference - i[high];
       u = std::clamp(c.kp_V_per_A * error + s->pi_integral_V, -ud, ud);
       s->pi_integral_V = std::clamp(s->pi_integral_V + c.ki_V_per_A_s * error * h, -ud, ud);
     }
     const double phase_angle[3] = {theta, ShiftWrapped(theta, 2.0 * M_PI / 3.0), ShiftWrapped(theta, 4.0 * M_PI / 3.0)};
-    if (driving && i[off] == 0.0) {
-      // Fast path, almost every sub-step: one current I through the conducting pair in series,
-      // 2L dI/dt = u - 2R I - (e_high - e_low); the same equations as the general path below.
-      const double shape_diff = ShapeWrapped(phase_angle[high]) - ShapeWrapped(phase_angle[low]);
-      const double ih = i[high];
-      const double ih_new = ih * decay + 0.5 * (u - ke * omega * shape_diff) * gain_per_ohm;
-      const double i_mid = 0.5 * (ih + ih_new);
-      const double i_sq = (ih * ih + ih * ih_new + ih_new * ih_new) * (1.0 / 3.0);
-      torque_sum += shape_diff * i_mid;
-      p_copper += 2.0 * i_sq;
-      p_rail += u * i_mid;
-      p_switch += 2.0 * (c.inverter.switch_resistance_ohm * i_sq + sw_loss_per_A * std::fabs(i_mid));
-      peak = std::max(peak, std::fabs(ih_new));
-      i[high] = ih_new;
-      i[low] = -ih_new;
-      continue;
-    }
     const std::array<double, 3> shape = {ShapeWrapped(phase_angle[0]), ShapeWrapped(phase_angle[1]),
                                          ShapeWrapped(phase_angle[2])};
     std::array<double, 3> emf;

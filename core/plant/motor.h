@@ -18,6 +18,13 @@
 // Outputs: mean electromagnetic torque [N m] and the power terms [W] of the step:
 //   p_supply = p_copper + p_emf + p_magnetic + p_inverter + p_quiescent  (energy balance),
 // with p_supply computed from the bus side (leg voltages x leg currents + losses).
+//
+// Integration: per electrical sub-step (the PWM period), the exact solution of the linear RL
+// network for the leg voltages the PI loop set at its start (exp(-R h / L)); a freewheeling
+// current that would reverse is stopped at its zero crossing. On almost every sub-step only the
+// sector's pair conducts (one series current, back-EMF 2 (K_T/2) omega on the plateaus): those
+// run in a tight loop of their own (RunSector in motor.cc) that keeps the state in registers and
+// does the same operations in the same order as one sub-step at a time.
 #pragma once
 
 #include <array>
