@@ -10,6 +10,7 @@
 #include <cstring>
 #include <cstdlib>
 #include <filesystem>
+#include <map>
 #include <fstream>
 
 #include "app/commands.h"
@@ -171,12 +172,29 @@ int FinishCampaignOutputs(const std::string& dir_name, const Campaign& campaign,
                 builder.not_excited_runs(), campaign.include_not_excited ? "scored, as the campaign asks" : "left out of the rates",
                 (dir / "summary.json").string().c_str());
   }
-  WriteAtomically(dir / "summary.json", builder.Build(campaign.floors, campaign.resolved, ARMFAULT_VERSION).dump(2) + "\n");
+  nlohmann::json summary = builder.Build(campaign.floors, campaign.resolved, ARMFAULT_VERSION);
+  // An early-stopped run (`run --early-stop`): its decisions, which the exit status follows.
+  std::map<std::string, bool> decided;
+  if (const fs::path early_path = dir / "early_stop.json"; fs::exists(early_path)) {
+    summary["early_stop"] = ReadJsonFile(early_path.string());
+    for (const nlohmann::json& f : summary["early_stop"]["floors"]) {
+      if (f["decided"].get<bool>()) decided[f["name"].get<std::string>()] = f["met"].get<bool>();
+    }
+  }
+  WriteAtomically(dir / "summary.json", summary.dump(2) + "\n");
   WriteAtomically(dir / "junit.xml", JUnitXml(campaign.name, builder, campaign.floors, "campaign.json"));
   bool all_met = true;
   for (const FloorVerdict& v : verdicts) {
     std::printf("floor %-50s %s  %s\n", v.name.c_str(), v.met ? "met   " : "MISSED", v.message.c_str());
-    all_met = all_met && v.met;
+    bool met = v.met;
+    if (auto it = decided.find(v.name); it != decided.end() && it->second != v.met) {
+      // Decided on the runs up to its decision; the runs made after it for other floors moved
+      // the rate across the bound. The decision is the prediction for the whole campaign.
+      std::printf("      early stop decided this floor %s for the whole campaign; the exit status follows that\n",
+                  it->second ? "met" : "missed");
+      met = it->second;
+    }
+    all_met = all_met && met;
   }
   if (builder.failed_runs() > 0) {
     std::fprintf(stderr, "armfault: %ld of %ld runs failed (see %s)\n", builder.failed_runs(), builder.runs(),
@@ -214,6 +232,15 @@ int RunCampaignCommand(const CampaignRunOptions& o) {
   ro.threads = o.threads;
   ro.shard = ResolveShard(o);
   ro.resume = o.resume;
+  if (o.early_stop) {
+    if (!(o.early_stop_confidence > 0.5 && o.early_stop_confidence < 1)) {
+      throw InputError("--early-stop-confidence", "",
+                       "expected a probability in (0.5, 1), got " + FormatNumber(o.early_stop_confidence));
+    }
+    EarlyStopOptions e;
+    e.confidence = o.early_stop_confidence;
+    ro.early_stop = e;
+  }
   Progress progress(!o.quiet);
   ro.progress = [&](long done, long total) { progress.Update(done, total); };
   if (!o.campaign_file.empty()) PrintWarnings(o.campaign_file, campaign);
@@ -247,6 +274,7 @@ int RunCampaignCommand(const CampaignRunOptions& o) {
     return 130;
   }
   std::printf("ran %ld runs in %.1f s (%ld resumed, %ld failed)\n", r.ran, seconds, r.resumed, r.failed);
+  if (!r.early_stop.is_null()) std::printf("%s\n", EarlyStopSummaryLine(r.early_stop).c_str());
   const int status = FinishCampaignOutputs(o.output_dir, campaign, !o.summary_only);
   if (o.summary_only) {
     // Small CI artefacts: decisions.jsonl is most of the bytes and only `tune` reads it;

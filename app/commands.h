@@ -58,6 +58,9 @@ struct CampaignRunOptions {
   // CI artefacts: once the summary is written, remove decisions.jsonl (only `tune` reads it)
   // and results.csv (a flat copy of results.jsonl); results.jsonl stays for diff and report.
   bool summary_only = false;
+  // Stop as soon as every floor is decided at this confidence (campaigns/early_stop.h).
+  bool early_stop = false;
+  double early_stop_confidence = 0.99;
 };
 // Runs a campaign and writes DIR/{campaign.json, results.jsonl, decisions.jsonl, results.csv,
 // summary.json, junit.xml}. 0 all floors met, 1 a floor missed, 3 some runs failed.

@@ -46,6 +46,12 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--shard-count", campaign_run.shard_count, "shard count N with JOB_COMPLETION_INDEX (Kubernetes Indexed Job)");
   run_cmd->add_flag("--resume", campaign_run.resume, "continue an interrupted run in the same output directory");
   run_cmd->add_flag("-q,--quiet", campaign_run.quiet, "no progress output");
+  run_cmd->add_flag("--early-stop", campaign_run.early_stop,
+                    "stop as soon as every floor is decided: runs go in an even sweep of the campaign and each floor is "
+                    "decided when the whole campaign's rate is predicted on one side of its bound (writes early_stop.json)");
+  run_cmd->add_option("--early-stop-confidence", campaign_run.early_stop_confidence,
+                      "the probability at which --early-stop decides a floor")
+      ->capture_default_str();
   run_cmd->add_flag("--summary-only", campaign_run.summary_only,
                     "small CI artefacts: after the summary, remove decisions.jsonl and results.csv, leaving "
                     "campaign.json, results.jsonl, summary.json and junit.xml (report and diff work; tune does not)");

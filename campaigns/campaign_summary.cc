@@ -99,6 +99,8 @@ FloorVerdict Check(const std::string& name, bool is_min, double bound, long succ
   v.name = name;
   v.kind = is_min ? "min" : "max";
   v.bound = bound;
+  v.successes = successes;
+  v.trials = trials;
   if (trials == 0) {
     v.met = false;
     v.message = name + ": " + none + ", nothing to measure (floor " + (is_min ? ">= " : "<= ") + Fixed3(bound) + ")";

@@ -89,6 +89,7 @@ struct FloorVerdict {
   std::optional<double> measured;  // nullopt: nothing to measure (no such runs); then not met
   bool met = false;
   std::string message;  // "detection_rate 0.850 < 0.900 (34 of 40 runs)"
+  long successes = 0, trials = 0;  // what `measured` is the ratio of
 };
 
 namespace internal {

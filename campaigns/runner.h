@@ -13,9 +13,11 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 
 #include "campaigns/campaign.h"
+#include "campaigns/early_stop.h"
 #include "campaigns/run_record.h"
 #include "core/plant/simulation.h"
 
@@ -40,6 +42,8 @@ struct RunnerOptions {
   // Set (from a signal handler, say) to stop: no run starts after it, the runs in flight
   // finish and are written, and the result says `interrupted`. May be null.
   const std::atomic<bool>* stop = nullptr;
+  // Stop as soon as every floor is decided (campaigns/early_stop.h); not with a shard.
+  std::optional<EarlyStopOptions> early_stop;
 };
 
 struct RunnerResult {
@@ -48,7 +52,10 @@ struct RunnerResult {
   long ran = 0;
   long failed = 0;   // in the whole results file
   bool interrupted = false;  // stopped before every case ran (RunnerOptions::stop)
+  nlohmann::json early_stop;  // --early-stop: what early_stop.json holds (null otherwise)
 };
+// The lines `run` prints about an early stop: the runs saved and each floor's decision.
+std::string EarlyStopSummaryLine(const nlohmann::json& early_stop_json);
 
 RunnerResult RunCampaign(const Campaign& campaign, const RunnerOptions& options);
 
