@@ -172,38 +172,39 @@ CellStep PlanCell(const SearchSpec& spec, const SearchEntryRange& range, const C
     step.status = "converged";
     return step;
   }
-  // Where the next runs tell most: from the fit's 50 % point to a little past its a90/95 (the
-  // rise the boundary's interval comes from), or, without a rising fit, between the largest
-  // missed and the smallest detected severity (bisection).
-  double lo = 0, hi = 0;
+  // Where the next runs tell most. While every detected run is more severe than every missed
+  // one (complete separation: the fit's slope, and so its band, is undetermined), bisection:
+  // the whole batch inside the gap between them.
+  double max_miss = xa, min_hit = xb;
+  for (size_t i = 0; i < data.magnitudes.size(); ++i) {
+    const double x = std::log(PodSeverity(range.key, data.magnitudes[i]));
+    if (data.detected[i]) min_hit = std::min(min_hit, x);
+    else max_miss = std::max(max_miss, x);
+  }
   const double span = xb - xa;
-  if (est.has_fit) {
-    const PodFit& f = est.fit;
-    const double z = OneSidedZ(spec.confidence);
-    const double logit = std::log(spec.target / (1 - spec.target));
-    const double x50 = -f.intercept / f.slope;
-    const double x90 = (logit - f.intercept) / f.slope;
-    const std::optional<double> s9095 = FirstAt(sa, sb, spec.target, [&](double s) { return f.Bound(s, -z); });
-    const double x9095 = s9095 ? std::log(*s9095) : xb;
-    lo = std::min(x50, x90);
-    hi = std::max(x9095, x90) + 0.25 * std::max(0.0, std::max(x9095, x90) - x50);
-  } else {
-    double max_miss = xa, min_hit = xb;
-    for (size_t i = 0; i < data.magnitudes.size(); ++i) {
-      const double x = std::log(PodSeverity(range.key, data.magnitudes[i]));
-      if (data.detected[i]) min_hit = std::min(min_hit, x);
-      else max_miss = std::max(max_miss, x);
+  if (max_miss < min_hit) {
+    for (int i = 0; i < size; ++i) {
+      const double x = max_miss + (min_hit - max_miss) * (i + 1) / (size + 1);
+      step.magnitudes.push_back(SearchLatticeValue(range, PodMagnitude(range.key, std::exp(x))));
     }
-    lo = std::min(max_miss, min_hit);
-    hi = std::max(max_miss, min_hit);
+    return step;
+  }
+  double lo = std::min(max_miss, min_hit), hi = std::max(max_miss, min_hit);
+  if (est.has_fit) {
+    // Where the fit rises from 30 % to 98 %: the runs there pin down both its level and its
+    // slope near the target, and so its lower bound (runs where it is 0 or 1 tell little).
+    const PodFit& f = est.fit;
+    auto x_at = [&](double p) { return (std::log(p / (1 - p)) - f.intercept) / f.slope; };
+    lo = x_at(0.3);
+    hi = x_at(std::max(0.98, spec.target + 0.5 * (1 - spec.target)));
   }
   lo = std::clamp(lo, xa, xb);
   hi = std::clamp(hi, xa, xb);
-  if (hi - lo < 0.05 * span) {  // never a single point: widen to 5 % of the range
+  if (hi - lo < 0.02 * span) {  // never a single point: widen to 2 % of the range
     const double mid = 0.5 * (lo + hi);
-    lo = std::max(xa, mid - 0.025 * span);
-    hi = std::min(xb, lo + 0.05 * span);
-    lo = std::max(xa, hi - 0.05 * span);
+    lo = std::max(xa, mid - 0.01 * span);
+    hi = std::min(xb, lo + 0.02 * span);
+    lo = std::max(xa, hi - 0.02 * span);
   }
   spread(lo, hi);
   return step;
