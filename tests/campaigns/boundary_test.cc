@@ -199,6 +199,29 @@ TEST(BoundarySearch, AllMissedOrAllDetectedTriesTheEndsThenStops) {
   }
 }
 
+TEST(BoundarySearch, CompleteSeparationBisectsTheGap) {
+  SearchSpec spec;
+  spec.batch = 4;
+  SearchEntryRange range;
+  range.key = "kt_factor";
+  range.low = 0.8;
+  range.high = 0.99;
+  range.tolerance = 0.02;
+  range.lattice = 1e-4;
+  CellData d;
+  for (auto [m, hit] : {std::pair{0.99, false}, {0.96, false}, {0.95, false}, {0.93, true}, {0.9, true}, {0.8, true}}) {
+    d.magnitudes.push_back(m), d.detected.push_back(hit), ++d.runs;
+  }
+  const CellStep step = PlanCell(spec, range, d);
+  ASSERT_EQ(step.magnitudes.size(), 4u);
+  for (double m : step.magnitudes) {
+    EXPECT_GT(m, 0.93);
+    EXPECT_LT(m, 0.95);
+  }
+  // The same outcomes plan the same batch: choices depend on the results only.
+  EXPECT_EQ(PlanCell(spec, range, d).magnitudes, step.magnitudes);
+}
+
 class BoundaryRun : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
