@@ -472,11 +472,18 @@ void ParseSearch(const nlohmann::json& v, const std::string& pointer, const nloh
       // Both ends: a fault (severity > 0: the fit is in log severity) that the family accepts.
       for (int end = 0; end < 2; ++end) {
         const double m = end == 0 ? range.low : range.high;
-        const std::string at = magnitude && !has_range && !magnitude->uniform && !magnitude->grid
-                                   ? range_pointer
-                                   : PointerJoin(range_pointer, magnitude && magnitude->grid && !has_range
-                                                                    ? std::string(end == 0 ? "from" : "to")
-                                                                    : std::to_string(end));
+        // Where the end comes from: the range's bound, the grid's end, the uniform's bound, or
+        // the list element that holds it.
+        std::string at;
+        if (has_range || magnitude->uniform) {
+          at = PointerJoin(range_pointer, std::to_string(end));
+        } else if (magnitude->grid) {
+          at = PointerJoin(range_pointer, end == 0 ? "from" : "to");
+        } else {
+          size_t index = 0;
+          while (index + 1 < magnitude->values.size() && magnitude->values[index].get<double>() != m) ++index;
+          at = PointerJoin(range_pointer, index);
+        }
         entry_errors.Try([&] {
           if (!(PodSeverity(range.key, m) > 0) || !std::isfinite(PodSeverity(range.key, m))) {
             throw InputError("", at, e.family + ": " + range.key + " " + FormatNumber(m) +

@@ -83,6 +83,12 @@ TEST(BoundarySearch, BadInputNamesFilePointerAndValue) {
     const auto lines = ErrorLines(c);
     EXPECT_TRUE(HasLine(lines, "c.json: /search/range/1: kt_degradation: kt_factor 1 is no fault")) << Joined(lines);
   }
+  {  // the healthy value at the end of the entry's own list: the element named
+    nlohmann::json c = SmallSearch();
+    c["faults"][0]["kt_factor"] = {0.8, 0.9, 1.0};
+    const auto lines = ErrorLines(c);
+    EXPECT_TRUE(HasLine(lines, "c.json: /faults/0/kt_factor/2: kt_degradation: kt_factor 1 is no fault")) << Joined(lines);
+  }
   {  // a magnitude the family refuses
     nlohmann::json c = SmallSearch();
     c["search"]["range"] = {-0.5, 0.9};
