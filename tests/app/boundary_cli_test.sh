@@ -59,4 +59,14 @@ import json, sys
 a, b = (json.load(open(p))["cells"][0] for p in sys.argv[1:3])
 assert a["a90_95"] == b["a90_95"] and a["runs"] == b["runs"], (a["a90_95"], b["a90_95"])
 PY
+# Stopped after one batch, then resumed: the same bytes as the uninterrupted search.
+"$armfault" boundary "$tmp/small.json" -o "$tmp/part" -j 1 -q --max-batches 1 > "$tmp/part.out"
+grep -q "^stopped after 1 batches (--max-batches); continue with: armfault boundary .* --resume" "$tmp/part.out" \
+  || { cat "$tmp/part.out" >&2; fail "no stop message"; }
+"$armfault" boundary "$tmp/small.json" -o "$tmp/part" -j 2 -q --resume > "$tmp/resume.out"
+grep -q "([1-9][0-9]* resumed, 0 failed)" "$tmp/resume.out" || { cat "$tmp/resume.out" >&2; fail "nothing resumed"; }
+for f in campaign.json results.jsonl decisions.jsonl summary.json; do
+  cmp -s "$tmp/out/$f" "$tmp/part/$f" || fail "resumed $f differs from the uninterrupted search's"
+done
+cmp -s "$tmp/searched.json" "$tmp/part/boundary.json" || fail "resumed boundary.json differs from the uninterrupted search's"
 echo "boundary cli: all checks passed"
