@@ -1645,6 +1645,25 @@ std::string RenderReportMarkdown(const ReportData& d) {
                     : MdTable({"family", "magnitude", "a90 as run", "a90/95 as run", "a90 at the operating point",
                                "a90/95 at the operating point"},
                               a90);
+  if (d.boundary) {
+    md += "\n## Detection boundary (armfault boundary)\n\n";
+    std::vector<std::vector<std::string>> rows;
+    auto text = [](const json& x) { return x.is_number() ? Sig4(x.get<double>()) : std::string("–"); };
+    if (const json* cells = Field(*d.boundary, "cells"); cells != nullptr && cells->is_array()) {
+      for (const json& c : *cells) {
+        const json* interval = Field(c, "interval");
+        rows.push_back({Str(c, "trajectory"), Str(c, "family"), std::to_string(Count(c, "joint")), Str(c, "magnitude_key"),
+                        text(c.value("a90_95", json())), text(c.value("a90", json())),
+                        interval != nullptr && interval->is_array() && interval->size() == 2
+                            ? "[" + text((*interval)[0]) + ", " + text((*interval)[1]) + "]"
+                            : "–",
+                        std::to_string(Count(c, "runs")), Str(c, "status")});
+      }
+    }
+    md += MdTable({"trajectory", "family", "joint", "magnitude", "boundary a90/95", "a90", "interval of a90", "runs",
+                   "status"},
+                  rows);
+  }
 
   md += "\n## Floors\n\n";
   const json* floors = Field(s, "floors");

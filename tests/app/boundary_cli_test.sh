@@ -50,6 +50,7 @@ run_id=$(python3 -c 'import json,sys; print(json.loads(sys.argv[1])["run_id"])' 
 [ "$(grep '^record: ' "$tmp/trace.out" | cut -c9-)" = "$line" ] || fail "trace --run $run_id does not reproduce its record"
 "$armfault" report "$tmp/out" > /dev/null || fail "report refused the directory"
 grep -q 'id="boundary"' "$tmp/out/report.html" || fail "no boundary section in the report"
+grep -q '^## Detection boundary' "$tmp/out/report.md" || fail "no boundary table in report.md"
 "$armfault" tune "$tmp/out" --sweep kt_factor.worn=0.95 > /dev/null || fail "tune refused the directory"
 "$armfault" diff "$tmp/out" "$tmp/out" > /dev/null || fail "diff of the directory with itself"
 cp "$tmp/out/boundary.json" "$tmp/searched.json"
