@@ -306,6 +306,12 @@ int ValidateCommand(const std::string& campaign_file) {
   std::printf("%s: valid campaign \"%s\": %ld runs (%zu trajectories, %zu fault entries, %d healthy per trajectory, %d repetitions)\n",
               campaign_file.c_str(), campaign.name.c_str(), CaseCount(campaign), campaign.trajectories.size(),
               campaign.faults.size(), campaign.healthy, campaign.repetitions);
+  if (campaign.search.present && !campaign.search.has_runs) {
+    size_t cells = 0;
+    for (const FaultEntry& e : campaign.faults) cells += e.joints.size() * campaign.trajectories.size();
+    std::printf("%s: search (armfault boundary): %zu cells, batches of %d, at most %d runs a cell\n", campaign_file.c_str(),
+                cells, campaign.search.batch, campaign.search.max_runs);
+  }
   return 0;
 }
 

@@ -133,6 +133,19 @@ struct DiffCommandOptions {
 // significantly worse, 1 something is (each printed as "worse: ..."), 2 bad input.
 int DiffCommand(const DiffCommandOptions& options);
 
+struct BoundaryCommandOptions {
+  std::string campaign_file;   // a campaign with a "search" block
+  std::string from_dir;        // instead: estimate from the runs already in this directory
+  std::string output_dir = "out";
+  int threads = 0;             // 0: all cores; never changes a result
+  bool resume = false;
+  int max_batches = 0;         // > 0: stop after this many batches (--resume continues)
+  bool quiet = false;
+};
+// The boundary search (campaigns/boundary.h): writes DIR/boundary.json beside a run's files
+// and prints the table. 0, 2 bad input, 3 some runs failed, 130 interrupted.
+int BoundaryCommand(const BoundaryCommandOptions& options);
+
 struct ReportCommandOptions {
   std::string dir;      // an `armfault run` output directory
   std::string run_id;   // the run plotted over time; empty: the first missed faulty run

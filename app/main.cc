@@ -139,6 +139,22 @@ int main(int argc, char** argv) {
   tune_cmd->add_option("--monitor-out", tune.monitor_output, "tuned monitor JSON (default DIR/tuned-monitor.json)");
   tune_cmd->add_option("-j,--jobs", tune.threads, "threads (0: all cores)")->capture_default_str();
 
+  armfault::BoundaryCommandOptions boundary;
+  CLI::App* boundary_cmd = app.add_subcommand(
+      "boundary", "find each cell's detection boundary (the magnitude detected with 90 % probability at 95 % "
+                  "confidence) with batches of runs chosen from the results so far; writes a run directory and "
+                  "DIR/boundary.json");
+  boundary_cmd->add_option("campaign", boundary.campaign_file, "campaign JSON file with a \"search\" block");
+  boundary_cmd->add_option("--from", boundary.from_dir,
+                           "instead of searching, estimate each cell's boundary from the runs in this output "
+                           "directory (writes DIR/boundary.json)");
+  boundary_cmd->add_option("-o,--output-dir", boundary.output_dir, "output directory")->capture_default_str();
+  boundary_cmd->add_option("-j,--jobs", boundary.threads, "threads (0: all cores); the results do not depend on it")
+      ->capture_default_str();
+  boundary_cmd->add_flag("--resume", boundary.resume, "continue an interrupted search in the same output directory");
+  boundary_cmd->add_option("--max-batches", boundary.max_batches, "stop after this many batches (--resume continues)");
+  boundary_cmd->add_flag("-q,--quiet", boundary.quiet, "no progress output");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -166,6 +182,7 @@ int main(int argc, char** argv) {
     if (*tune_cmd) return armfault::TuneCommand(tune);
     if (*diff_cmd) return armfault::DiffCommand(diff);
     if (*report_cmd) return armfault::ReportCommand(report);
+    if (*boundary_cmd) return armfault::BoundaryCommand(boundary);
   } catch (const armfault::InputError& e) {
     // Every error found in the input (a campaign lists all of its own), one per line.
     for (const std::string& line : armfault::ErrorReportLines(e)) std::fprintf(stderr, "armfault: error: %s\n", line.c_str());

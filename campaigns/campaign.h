@@ -71,6 +71,40 @@ struct Variation {
   int units = 0;           // a fleet of this many robot units; 0: every run is its own unit
 };
 
+// One run of a boundary search (`armfault boundary`, campaigns/boundary.h): fault entry
+// `entry` on `joint` along trajectory `trajectory` at the magnitude `magnitude`. `number`
+// counts the runs of the same cell (trajectory x entry x joint) before it, from 0.
+struct SearchRun {
+  size_t trajectory = 0;
+  size_t entry = 0;
+  int joint = 0;
+  double magnitude = 0;
+  long number = 0;
+};
+
+// The "search" block (docs/campaign-format.md, "Boundary search"): where each cell's detection
+// probability crosses `target` with `confidence`, found by batches of runs. Every fault entry
+// is searched over its magnitude key (FaultMagnitudeKey) in [range_low, range_high] (the
+// entry's own sweep, or "range").
+struct SearchEntryRange {
+  std::string key;        // the entry's magnitude key ("kt_factor")
+  double low = 0, high = 0;
+  double tolerance = 0;   // stop when the boundary's interval is at most this wide (magnitude units)
+  double lattice = 0;     // magnitudes are rounded to multiples of this
+};
+struct SearchSpec {
+  bool present = false;
+  double target = 0.9;
+  double confidence = 0.95;
+  int batch = 8;          // runs per cell and batch (from the campaign, never from -j)
+  int max_runs = 100;     // per cell
+  std::vector<SearchEntryRange> entries;  // one per fault entry
+  // The runs made so far, in case order (written by `armfault boundary` into its output's
+  // campaign.json). With it the campaign's cases are exactly these runs (CaseAt), not the grid.
+  bool has_runs = false;
+  std::vector<SearchRun> runs;
+};
+
 struct Campaign {
   std::string source;  // file name, for messages
   std::string base_dir;
@@ -95,6 +129,7 @@ struct Campaign {
   MonitorSpec monitor;
   std::shared_ptr<const MonitorModel> monitor_model;
   Floors floors;
+  SearchSpec search;
   nlohmann::json resolved;  // the campaign with defaults filled in (written to campaign.json)
 };
 
@@ -140,6 +175,11 @@ CaseSpec CaseAt(const Campaign& campaign, long index);
 std::vector<CaseSpec> ExpandCases(const Campaign& campaign);
 // The number of cases, without expanding.
 long CaseCount(const Campaign& campaign);
+
+// The run_id of a search run: "<trajectory>/<family>#<entry>/<key>=<magnitude>/j<joint>/s<number>".
+std::string SearchRunId(const Campaign& campaign, const SearchRun& run);
+// A magnitude on the entry's lattice (the search's magnitudes are multiples of it).
+double SearchLatticeValue(const SearchEntryRange& range, double magnitude);
 
 // What `validate` (and `run`) warn about in a valid campaign, one line each, naming the JSON
 // pointer: a fault entry that targets a joint one of the trajectories leaves still (its runs

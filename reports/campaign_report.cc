@@ -869,6 +869,84 @@ std::string PodSection(const ReportData& d) {
   return o + "</section>";
 }
 
+// Only with DIR/boundary.json (`armfault boundary`): each cell's runs, fit and boundary.
+std::string BoundarySection(const ReportData& d) {
+  const json& b = *d.boundary;
+  std::string o = "<section id=\"boundary\"><h2>Detection boundary (armfault boundary)</h2>";
+  const double target = Num(b, "target").value_or(0.9), confidence = Num(b, "confidence").value_or(0.95);
+  o += "<p>Each cell (trajectory, fault entry, joint) from " + std::to_string(Count(b, "runs")) + " runs in " +
+       std::to_string(Count(b, "batches")) + " batches: every run as a dot at 1 (detected) or 0 (missed), a logistic fit "
+       "of detection against log severity (Firth) with its one-sided " + Pct(confidence, 0) +
+       " bounds, and the boundary a" + Fixed(100 * target, 0) + "/" + Fixed(100 * confidence, 0) +
+       " where the lower bound reaches " + Pct(target, 0) + " (never extrapolated beyond the magnitudes run).</p>";
+  o += "<div class=\"plots\">";
+  std::vector<std::vector<std::string>> rows;
+  auto cell_text = [](const json& x) { return x.is_number() ? Sig4(x.get<double>()) : std::string("–"); };
+  const json* cells = Field(b, "cells");
+  for (size_t k = 0; cells != nullptr && cells->is_array() && k < cells->size(); ++k) {
+    const json& c = (*cells)[k];
+    const std::string family = Str(c, "family"), key = Str(c, "magnitude_key");
+    const std::string title = Str(c, "trajectory") + ": " + family + ", joint " + std::to_string(Count(c, "joint"));
+    const std::string color = FamilyColor(family);
+    svg::Plot plot("boundary-" + std::to_string(k), title, kHalfWidth, 340);
+    plot.y().label = "detection probability";
+    plot.y().min = 0;
+    plot.y().max = 1;
+    plot.x().label = WithUnit(key) + ", fault magnitude";
+    plot.x().reversed = PodSeverity(key, 2.0) < PodSeverity(key, 1.0);
+    std::vector<double> hx, hy, mx, my;
+    std::map<double, int> stack;
+    if (const json* points = Field(c, "points"); points != nullptr && points->is_array()) {
+      for (const json& p : *points) {
+        if (!p.is_array() || p.size() != 2 || !p[0].is_number() || !p[1].is_boolean()) continue;
+        const double m = p[0].get<double>();
+        const int n = stack[m]++;
+        if (p[1].get<bool>()) hx.push_back(m), hy.push_back(1 - 0.014 * (n % 5));
+        else mx.push_back(m), my.push_back(0.014 * (n % 5));
+      }
+    }
+    const json* fit = Field(c, "fit");
+    std::string caption = std::to_string(Count(c, "runs")) + " runs, " + std::to_string(Count(c, "detected")) +
+                          " detected; " + Str(c, "status") + ": " + Str(c, "reason") + ".";
+    if (fit != nullptr && fit->value("ok", false) && Field(*fit, "curve") && (*fit)["curve"].is_array()) {
+      std::vector<double> cx, cp, cl, ch;
+      for (const json& p : (*fit)["curve"]) {
+        cx.push_back(p["magnitude"].get<double>());
+        cp.push_back(p["pod"].get<double>());
+        cl.push_back(p["low"].get<double>());
+        ch.push_back(p["high"].get<double>());
+      }
+      plot.Band("one-sided bounds", cx, cl, ch, color, 0.18);
+      plot.Line("fit", cx, cp, svg::Stroke{color, 2, "", 1});
+    } else {
+      caption += " No fitted curve" + (fit != nullptr && Field(*fit, "reason") ? ": " + Str(*fit, "reason") : std::string()) + ".";
+    }
+    plot.HLine(target, Pct(target, 0), svg::Stroke{"#666", 1, "4 3", 1});
+    if (const auto a = Num(c, "a90")) plot.VLine(*a, "a90 = " + Sig4(*a), svg::Stroke{"#333", 1.4, "", 1});
+    if (const auto a = Num(c, "a90_95")) {
+      plot.VLine(*a, "boundary a90/95 = " + Sig4(*a), svg::Stroke{"#b00020", 2, "5 3", 1});
+    } else {
+      caption += " No boundary within the magnitudes run.";
+    }
+    if (!hx.empty()) plot.Points("runs detected (at 1)", hx, hy, {}, {}, color, svg::Marker::kCircle, {}, 2.2);
+    if (!mx.empty()) plot.Points("runs missed (at 0)", mx, my, {}, {}, "#c62828", svg::Marker::kSquare, {}, 2.4);
+    plot.set_caption(caption);
+    o += plot.Render();
+    const json* interval = Field(c, "interval");
+    rows.push_back({Escape(Str(c, "trajectory")), Escape(family), std::to_string(Count(c, "joint")), Escape(key),
+                    cell_text(c.value("a90_95", json())), cell_text(c.value("a90", json())),
+                    interval != nullptr && interval->is_array() && interval->size() == 2
+                        ? "[" + cell_text((*interval)[0]) + ", " + cell_text((*interval)[1]) + "]"
+                        : "–",
+                    std::to_string(Count(c, "runs")), Escape(Str(c, "status"))});
+  }
+  o += "</div>";
+  o += HtmlTable({"trajectory", "family", "joint", "magnitude", "boundary a90/95", "a90", "interval of a90", "runs",
+                  "status"},
+                 rows);
+  return o + "</section>";
+}
+
 std::string LatencyThresholdSection(const ReportData& d) {
   std::string o = "<section id=\"latency-threshold\"><h2>Latency against threshold</h2>";
   if (!d.tuning) return o + TuneFirst(d) + "</section>";
@@ -1424,6 +1502,18 @@ ReportData GatherReportData(const ReportOptions& options) {
     d.tuning_source = tuning_path.string() + " is absent: " + tune_hint;
   }
 
+  // boundary.json (`armfault boundary`): of this campaign too.
+  const fs::path boundary_path = dir / "boundary.json";
+  if (fs::exists(boundary_path)) {
+    json b = ReadJsonFile(boundary_path.string());
+    claims.push_back({boundary_path.string(), ClaimedCampaignHash(b, boundary_path.string()),
+                      "run `armfault boundary` into " + options.dir + " again (or `armfault boundary --from " +
+                          options.dir + "`)"});
+    RequireOneCampaign(claims);
+    if (!d.campaign_hash.empty()) d.hashed_files.push_back("boundary.json");
+    d.boundary = std::move(b);
+  }
+
   // Thesis table 5-3: the directory's own, else simulated.
   const fs::path thesis_path = dir / "thesis.json";
   if (fs::exists(thesis_path)) {
@@ -1499,11 +1589,12 @@ std::string RenderReportHtml(const ReportData& d) {
   o += "<nav><a href=\"#summary\">rates and floors</a><a href=\"#operating-point\">operating point</a>"
        "<a href=\"#roc\">ROC</a><a href=\"#pod\">detection probability</a><a href=\"#latency-threshold\">latency vs "
        "threshold</a><a href=\"#confusion\">confusion</a><a href=\"#why\">why wrong</a><a href=\"#latency\">latency</a><a href=\"#thesis\">table "
-       "5-3</a><a href=\"#run\">one run</a></nav>";
+       "5-3</a><a href=\"#run\">one run</a>" + std::string(d.boundary ? "<a href=\"#boundary\">boundary</a>" : "") + "</nav>";
   o += SummarySection(d);
   o += OperatingPointSection(d);
   o += RocSection(d);
   o += PodSection(d);
+  if (d.boundary) o += BoundarySection(d);
   o += LatencyThresholdSection(d);
   o += ConfusionSection(d);
   o += WhySection(d);
@@ -1554,6 +1645,25 @@ std::string RenderReportMarkdown(const ReportData& d) {
                     : MdTable({"family", "magnitude", "a90 as run", "a90/95 as run", "a90 at the operating point",
                                "a90/95 at the operating point"},
                               a90);
+  if (d.boundary) {
+    md += "\n## Detection boundary (armfault boundary)\n\n";
+    std::vector<std::vector<std::string>> rows;
+    auto text = [](const json& x) { return x.is_number() ? Sig4(x.get<double>()) : std::string("–"); };
+    if (const json* cells = Field(*d.boundary, "cells"); cells != nullptr && cells->is_array()) {
+      for (const json& c : *cells) {
+        const json* interval = Field(c, "interval");
+        rows.push_back({Str(c, "trajectory"), Str(c, "family"), std::to_string(Count(c, "joint")), Str(c, "magnitude_key"),
+                        text(c.value("a90_95", json())), text(c.value("a90", json())),
+                        interval != nullptr && interval->is_array() && interval->size() == 2
+                            ? "[" + text((*interval)[0]) + ", " + text((*interval)[1]) + "]"
+                            : "–",
+                        std::to_string(Count(c, "runs")), Str(c, "status")});
+      }
+    }
+    md += MdTable({"trajectory", "family", "joint", "magnitude", "boundary a90/95", "a90", "interval of a90", "runs",
+                   "status"},
+                  rows);
+  }
 
   md += "\n## Floors\n\n";
   const json* floors = Field(s, "floors");

@@ -8,6 +8,8 @@
 //                  operating point (`armfault tune DIR`; optional: without it the tuner runs
 //                  with its defaults, and if that fails those sections say why and what to
 //                  run; format: docs/tuning.md)
+//   boundary.json  each cell's detection boundary (`armfault boundary`; optional: a section of
+//                  its own, absent without it)
 //   thesis.json    table 5-3 (`armfault thesis -o DIR`; optional: else the thesis experiments
 //                  are run with seed ReportOptions::thesis_seed)
 // Units in the page: rates as fractions or %, times in s, currents in A, torques in N m,
@@ -110,6 +112,9 @@ struct ReportData {
   std::vector<ListedRun> wrong, not_excited;
   long wrong_count = 0, not_excited_count = 0;
   bool not_excited_included = false;  // the campaign scores them like any other run
+  // DIR/boundary.json (`armfault boundary`), when there: each cell's detection-probability fit
+  // and its boundary, drawn in a section of its own. Without it the page is as before.
+  std::optional<nlohmann::json> boundary;
   std::vector<ThesisRow> table_5_3;     // K_T factor 1 ... 0.5
   std::string thesis_source;            // "DIR/thesis.json" or "simulated, seed 1"
   RunSeries run;
