@@ -15,6 +15,7 @@
 
 #include "app/commands.h"
 #include "campaigns/campaign.h"
+#include "campaigns/monitor_cost.h"
 #include "campaigns/runner.h"
 #include "core/base/json_input.h"
 #include "campaigns/campaign_summary.h"
@@ -275,19 +276,41 @@ int RunCampaignCommand(const CampaignRunOptions& o) {
   }
   std::printf("ran %ld runs in %.1f s (%ld resumed, %ld failed)\n", r.ran, seconds, r.resumed, r.failed);
   if (!r.early_stop.is_null()) std::printf("%s\n", EarlyStopSummaryLine(r.early_stop).c_str());
-  const int status = FinishCampaignOutputs(o.output_dir, campaign, !o.summary_only);
+  int status = FinishCampaignOutputs(o.output_dir, campaign, !o.summary_only);
+  // What the monitor cost (campaigns/monitor_cost.h): a measurement, in files of its own.
+  if (const fs::path cost_path = fs::path(o.output_dir) / "monitor_cost.jsonl"; fs::exists(cost_path)) {
+    const std::optional<double> heap = ProbeMonitorHeapBytes(campaign);
+    const nlohmann::json cost = SummarizeMonitorCost(cost_path, heap, campaign.floors.monitor_us_per_tick, campaign.monitor.type);
+    WriteAtomically(fs::path(o.output_dir) / "monitor_cost.json", cost.dump(2) + "\n");
+    if (!cost["mean_us_per_tick"].is_null()) {
+      std::printf("monitor %s: %.3f us per tick on average (run medians %.3f us, 99th percentiles %.3f us), %s heap%s\n",
+                  campaign.monitor.type.c_str(), cost["mean_us_per_tick"].get<double>(),
+                  cost["median_of_run_medians_us"].get<double>(), cost["median_of_run_p99s_us"].get<double>(),
+                  heap ? (std::to_string(static_cast<long>(std::lround(*heap / 1024))) + " KiB").c_str() : "unmeasured",
+                  " (monitor_cost.json)");
+    }
+    if (cost.contains("floor")) {
+      const bool met = cost["floor"]["met"].get<bool>();
+      std::printf("floor %-50s %s  %s\n", "monitor_us_per_tick", met ? "met   " : "MISSED",
+                  cost["floor"]["message"].get<std::string>().c_str());
+      if (!met && status == 0) status = 1;
+    }
+  }
   if (o.summary_only) {
     // Small CI artefacts: decisions.jsonl is most of the bytes and only `tune` reads it;
     // results.csv repeats results.jsonl, which diff and report need. A stale csv goes too.
     const fs::path dir(o.output_dir);
     std::error_code ec;
-    for (const char* name : {"decisions.jsonl", "results.csv"}) {
+    for (const char* name : {"decisions.jsonl", "results.csv", "monitor_cost.jsonl"}) {
       if (!fs::remove(dir / name, ec) && ec) throw InputError((dir / name).string(), "", "cannot remove: " + ec.message());
     }
-    std::printf("wrote %s/results.jsonl, summary.json, junit.xml (--summary-only: decisions.jsonl and results.csv removed)\n",
+    std::printf("wrote %s/results.jsonl, summary.json, junit.xml, monitor_cost.json (--summary-only: decisions.jsonl, "
+                "results.csv and monitor_cost.jsonl removed)\n",
                 o.output_dir.c_str());
   } else {
-    std::printf("wrote %s/results.jsonl, decisions.jsonl, results.csv, summary.json, junit.xml\n", o.output_dir.c_str());
+    std::printf("wrote %s/results.jsonl, decisions.jsonl, results.csv, summary.json, junit.xml, monitor_cost.jsonl, "
+                "monitor_cost.json\n",
+                o.output_dir.c_str());
   }
   if (!o.quiet) {
     std::printf("next: armfault report %s  (the results as one page)\n", o.output_dir.c_str());

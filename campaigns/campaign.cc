@@ -171,8 +171,10 @@ FloorSet ParseFloorSet(const nlohmann::json& v, const std::string& pointer, bool
   ObjectReader reader(v, pointer);
   ErrorList errors;  // every key on its own
   errors.Try([&] {
-    if (allow_per_family) reader.AllowOnly({"detection_rate", "false_alarm_rate", "isolation_accuracy", "per_family"});
-    else reader.AllowOnly({"detection_rate", "false_alarm_rate", "isolation_accuracy"});
+    if (allow_per_family) {
+      reader.AllowOnly({"detection_rate", "false_alarm_rate", "isolation_accuracy", "per_family", "monitor_us_per_tick"});
+    }
+    if (!allow_per_family) reader.AllowOnly({"detection_rate", "false_alarm_rate", "isolation_accuracy"});
   });
   FloorSet f;
   for (auto [key, member] : {std::pair{"detection_rate", &FloorSet::detection_rate},
@@ -194,6 +196,13 @@ Floors ParseFloors(const nlohmann::json& v, const std::string& pointer) {
   Floors floors;
   ErrorList errors;  // the overall floors and each family's on their own
   errors.Try([&] { floors.overall = ParseFloorSet(v, pointer, true); });
+  errors.Try([&] {
+    if (!v.is_object() || !v.contains("monitor_us_per_tick")) return;
+    const std::string at = PointerJoin(pointer, "monitor_us_per_tick");
+    const double value = AsNumber(v["monitor_us_per_tick"], at);
+    if (!(value > 0)) throw InputError("", at, "expected the monitor's mean time per tick in microseconds, > 0, got " + FormatNumber(value));
+    floors.monitor_us_per_tick = value;
+  });
   if (v.contains("per_family")) {
     const std::string pp = PointerJoin(pointer, "per_family");
     errors.Try([&] {

@@ -80,6 +80,9 @@ struct FloorSet {
 struct Floors {
   FloorSet overall;
   std::map<std::string, FloorSet> per_family;  // key: fault family name
+  // The monitor's mean time per tick [us] at most (campaigns/monitor_cost.h): checked by `run`
+  // from monitor_cost.jsonl, outside summary.json (a measurement, not a result).
+  std::optional<double> monitor_us_per_tick;
 };
 
 struct FloorVerdict {

@@ -53,6 +53,9 @@ struct RunRecord {
   // in memory only: written to decisions.jsonl (DecisionLineJson), not by ToJson; read from
   // an older results.jsonl line that still carries it inline.
   nlohmann::json decision;
+  // What the monitor's calls cost in this run (MonitorClock::ToJson, campaigns/monitor_cost.h):
+  // a measurement, so in memory only, written to monitor_cost.jsonl. Null when not measured.
+  nlohmann::json cost;
 };
 
 // The results.jsonl line, without "decision".

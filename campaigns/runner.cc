@@ -15,6 +15,7 @@
 #include <optional>
 
 #include "campaigns/early_stop.h"
+#include "campaigns/monitor_cost.h"
 #include "core/monitors/power_monitor.h"
 #include "core/monitors/registry.h"
 #include "core/base/rng.h"
@@ -57,6 +58,7 @@ struct RunLines {
   std::string decision;  // decisions.jsonl
   std::string result;    // results.jsonl
   bool ok = true;
+  std::string cost;      // monitor_cost.jsonl
   RunRecord record;      // --early-stop: what the floors are judged on
 };
 
@@ -69,22 +71,43 @@ std::vector<std::string> CompleteLines(const fs::path& path) {
   return lines;
 }
 
-// --early-stop writes its runs in the order they ran; at the end both files are rewritten in
-// case order, as every other reader expects (a temporary file renamed over each).
-void SortByCaseIndex(const fs::path& results_path, const fs::path& decisions_path) {
-  const std::vector<std::string> results = CompleteLines(results_path), decisions = CompleteLines(decisions_path);
+// --early-stop writes its runs in the order they ran; at the end the files (results.jsonl last,
+// their lines in step) are rewritten in case order, as every other reader expects (a temporary
+// file renamed over each).
+void SortByCaseIndex(const std::vector<fs::path>& paths) {
+  const std::vector<std::string> results = CompleteLines(paths.back());
   std::vector<std::pair<long, size_t>> order;
   for (size_t k = 0; k < results.size(); ++k) {
     order.emplace_back(RunRecordFromJson(nlohmann::json::parse(results[k])).case_index, k);
   }
   std::sort(order.begin(), order.end());
-  auto write = [&](const fs::path& path, const std::vector<std::string>& lines) {
+  for (const fs::path& path : paths) {
+    const std::vector<std::string> lines = CompleteLines(path);
     std::string text;
-    for (const auto& [index, k] : order) text += lines[k] + "\n";
+    for (const auto& [index, k] : order) {
+      if (k < lines.size()) text += lines[k] + "\n";
+    }
     WriteAtomically(path, text);
-  };
-  write(decisions_path, decisions);
-  write(results_path, results);
+  }
+}
+
+// The first `lines` complete lines of `path` (created if missing).
+void KeepFirstLines(const fs::path& path, size_t lines) {
+  std::vector<std::string> kept = CompleteLines(path);
+  kept.resize(std::min(kept.size(), lines));
+  std::string text;
+  for (const std::string& line : kept) text += line + "\n";
+  WriteAtomically(path, text);
+}
+
+std::string CostLine(const RunRecord& r) {
+  nlohmann::json j = {{"case", r.case_index}, {"run_id", r.run_id}};
+  if (r.cost.is_object()) {
+    j.update(r.cost);
+  } else {
+    j["ticks"] = 0;
+  }
+  return j.dump() + "\n";
 }
 
 }  // namespace
@@ -299,14 +322,25 @@ RunRecord RunCase(const Campaign& campaign, const CaseSpec& cs, const TickObserv
     EffectRecorder effects(model, faults);
     double first_tick_s = -1;  // the first tick at or after the onset
     RunResult result;
+    // The monitor's own calls are timed (monitor_cost.jsonl); the tap is scoring's, not its.
+    MonitorClock clock;
+    std::vector<JointSignals> signals;
     try {
-      result = Simulate(model, spec, ObserveWith(monitor.get(), [&](const Tick& tick) {
-                          if (tap) tap->AfterObserve(tick.t_s);
-                          if (first_tick_s < 0 && tick.t_s >= r.onset_s) first_tick_s = tick.t_s;
-                          effects.Observe(tick);
-                          if (also) also(tick);
-                        }));
+      result = Simulate(model, spec, [&](const Tick& tick) {
+        signals.resize(tick.joints->size());
+        for (size_t j = 0; j < signals.size(); ++j) signals[j] = SignalsOf((*tick.joints)[j]);
+        clock.Start();
+        monitor->Observe(tick.t_s, signals);
+        clock.StopTick();
+        if (tap) tap->AfterObserve(tick.t_s);
+        if (first_tick_s < 0 && tick.t_s >= r.onset_s) first_tick_s = tick.t_s;
+        effects.Observe(tick);
+        if (also) also(tick);
+      });
+      clock.Start();
       monitor->Finish(result.end_time_s);
+      clock.StopFinish();
+      r.cost = clock.ToJson();
     } catch (const MonitorFailure& e) {
       r.ok = false;
       r.failure_reason = "monitor " + monitor_model.type() + " failed: " + e.what();
@@ -348,6 +382,7 @@ RunnerResult RunCampaign(const Campaign& campaign, const RunnerOptions& o) {
   const fs::path campaign_path = dir / "campaign.json";
   const fs::path results_path = dir / "results.jsonl";
   const fs::path decisions_path = dir / "decisions.jsonl";
+  const fs::path cost_path = dir / "monitor_cost.jsonl";
   nlohmann::json campaign_file = CampaignFileJson(campaign, o.shard);
   // --early-stop: the runs go in an even sweep of the case space and stop when every floor is
   // decided (campaigns/early_stop.h); early_stop.json marks a finished one.
@@ -424,6 +459,7 @@ RunnerResult RunCampaign(const Campaign& campaign, const RunnerOptions& o) {
       decisions_text += decision_lines[k] + "\n";
     }
     WriteAtomically(decisions_path, decisions_text);
+    KeepFirstLines(cost_path, kept);
     WriteAtomically(results_path, results_text);
     out.resumed = static_cast<long>(kept);
   } else if (o.resume && fs::exists(results_path)) {
@@ -455,6 +491,7 @@ RunnerResult RunCampaign(const Campaign& campaign, const RunnerOptions& o) {
     for (size_t k = 0; k < next; ++k) out.failed += ok[k] ? 0 : 1;
     KeepLines(results_path, result_ends, next);
     KeepLines(decisions_path, decision_ends, next);
+    KeepFirstLines(cost_path, next);  // written before each results line: at least `next`
     out.resumed = static_cast<long>(next);
   } else {
     std::error_code ec;
@@ -462,6 +499,7 @@ RunnerResult RunCampaign(const Campaign& campaign, const RunnerOptions& o) {
     WriteAtomically(campaign_path, campaign_file.dump(2) + "\n");
     std::ofstream(results_path, std::ios::binary | std::ios::trunc);
     std::ofstream(decisions_path, std::ios::binary | std::ios::trunc);
+    std::ofstream(cost_path, std::ios::binary | std::ios::trunc);
   }
 
   std::FILE* results = std::fopen(results_path.string().c_str(), "ab");
@@ -470,6 +508,12 @@ RunnerResult RunCampaign(const Campaign& campaign, const RunnerOptions& o) {
   if (!decisions) {
     std::fclose(results);
     throw InputError(decisions_path.string(), "", "cannot open for appending");
+  }
+  std::FILE* costs = std::fopen(cost_path.string().c_str(), "ab");
+  if (!costs) {
+    std::fclose(results);
+    std::fclose(decisions);
+    throw InputError(cost_path.string(), "", "cannot open for appending");
   }
   long done = out.resumed;
   if (o.progress) o.progress(done, out.total);
@@ -512,7 +556,7 @@ RunnerResult RunCampaign(const Campaign& campaign, const RunnerOptions& o) {
                                                  RunRecord r = RunCase(campaign, CaseAt(campaign, case_at_position(k)),
                                                                        nullptr, &units);
                                                  RunLines lines{DecisionLineJson(r).dump() + "\n", ToJson(r).dump() + "\n",
-                                                                r.ok, {}};
+                                                                r.ok, CostLine(r), {}};
                                                  if (early) lines.record = std::move(r);
                                                  return lines;
                                                }) &
@@ -529,6 +573,8 @@ RunnerResult RunCampaign(const Campaign& campaign, const RunnerOptions& o) {
               // partial line in each file, and results.jsonl never ahead of decisions.jsonl.
               std::fwrite(item.decision.data(), 1, item.decision.size(), decisions);
               std::fflush(decisions);
+              std::fwrite(item.cost.data(), 1, item.cost.size(), costs);
+              std::fflush(costs);
               std::fwrite(item.result.data(), 1, item.result.size(), results);
               std::fflush(results);
               if (!item.ok) ++out.failed;
@@ -538,10 +584,12 @@ RunnerResult RunCampaign(const Campaign& campaign, const RunnerOptions& o) {
             }));
   });
   const bool decisions_closed = std::fclose(decisions) == 0;
+  const bool costs_closed = std::fclose(costs) == 0;
   if (std::fclose(results) != 0) throw InputError(results_path.string(), "", "error while writing");
   if (!decisions_closed) throw InputError(decisions_path.string(), "", "error while writing");
+  if (!costs_closed) throw InputError(cost_path.string(), "", "error while writing");
   if (early && !out.interrupted) {
-    SortByCaseIndex(results_path, decisions_path);
+    SortByCaseIndex({decisions_path, cost_path, results_path});
     out.early_stop = early->ToJson(CaseCount(campaign));
     WriteAtomically(early_path, out.early_stop.dump(2) + "\n");
   }

@@ -609,12 +609,12 @@ expect_stdout_contains "--summary-only"
 expect_stdout_contains "decisions.jsonl"
 run summary_only "$armfault" run "$ci" -o "$tmp/ci_summary" -j 2 --summary-only
 expect_status 0
-expect_stdout_contains "wrote $tmp/ci_summary/results.jsonl, summary.json, junit.xml (--summary-only: decisions.jsonl and results.csv removed)"
+expect_stdout_contains "wrote $tmp/ci_summary/results.jsonl, summary.json, junit.xml, monitor_cost.json (--summary-only: decisions.jsonl, results.csv and monitor_cost.jsonl removed)"
 expect_stdout_contains "next: armfault report $tmp/ci_summary"
 current=summary_only_no_tune_hint
 if grep -q "armfault tune" "$tmp/stdout"; then fail "suggests tune without decisions: $(cat "$tmp/stdout")"; else pass; fi
 current=summary_only_files
-if [[ $(cd "$tmp/ci_summary" && ls | tr '\n' ' ') == "campaign.json junit.xml results.jsonl summary.json " ]]; then pass; else
+if [[ $(cd "$tmp/ci_summary" && ls | tr '\n' ' ') == "campaign.json junit.xml monitor_cost.json results.jsonl summary.json " ]]; then pass; else
   fail "left $(ls "$tmp/ci_summary" | tr '\n' ' ')"
 fi
 for f in campaign.json results.jsonl summary.json junit.xml; do
@@ -634,6 +634,29 @@ if grep -q '<testsuite name="kt_degradation" tests=' "$tmp/next/junit.xml" &&
   grep -q '<testcase classname="healthy" name="exp1: healthy runs">' "$tmp/next/junit.xml"; then pass; else
   fail "junit.xml lacks the per-family suites: $(head -c 400 "$tmp/next/junit.xml")"
 fi
+
+# Monitor cost (campaigns/monitor_cost.h): one line per run in monitor_cost.jsonl, the campaign's
+# in monitor_cost.json, and a floor on the mean time per tick that sets the exit status.
+printf '{"trajectories": [{"name": "a", "joints": {"3": {"type": "sine_pair", "amplitude_deg": 10, "omega_rad_s": 1}}}],
+ "healthy": 3, "duration_s": 0.5, "floors": {"false_alarm_rate": 0.5, "monitor_us_per_tick": %s}}
+' 0.000001 >"$tmp/cost_low.json"
+run monitor_cost_floor_missed "$armfault" run "$tmp/cost_low.json" -o "$tmp/cost_low" -q
+expect_status 1
+expect_stdout_contains "floor monitor_us_per_tick"
+expect_stdout_contains "MISSED  monitor_us_per_tick"
+current=monitor_cost_files
+if [[ $(wc -l <"$tmp/cost_low/monitor_cost.jsonl") -eq 3 ]] && grep -q '"ticks":251' "$tmp/cost_low/monitor_cost.jsonl" &&
+  grep -q '"mean_us_per_tick"' "$tmp/cost_low/monitor_cost.json" && grep -q '"heap_bytes": [0-9]' "$tmp/cost_low/monitor_cost.json" &&
+  ! grep -q 'monitor_us_per_tick' "$tmp/cost_low/junit.xml"; then pass; else
+  fail "monitor_cost files: $(cat "$tmp/cost_low/monitor_cost.json" | head -c 600)"
+fi
+sed 's/"monitor_us_per_tick": 0.000001/"monitor_us_per_tick": 100000/' "$tmp/cost_low.json" >"$tmp/cost_high.json"
+run monitor_cost_floor_met "$armfault" run "$tmp/cost_high.json" -o "$tmp/cost_high" -q
+expect_status 0
+expect_stdout_contains "met     monitor_us_per_tick"
+sed 's/"monitor_us_per_tick": 0.000001/"monitor_us_per_tick": 0/' "$tmp/cost_low.json" >"$tmp/cost_zero.json"
+run monitor_cost_floor_zero "$armfault" run "$tmp/cost_zero.json" -o "$tmp/cost_zero" -q
+expect_input_error "$tmp/cost_zero.json: /floors/monitor_us_per_tick: expected the monitor's mean time per tick in microseconds, > 0, got 0"
 
 echo "$passed passed, $failed failed"
 [[ $failed -eq 0 ]]

@@ -1,0 +1,136 @@
+#include "campaigns/monitor_cost.h"
+
+#include <malloc.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+
+#include "campaigns/runner.h"
+#include "core/base/json_input.h"
+
+namespace armfault {
+
+namespace {
+
+// Nearest rank: the sorted value at index ceil(q n) - 1, as summary.json's latency p95.
+double Quantile(std::vector<float> v, double q) {
+  const size_t n = v.size();
+  const size_t k = static_cast<size_t>(std::ceil(q * static_cast<double>(n))) - 1;
+  std::nth_element(v.begin(), v.begin() + static_cast<long>(k), v.end());
+  return v[k];
+}
+
+double Median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 == 1 ? v[n / 2] : (v[n / 2 - 1] + v[n / 2]) / 2;
+}
+
+// Rounded to 1 ns: the clock says no more.
+double Us(double us) { return std::round(us * 1e3) / 1e3; }
+
+double HeapBytes() {
+  const struct mallinfo2 m = mallinfo2();
+  return static_cast<double>(m.uordblks + m.hblkhd);
+}
+
+}  // namespace
+
+nlohmann::json MonitorClock::ToJson() const {
+  const long n = static_cast<long>(ticks_us_.size());
+  if (n == 0) {
+    return {{"ticks", 0}, {"mean_us", nullptr}, {"median_us", nullptr}, {"p99_us", nullptr}, {"max_us", nullptr},
+            {"finish_us", Us(finish_us_)}};
+  }
+  double total = 0;
+  for (float t : ticks_us_) total += t;
+  return {{"ticks", n},
+          {"mean_us", Us(total / static_cast<double>(n))},
+          {"median_us", Us(Quantile(ticks_us_, 0.5))},
+          {"p99_us", Us(Quantile(ticks_us_, 0.99))},
+          {"max_us", Us(*std::max_element(ticks_us_.begin(), ticks_us_.end()))},
+          {"finish_us", Us(finish_us_)}};
+}
+
+std::optional<double> ProbeMonitorHeapBytes(const Campaign& campaign) {
+  if (CaseCount(campaign) == 0) return std::nullopt;
+  std::vector<double> times;
+  std::vector<std::vector<JointSignals>> signals;
+  RunCase(campaign, CaseAt(campaign, 0), [&](const Tick& tick) {
+    times.push_back(tick.t_s);
+    std::vector<JointSignals> s;
+    for (const JointTick& j : *tick.joints) s.push_back(SignalsOf(j));
+    signals.push_back(std::move(s));
+  });
+  if (times.empty()) return std::nullopt;
+  try {
+    const double before = HeapBytes();
+    double peak = before;
+    std::unique_ptr<HealthMonitor> monitor = campaign.monitor_model->NewMonitor();
+    peak = std::max(peak, HeapBytes());
+    for (size_t k = 0; k < times.size(); ++k) {
+      monitor->Observe(times[k], signals[k]);
+      peak = std::max(peak, HeapBytes());
+    }
+    monitor->Finish(times.back());
+    peak = std::max(peak, HeapBytes());
+    return peak - before;
+  } catch (const std::exception&) {
+    return std::nullopt;  // the run's own record says why
+  }
+}
+
+nlohmann::json SummarizeMonitorCost(const std::filesystem::path& cost_path, std::optional<double> heap_bytes,
+                                    std::optional<double> floor_us_per_tick, const std::string& monitor_type) {
+  std::ifstream in(cost_path, std::ios::binary);
+  double total_us = 0, max_us = 0;
+  long ticks = 0, runs = 0;
+  std::vector<double> medians, p99s;
+  std::string line;
+  long n = 0;
+  while (std::getline(in, line)) {
+    ++n;
+    try {
+      const nlohmann::json j = nlohmann::json::parse(line);
+      const long t = j.at("ticks").get<long>();
+      if (t == 0) continue;
+      ++runs;
+      ticks += t;
+      total_us += j.at("mean_us").get<double>() * static_cast<double>(t);
+      medians.push_back(j.at("median_us").get<double>());
+      p99s.push_back(j.at("p99_us").get<double>());
+      max_us = std::max(max_us, j.at("max_us").get<double>());
+    } catch (const std::exception& e) {
+      throw InputError(cost_path.string(), "", "line " + std::to_string(n) + ": " + e.what());
+    }
+  }
+  nlohmann::json out = {{"monitor", monitor_type}, {"runs", runs}, {"ticks", ticks}};
+  const double mean = ticks > 0 ? total_us / static_cast<double>(ticks) : 0.0;
+  out["mean_us_per_tick"] = ticks > 0 ? nlohmann::json(Us(mean)) : nlohmann::json(nullptr);
+  out["median_of_run_medians_us"] = runs > 0 ? nlohmann::json(Us(Median(medians))) : nlohmann::json(nullptr);
+  out["max_of_run_medians_us"] = runs > 0 ? nlohmann::json(*std::max_element(medians.begin(), medians.end())) : nlohmann::json(nullptr);
+  out["median_of_run_p99s_us"] = runs > 0 ? nlohmann::json(Us(Median(p99s))) : nlohmann::json(nullptr);
+  out["max_of_run_p99s_us"] = runs > 0 ? nlohmann::json(*std::max_element(p99s.begin(), p99s.end())) : nlohmann::json(nullptr);
+  out["max_tick_us"] = runs > 0 ? nlohmann::json(max_us) : nlohmann::json(nullptr);
+  out["heap_bytes"] = heap_bytes ? nlohmann::json(*heap_bytes) : nlohmann::json(nullptr);
+  if (floor_us_per_tick) {
+    char message[200];
+    const bool met = ticks > 0 && mean <= *floor_us_per_tick;
+    if (ticks == 0) {
+      std::snprintf(message, sizeof message, "monitor_us_per_tick: no ticks measured, nothing to measure (floor <= %.3f)",
+                    *floor_us_per_tick);
+    } else {
+      std::snprintf(message, sizeof message, "monitor_us_per_tick %.3f %s %.3f (mean over %ld ticks of %ld runs)", mean,
+                    met ? "<=" : ">", *floor_us_per_tick, ticks, runs);
+    }
+    out["floor"] = {{"bound", *floor_us_per_tick},
+                    {"measured", ticks > 0 ? nlohmann::json(Us(mean)) : nlohmann::json(nullptr)},
+                    {"met", met},
+                    {"message", message}};
+  }
+  return out;
+}
+
+}  // namespace armfault

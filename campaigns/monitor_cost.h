@@ -1,0 +1,59 @@
+// What the monitor under test costs (issue 16): per run, the time of its Observe() calls per
+// tick (mean, median, 99th percentile, maximum) and of Finish(), written to monitor_cost.jsonl
+// beside results.jsonl; per campaign, their aggregate, the heap one monitor instance holds at
+// most over a run, and the optional floor "monitor_us_per_tick" (monitor_cost.json).
+//
+// These are measurements of this machine at this moment, so they live in files of their own:
+// results.jsonl, decisions.jsonl, summary.json and junit.xml stay bit-identical for any thread
+// count or shard split. Times are wall time (steady_clock) around each call on the run's own
+// thread, which a loaded machine inflates (the 99th percentile first); the heap is glibc's
+// allocated bytes (mallinfo2: in-use chunks plus mmapped blocks) while one monitor replays one
+// recorded run alone, before or after the parallel runs, so nothing else allocates meanwhile.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "campaigns/campaign.h"
+
+namespace armfault {
+
+// Times one run's monitor calls.
+class MonitorClock {
+ public:
+  void Start() { start_ = std::chrono::steady_clock::now(); }
+  void StopTick() { ticks_us_.push_back(Elapsed()); }
+  void StopFinish() { finish_us_ = Elapsed(); }
+  // {"ticks", "mean_us", "median_us", "p99_us", "max_us", "finish_us"}; null statistics when
+  // there was no tick.
+  nlohmann::json ToJson() const;
+
+ private:
+  float Elapsed() const {
+    return std::chrono::duration<float, std::micro>(std::chrono::steady_clock::now() - start_).count();
+  }
+  std::chrono::steady_clock::time_point start_;
+  std::vector<float> ticks_us_;
+  float finish_us_ = 0;
+};
+
+// The most heap (bytes) one fresh monitor of the campaign holds while it replays the signals
+// of the campaign's first case, above what the process held before it was made; nullopt when
+// the monitor fails on them. Simulates that case once. Call with no other thread allocating.
+std::optional<double> ProbeMonitorHeapBytes(const Campaign& campaign);
+
+// monitor_cost.json from a run directory's monitor_cost.jsonl (lines of ok runs): the mean over
+// every tick of every run (total time / total ticks), the median and the largest of the runs'
+// medians and 99th percentiles, the largest single tick, the runs and ticks counted, the heap
+// (`heap_bytes`, null when not measured) and, with a floor, its verdict
+// {"bound", "measured", "met", "message"}. Throws InputError naming the file and line on a bad
+// line.
+nlohmann::json SummarizeMonitorCost(const std::filesystem::path& cost_path, std::optional<double> heap_bytes,
+                                    std::optional<double> floor_us_per_tick, const std::string& monitor_type);
+
+}  // namespace armfault
