@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Issue 16's boundary benchmark (a benchmark script, not a timed test): K_T degradation of
 # joint 3 on two trajectories (campaigns/files/boundary-bench.json).
-#  1. the 400-run grid (kt_factor 0.80 ... 0.99 in 20 steps x 10 repetitions x 2 trajectories)
+#  1. the 400-run grid (kt_factor 0.900 ... 0.995 in 20 steps x 10 repetitions x 2 trajectories)
 #     with `armfault run`, and its a90/95 per trajectory by the same fit (`boundary --from`);
 #  2. the boundary search of the same file (`armfault boundary`);
 # then prints both estimates, their difference and the runs each used, and checks the target:
