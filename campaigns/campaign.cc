@@ -128,7 +128,8 @@ ParsedSweep ParseOnsetSweep(const nlohmann::json& v, const std::string& pointer)
   }
   if (!v.is_array() || v.empty()) {
     throw InputError("", pointer,
-                     "expected a condition {\"when\": ..., \"joint\": ...} or a non-empty list of them, got " + Describe(v));
+                     "expected a condition {\"when\": ..., \"joint\": ...} or a non-empty list of them (a time goes in "
+                     "onset_s), got " + Describe(v));
   }
   ErrorList errors;
   for (size_t i = 0; i < v.size(); ++i) {

@@ -245,6 +245,8 @@ void ApplyScore(const RunScore& score, RunRecord* r) {
   r->confidence = score.confidence;
 }
 
+namespace {
+
 // A fault with a conditional onset: when its condition fires in this run (faults/fault.h,
 // ResolveConditionalOnsets, on the run's own plant, seed and trajectories), and the record's
 // fire time; a condition that never fires (or too late to act) makes the run not injected, and
@@ -266,6 +268,8 @@ void ResolveConditionalOnset(const Campaign& campaign, const CaseSpec& cs, const
   r->not_injected_reason = NotInjectedReason(*fault, static_cast<double>(last_tick) * model.control_dt_s());
   if (!r->injected()) r->onset_s = static_cast<double>(last_tick + 1) * model.control_dt_s();
 }
+
+}  // namespace
 
 RunRecord RunCase(const Campaign& campaign, const CaseSpec& cs, const TickObserver& also, UnitMonitors* units) {
   RunRecord r;
