@@ -173,6 +173,10 @@ int FinishCampaignOutputs(const std::string& dir_name, const Campaign& campaign,
                 builder.not_excited_runs(), campaign.include_not_excited ? "scored, as the campaign asks" : "left out of the rates",
                 (dir / "summary.json").string().c_str());
   }
+  if (builder.not_injected_runs() > 0) {
+    std::printf("%ld runs not injected (their onset condition never fired; left out of the rates): see not_injected_runs in %s\n",
+                builder.not_injected_runs(), (dir / "summary.json").string().c_str());
+  }
   nlohmann::json summary = builder.Build(campaign.floors, campaign.resolved, ARMFAULT_VERSION);
   // An early-stopped run (`run --early-stop`): its decisions, which the exit status follows.
   std::map<std::string, bool> decided;

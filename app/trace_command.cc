@@ -96,13 +96,19 @@ int RunTrace(const TraceOptions& o) {
   const RunConfig run = RunConfigFromJson(BuildRunJson(o, &context), "", context);
   const ArmModel model(run.robot);
   const int n = model.joint_count();
-  std::vector<std::shared_ptr<const Fault>> faults;
+  std::vector<std::unique_ptr<Fault>> made;
   try {
-    for (auto& fault : MakeFaults(run.faults_json, "/faults", run.robot)) faults.push_back(std::move(fault));
+    made = MakeFaults(run.faults_json, "/faults", run.robot);
   } catch (const InputError& e) {
     throw e.WithSource(context.source);  // errors that name a file keep it
   }
   RunSpec spec = MakeRunSpec(run);
+  // Conditional onsets: when each fires in this run (faults/fault.h), before the run itself.
+  std::vector<Fault*> conditional;
+  for (auto& fault : made) conditional.push_back(fault.get());
+  ResolveConditionalOnsets(model, spec, conditional);
+  std::vector<std::shared_ptr<const Fault>> faults;
+  for (auto& fault : made) faults.push_back(std::move(fault));
   if (!faults.empty()) spec.hardware = std::make_shared<FaultSchedule>(faults);
   EffectRecorder effects(model, faults);
 
@@ -161,6 +167,14 @@ int RunTrace(const TraceOptions& o) {
       const FaultEffect& e = measured[k];
       std::printf("fault %s -> %s: healthy %.4g, faulty %.4g: %s\n", faults[k]->ToJson().dump().c_str(),
                   e.measure.c_str(), e.healthy, e.faulty, e.took_effect ? "took effect" : ("NO EFFECT (" + e.note + ")").c_str());
+      if (const FaultTiming& t = faults[k]->timing(); t.condition) {
+        const std::string not_injected = NotInjectedReason(*faults[k], result.end_time_s);
+        if (not_injected.empty()) {
+          std::printf("  onset condition (%s) fired at %.6g s: onset %.6g s\n", t.condition->Text().c_str(), t.fired_s, t.onset_s);
+        } else {
+          std::printf("  NOT INJECTED: %s\n", not_injected.c_str());
+        }
+      }
     }
   }
   if (!o.monitor_output.empty()) {

@@ -54,7 +54,7 @@ long CellOf(const Campaign& c, const std::vector<CellKey>& cells, const RunRecor
 }
 
 bool Scored(const Campaign& c, const SearchEntryRange& range, const RunRecord& r) {
-  return r.ok && (r.excited() || c.include_not_excited) && r.magnitude_key == range.key;
+  return r.ok && r.injected() && (r.excited() || c.include_not_excited) && r.magnitude_key == range.key;
 }
 
 // The complete lines at the start of results.jsonl that parse, in order.

@@ -20,7 +20,7 @@ namespace {
 constexpr long kMaxCases = 10'000'000;
 
 // Keys that time a fault rather than size it: not part of a scoring group.
-const std::set<std::string> kTimingKeys = {"onset_s", "profile", "ramp_s", "duration_s", "period_s"};
+const std::set<std::string> kTimingKeys = {"onset_s", "onset", "profile", "ramp_s", "duration_s", "period_s"};
 
 uint64_t Fnv1a(const std::string& s) {
   uint64_t h = 0xcbf29ce484222325ULL;
@@ -31,8 +31,19 @@ uint64_t Fnv1a(const std::string& s) {
 std::string ValueText(const nlohmann::json& v) {
   if (v.is_string()) return v.get<std::string>();
   if (v.is_number()) return FormatNumber(v.get<double>());
+  if (v.is_object()) {
+    // An onset condition: "<when>:<key>=<value>:..." in key order, without the ',' and '/'
+    // that separate a run_id's parts.
+    const auto when = v.find("when");
+    std::string text = when != v.end() && when->is_string() ? when->get<std::string>() : "?";
+    for (auto it = v.begin(); it != v.end(); ++it) {
+      if (it.key() != "when") text += ":" + it.key() + "=" + ValueText(it.value());
+    }
+    return text;
+  }
   return v.dump();
 }
+
 
 // A key's values. `swept` tells a list, grid or uniform from a single fixed value.
 struct ParsedSweep {
@@ -103,6 +114,34 @@ ParsedSweep ParseSweep(const nlohmann::json& v, const std::string& pointer, bool
   }
   check_element(v, pointer);
   p.sweep.values.push_back(v);
+  return p;
+}
+
+// The "onset" key of a fault entry: a condition object (one value) or a non-empty list of
+// them (a sweep); the conditions themselves are checked by the family (faults/onset_condition.h).
+ParsedSweep ParseOnsetSweep(const nlohmann::json& v, const std::string& pointer) {
+  ParsedSweep p;
+  p.sweep.pointer = pointer;
+  if (v.is_object()) {
+    p.sweep.values.push_back(v);
+    return p;
+  }
+  if (!v.is_array() || v.empty()) {
+    throw InputError("", pointer,
+                     "expected a condition {\"when\": ..., \"joint\": ...} or a non-empty list of them (a time goes in "
+                     "onset_s), got " + Describe(v));
+  }
+  ErrorList errors;
+  for (size_t i = 0; i < v.size(); ++i) {
+    errors.Try([&] {
+      if (!v[i].is_object()) {
+        throw InputError("", PointerJoin(pointer, i), "expected a condition {\"when\": ..., \"joint\": ...}, got " + Describe(v[i]));
+      }
+    });
+    p.sweep.values.push_back(v[i]);
+  }
+  errors.ThrowIfAny();
+  p.swept = true;
   return p;
 }
 
@@ -259,7 +298,8 @@ FaultEntry ParseFaultEntry(const nlohmann::json& v, const std::string& pointer, 
     if (it.key() == "family" || it.key() == "joint") continue;
     reader.Find(it.key());
     keys_ok &= errors.Try([&] {
-      ParsedSweep p = ParseSweep(it.value(), reader.PointerTo(it.key()), false);
+      ParsedSweep p = it.key() == "onset" ? ParseOnsetSweep(it.value(), reader.PointerTo(it.key()))
+                                          : ParseSweep(it.value(), reader.PointerTo(it.key()), false);
       e.keys.emplace_back(it.key(), p.sweep);
       swept.push_back(p.swept);
     });
@@ -315,6 +355,15 @@ FaultEntry ParseFaultEntry(const nlohmann::json& v, const std::string& pointer, 
         *at = value_pointer;
       } else if (const auto it = first_value_pointer.find(*at); it != first_value_pointer.end()) {
         *at = it->second;
+      } else if (const size_t slash = at->rfind(pointer + "/", 0) == 0 ? at->find('/', pointer.size() + 1) : std::string::npos;
+                 slash != std::string::npos) {
+        // Inside a key's value (an onset condition's "joint"): under that value's own pointer.
+        const std::string key = at->substr(0, slash), rest = at->substr(slash);
+        if (key == key_pointer) {
+          *at = value_pointer + rest;
+        } else if (const auto k = first_value_pointer.find(key); k != first_value_pointer.end()) {
+          *at = k->second + rest;
+        }
       }
     };
     for (bool retry = false;; retry = true) {

@@ -189,6 +189,14 @@ void SummaryBuilder::Add(const RunRecord& r) {
     return;
   }
   ++ok_runs_;
+  conditional_onset_runs_ += r.conditional_onset ? 1 : 0;
+  if (!r.family.empty() && !r.injected()) {
+    // Its onset condition never fired: no fault acted, so neither a detection nor a miss.
+    ++not_injected_runs_;
+    not_injected_listed_.emplace(r.run_id, r.not_injected_reason);
+    if (not_injected_listed_.size() > kMaxListedFailures) not_injected_listed_.erase(std::prev(not_injected_listed_.end()));
+    return;
+  }
   if (!r.family.empty() && !r.excited()) {
     ++not_excited_runs_;
     not_excited_listed_.emplace(r.run_id, r.not_excited_reason);
@@ -375,6 +383,15 @@ nlohmann::json SummaryBuilder::Build(const Floors& floors, const nlohmann::json&
                            {"included", include_not_excited_},
                            {"truncated", not_excited_runs_ > static_cast<long>(not_excited_listed_.size())},
                            {"runs", std::move(not_excited)}};
+  // Only for a campaign with conditional onsets, so other summaries are unchanged.
+  if (conditional_onset_runs_ > 0) {
+    nlohmann::json not_injected = nlohmann::json::array();
+    for (const auto& [run_id, reason] : not_injected_listed_) not_injected.push_back({{"run_id", run_id}, {"reason", reason}});
+    j["runs"]["not_injected"] = not_injected_runs_;
+    j["not_injected_runs"] = {{"count", not_injected_runs_},
+                              {"truncated", not_injected_runs_ > static_cast<long>(not_injected_listed_.size())},
+                              {"runs", std::move(not_injected)}};
+  }
   return j;
 }
 

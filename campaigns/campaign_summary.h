@@ -48,7 +48,9 @@
 //    "floors_met": all floors met (true if there are none),
 //    "failed_runs": {"count", "truncated", "runs": [{"run_id", "reason"}]},
 //                   (the 100 smallest run_ids, sorted, so the list is independent of order)
-//    "not_excited_runs": {"count", "included", "truncated", "runs": [{"run_id", "reason"}]}}
+//    "not_excited_runs": {"count", "included", "truncated", "runs": [{"run_id", "reason"}]},
+//    "not_injected_runs": {"count", "truncated", "runs": [{"run_id", "reason"}]}}  (only with
+//   conditional onsets: runs whose condition never fired, outside every rate; also "runs.not_injected")
 //                   (likewise; faulty runs whose fault could not act on anything a monitor
 //                    sees: left out of every rate unless "included")
 //   Every scope also reports "not_excited": its faulty runs that could not act.
@@ -136,6 +138,8 @@ class SummaryBuilder {
 
   long runs() const { return ok_runs_ + failed_runs_; }  // every record added
   long not_excited_runs() const { return not_excited_runs_; }
+  // ok faulty runs whose conditional onset never fired (RunRecord::injected), outside every rate
+  long not_injected_runs() const { return not_injected_runs_; }
   bool includes_not_excited() const { return include_not_excited_; }  // ok faulty runs that could not act
   long failed_runs() const { return failed_runs_; }
   // The tally of every (group, family) cell, sorted: for tools that compare or re-pool
@@ -163,6 +167,9 @@ class SummaryBuilder {
   std::multiset<std::pair<std::string, std::string>> not_excited_listed_;  // (run_id, reason)
   bool include_not_excited_ = false;
   long not_excited_runs_ = 0;
+  std::multiset<std::pair<std::string, std::string>> not_injected_listed_;  // (run_id, reason)
+  long not_injected_runs_ = 0;
+  long conditional_onset_runs_ = 0;  // ok runs whose fault has a conditional onset
   long ok_runs_ = 0;
   long failed_runs_ = 0;
 };

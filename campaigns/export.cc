@@ -379,7 +379,7 @@ ScoreResult ScoreExternalVerdicts(const Campaign& campaign, const std::string& d
       while (tick * tick_s < r.onset_s) ++tick;
       first_tick_s = tick * tick_s;
     }
-    if (r.ok) {
+    if (r.ok && r.injected()) {  // a conditional onset that never fired has nothing to score
       const RunScore score = ScoreVerdicts(outputs[k], r.onset_s, first_tick_s);
       ApplyScore(score, &r);
       r.miss_reason = ExplainFromVerdicts(score, r.family, r.joint);

@@ -47,7 +47,7 @@ nlohmann::json ToJson(const RunRecord& r) {
   j["fault"] = r.fault;
   j["family"] = StrOrNull(r.family);
   j["joint"] = r.joint == 0 ? nlohmann::json(nullptr) : nlohmann::json(r.joint);
-  j["onset_s"] = r.family.empty() ? nlohmann::json(nullptr) : nlohmann::json(RoundToMicroseconds(r.onset_s));
+  j["onset_s"] = r.family.empty() || !r.injected() ? nlohmann::json(nullptr) : nlohmann::json(RoundToMicroseconds(r.onset_s));
   j["magnitude_key"] = StrOrNull(r.magnitude_key);
   j["magnitude"] = r.magnitude_key.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.magnitude);
   j["group"] = r.group;
@@ -69,6 +69,10 @@ nlohmann::json ToJson(const RunRecord& r) {
   j["confidence"] = r.confidence;
   j["alarm_before_onset"] = r.alarm_before_onset;
   j["miss_reason"] = StrOrNull(r.miss_reason);
+  if (r.conditional_onset) {
+    j["onset_fired_s"] = OptTime(r.onset_fired_s);
+    j["not_injected_reason"] = StrOrNull(r.not_injected_reason);
+  }
   return j;
 }
 
@@ -107,6 +111,12 @@ RunRecord RunRecordFromJson(const nlohmann::json& j) {
   r.confidence = As<double>(j, "confidence");
   r.alarm_before_onset = As<bool>(j, "alarm_before_onset");
   if (const auto it = j.find("miss_reason"); it != j.end() && !it->is_null()) r.miss_reason = As<std::string>(j, "miss_reason");
+  // Only for a conditional onset.
+  if (const auto it = j.find("onset_fired_s"); it != j.end()) {
+    r.conditional_onset = true;
+    r.onset_fired_s = OptDouble(j, "onset_fired_s");
+    r.not_injected_reason = StrOrEmpty(j, "not_injected_reason");
+  }
   // Written inline by older versions; now in decisions.jsonl.
   if (const auto it = j.find("decision"); it != j.end()) r.decision = *it;
   return r;

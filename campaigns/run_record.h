@@ -48,6 +48,15 @@ struct RunRecord {
   // alarmed: the strongest statistic against its threshold, the gate that never opened, or
   // what won instead. "" for a run scored right.
   std::string miss_reason;
+  // A conditional onset (the fault's "onset": {...}, faults/onset_condition.h): the time its
+  // condition fired (onset_s is this + its delay_s), unset if it never fired; and, non-empty,
+  // why the fault never acted (it never fired, or too late): such a run is "not injected",
+  // neither a detection nor a miss, listed apart and left out of every rate. Written only for
+  // a fault with a conditional onset, so other records are unchanged.
+  bool conditional_onset = false;
+  std::optional<double> onset_fired_s;
+  std::string not_injected_reason;
+  bool injected() const { return not_injected_reason.empty(); }
   // The monitor's decision statistics (DecisionStats JSON, core/monitors/detector_statistics.h): what
   // `armfault tune` re-scores thresholds from. Null for a run that could not be set up. Kept
   // in memory only: written to decisions.jsonl (DecisionLineJson), not by ToJson; read from

@@ -8,6 +8,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
@@ -267,6 +268,32 @@ void ApplyScore(const RunScore& score, RunRecord* r) {
   r->confidence = score.confidence;
 }
 
+namespace {
+
+// A fault with a conditional onset: when its condition fires in this run (faults/fault.h,
+// ResolveConditionalOnsets, on the run's own plant, seed and trajectories), and the record's
+// fire time; a condition that never fires (or too late to act) makes the run not injected, and
+// it is then scored against an onset after its last tick (so every alarm is before it).
+void ResolveConditionalOnset(const Campaign& campaign, const CaseSpec& cs, const ArmModel& model, Fault* fault,
+                             RunRecord* r) {
+  RunSpec spec;
+  spec.duration_s = campaign.duration_s;
+  spec.seed = cs.seed;
+  spec.ambient_C = cs.ambient_C;
+  spec.joints.resize(static_cast<size_t>(model.joint_count()));
+  for (const auto& [joint, trajectory] : campaign.trajectories[cs.trajectory].parsed) {
+    spec.joints[joint - 1].trajectory = trajectory;
+  }
+  ResolveConditionalOnsets(model, spec, {fault});
+  r->conditional_onset = true;
+  if (!std::isnan(fault->timing().fired_s)) r->onset_fired_s = fault->timing().fired_s;
+  const long last_tick = std::lround(campaign.duration_s / model.control_dt_s());
+  r->not_injected_reason = NotInjectedReason(*fault, static_cast<double>(last_tick) * model.control_dt_s());
+  if (!r->injected()) r->onset_s = static_cast<double>(last_tick + 1) * model.control_dt_s();
+}
+
+}  // namespace
+
 RunRecord RunCase(const Campaign& campaign, const CaseSpec& cs, const TickObserver& also, UnitMonitors* units) {
   RunRecord r;
   r.case_index = cs.index;
@@ -293,11 +320,13 @@ RunRecord RunCase(const Campaign& campaign, const CaseSpec& cs, const TickObserv
     const ArmModel model(robot);
     std::vector<std::shared_ptr<const Fault>> faults;
     if (!cs.fault.is_null()) {
-      faults.push_back(MakeFault(cs.fault, "/fault", robot));
+      std::unique_ptr<Fault> made = MakeFault(cs.fault, "/fault", robot);
+      if (made->timing().condition) ResolveConditionalOnset(campaign, cs, model, made.get(), &r);
+      faults.push_back(std::move(made));
       const Fault& f = *faults[0];
       r.family = f.family();
       r.joint = f.joint_index() + 1;
-      r.onset_s = f.timing().onset_s;
+      if (r.injected()) r.onset_s = f.timing().onset_s;
       r.magnitude_key = FaultMagnitudeKey(r.family);
       if (!r.magnitude_key.empty() && cs.fault.contains(r.magnitude_key) && cs.fault[r.magnitude_key].is_number()) {
         r.magnitude = cs.fault[r.magnitude_key].get<double>();
@@ -351,7 +380,7 @@ RunRecord RunCase(const Campaign& campaign, const CaseSpec& cs, const TickObserv
     if (!faults.empty()) {
       const FaultEffect effect = effects.Results()[0];
       r.effect = effect.ToJson();
-      r.not_excited_reason = NotExcitedReason(*faults[0], effect);
+      r.not_excited_reason = r.injected() ? NotExcitedReason(*faults[0], effect) : "";
     }
     if (tap) r.decision = tap->Statistics();
     // A monitor that breaks the contract (a joint that does not exist, a NaN, time running
@@ -366,7 +395,7 @@ RunRecord RunCase(const Campaign& campaign, const CaseSpec& cs, const TickObserv
     // Scored from the verdicts alone, as for any monitor (core/monitors/monitor.h).
     const RunScore score = ScoreVerdicts(monitor->output(), r.onset_s, first_tick_s);
     ApplyScore(score, &r);
-    if (result.ok) {
+    if (result.ok && r.injected()) {
       r.miss_reason = tap ? tap->Explain(score, r.family, r.joint) : ExplainFromVerdicts(score, r.family, r.joint);
     }
   } catch (const std::exception& e) {

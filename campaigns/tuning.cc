@@ -1012,6 +1012,7 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
         ++failed;
         continue;
       }
+      if (!rec.injected()) continue;  // its onset condition never fired: no fault to detect
       const std::string decision_file = separate ? decisions_path.string() : results_path.string();
       if (!power && decision.is_null()) throw InputError(campaign_path.string(), "/campaign/monitor/type", cannot_sweep);
       RunTable r;

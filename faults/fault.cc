@@ -199,7 +199,11 @@ nlohmann::json Fault::ToJson() const {
   nlohmann::json j = {{"family", family_}, {"joint", joint_index_ + 1}};
   const nlohmann::json parameters = Parameters();
   for (auto it = parameters.begin(); it != parameters.end(); ++it) j[it.key()] = it.value();
-  j["onset_s"] = timing_.onset_s;
+  if (timing_.condition) {
+    j["onset"] = timing_.condition->input;
+  } else {
+    j["onset_s"] = timing_.onset_s;
+  }
   j["profile"] = ProfileName(timing_.profile);
   if (timing_.profile == FaultProfile::kIncipient) j["ramp_s"] = timing_.ramp_s;
   if (timing_.profile == FaultProfile::kIntermittent) {
@@ -260,7 +264,7 @@ std::string NotExcitedReason(const Fault& fault, const FaultEffect& effect) {
 
 FaultCommon ReadFaultCommon(ObjectReader& reader, const RobotConfig& robot, std::initializer_list<const char*> own_keys,
                             ErrorList* errors) {
-  std::vector<std::string> keys = {"family", "joint", "onset_s", "profile", "ramp_s", "period_s", "duty"};
+  std::vector<std::string> keys = {"family", "joint", "onset_s", "onset", "profile", "ramp_s", "period_s", "duty"};
   for (const char* k : own_keys) keys.push_back(k);
   errors->Try([&] { reader.AllowOnly(keys); });
   FaultCommon c;
@@ -279,6 +283,19 @@ FaultCommon ReadFaultCommon(ObjectReader& reader, const RobotConfig& robot, std:
     reader.OptionalNumber("onset_s", &c.timing.onset_s);
     RequireAtLeast(c.timing.onset_s, 0.0, reader.PointerTo("onset_s"));
   });
+  // A conditional onset: a condition on the plant's truth instead of a time (onset_condition.h).
+  if (reader.Has("onset")) {
+    errors->Try([&] {
+      if (reader.Has("onset_s")) {
+        throw InputError("", reader.PointerTo("onset"),
+                         "give either onset_s (a time) or onset (a condition), not both (" + reader.PointerTo("onset_s") +
+                             " is given too)");
+      }
+      c.timing.condition =
+          std::make_shared<const OnsetCondition>(ReadOnsetCondition(*reader.Find("onset"), reader.PointerTo("onset"), robot));
+      c.timing.onset_s = std::numeric_limits<double>::infinity();  // until it fires
+    });
+  }
   std::string profile = "abrupt";
   const bool profile_ok = errors->Try([&] {
     reader.OptionalString("profile", &profile);

@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -19,6 +20,7 @@
 #include "core/base/json_input.h"
 #include "core/plant/robot_config.h"
 #include "core/plant/simulation.h"
+#include "faults/onset_condition.h"
 
 namespace armfault {
 
@@ -29,8 +31,13 @@ enum class FaultProfile { kAbrupt, kIncipient, kIntermittent };
 //   incipient:    rises linearly from 0 at onset_s to 1 at onset_s + ramp_s;
 //   intermittent: 1 during the first duty x period_s of every period_s from onset_s, else 0.
 // Discrete faults (a stuck lead, a short) are present while the severity is at least 0.5.
+// A conditional onset ("onset": {...}, faults/onset_condition.h) has onset_s = +infinity (the
+// fault never acts) until it fires: then fired_s is the fire time and onset_s = fired_s +
+// its delay_s, and the profile runs from there as for any onset.
 struct FaultTiming {
   double onset_s = 0.0;
+  std::shared_ptr<const OnsetCondition> condition;  // null: onset_s as given
+  double fired_s = std::numeric_limits<double>::quiet_NaN();  // the condition's fire time, NaN before
   FaultProfile profile = FaultProfile::kAbrupt;
   double ramp_s = 1.0;
   double period_s = 1.0;
@@ -83,6 +90,8 @@ class Fault {
 
   // The whole fault as JSON, in the input shape.
   nlohmann::json ToJson() const;
+  // A conditional onset fired at fired_s: the fault acts from fired_s + the condition's delay_s.
+  void FireOnset(double fired_s);
 
  private:
   std::string family_;
@@ -111,6 +120,20 @@ bool FaultIsDiscrete(const std::string& family);
 // still although its signature needs motion, its effect had nothing to act on (too few
 // informative samples after the onset), or a discrete fault took no effect.
 std::string NotExcitedReason(const Fault& fault, const FaultEffect& effect);
+
+// Resolves the conditional onsets among `faults` (timing().condition, not yet fired) by
+// simulating `run` with the faults acting (run.hardware is replaced): each condition is
+// watched on the plant's truth at every controller tick and FireOnset is called at the first
+// tick it holds; one that never holds stays unfired (the fault never acts). The simulation is
+// deterministic and a fault does nothing before its onset, so the real run, with the resolved
+// onsets, passes through the same states and its conditions fire at the same ticks. A pass
+// stops at the earliest onset it found; a condition that fired after it is watched again in
+// a further pass with that fault acting. Returns the passes simulated (0 when none is pending).
+int ResolveConditionalOnsets(const ArmModel& model, const RunSpec& run, const std::vector<Fault*>& faults);
+// Why a fault with a conditional onset never acted in a run that ended at end_s ("" when it
+// did, or when its onset is not conditional): its condition never fired, or it fired so late
+// that fire time + delay_s is after the end.
+std::string NotInjectedReason(const Fault& fault, double end_s);
 
 // All faults of a run as the plant's hardware schedule.
 class FaultSchedule : public HardwareSchedule {

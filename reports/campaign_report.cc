@@ -1460,6 +1460,7 @@ ReportData GatherReportData(const ReportOptions& options) {
         ++d.wrong_count;
       }
       if (!r.ok || r.family.empty()) continue;
+      if (!r.injected()) continue;  // its onset condition never fired: as summary.json, outside the rates
       if (!r.excited()) {
         if (d.not_excited.size() < ReportData::kListedRuns) d.not_excited.push_back({r.run_id, r.not_excited_reason});
         ++d.not_excited_count;

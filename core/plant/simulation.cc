@@ -457,7 +457,7 @@ RunResult Simulate(const ArmModel& model, const RunSpec& spec, const TickObserve
         return result;
       }
     }
-    if (k >= total_ticks) break;
+    if (k >= total_ticks || (spec.stop && spec.stop())) break;
 
     // --- physics steps until the next tick ---
     for (int s = 0; s < steps; ++s) {

@@ -102,6 +102,9 @@ struct RunSpec {
   double ambient_C = 20.0;  // the windings start here and cool towards it
   std::vector<JointRunOptions> joints;  // one per joint, or empty for all defaults
   std::shared_ptr<const HardwareSchedule> hardware;  // null: healthy
+  // Optional: asked after every tick's observer; true ends the run at that tick (a search for
+  // a conditional onset stops there, faults/fault.h ResolveConditionalOnsets).
+  std::function<bool()> stop;
 };
 
 // One joint at one controller tick. Sensor values are what the joint's controller (and a

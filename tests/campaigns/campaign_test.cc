@@ -164,7 +164,7 @@ TEST(CampaignParseAllErrors, EveryUnknownKeyIsItsOwnError) {
     {"op": "add", "path": "/durations", "value": 3},
     {"op": "add", "path": "/trajectories/0/joints/3/omga_rad_s", "value": 1},
     {"op": "add", "path": "/faults/0/kt_factr", "value": 0.5},
-    {"op": "add", "path": "/faults/0/onset", "value": 0.5},
+    {"op": "add", "path": "/faults/0/onset_sec", "value": 0.5},
     {"op": "add", "path": "/floors/detection_rte", "value": 0.5},
     {"op": "add", "path": "/monitor", "value": {"debounce": 1, "kt_factor": {"wron": 0.9}}}])"));
   EXPECT_THAT(Texts(ErrorOf([&] { Parse(bad); })),
@@ -172,7 +172,7 @@ TEST(CampaignParseAllErrors, EveryUnknownKeyIsItsOwnError) {
                   "c.json: /durations: unknown key \"durations\"; did you mean \"duration_s\"?",
                   "c.json: /trajectories/0/joints/3/omga_rad_s: unknown key \"omga_rad_s\"; did you mean \"omega_rad_s\"?",
                   "c.json: /faults/0/kt_factr: kt_degradation: unknown key \"kt_factr\"; did you mean \"kt_factor\"?",
-                  "c.json: /faults/0/onset: kt_degradation: unknown key \"onset\"; did you mean \"onset_s\"?",
+                  "c.json: /faults/0/onset_sec: kt_degradation: unknown key \"onset_sec\"; did you mean \"onset_s\"?",
                   "c.json: /monitor/debounce: unknown key \"debounce\"; did you mean \"debounce_s\"?",
                   "c.json: /monitor/kt_factor/wron: unknown key \"wron\"; did you mean \"worn\"?",
                   "c.json: /floors/detection_rte: unknown key \"detection_rte\"; did you mean \"detection_rate\"?"));
