@@ -7,6 +7,7 @@
 #include "app/commands.h"
 #include "campaigns/runner.h"
 #include "campaigns/merge.h"
+#include "campaigns/monitor_cost.h"
 
 namespace armfault {
 
@@ -30,9 +31,21 @@ int MergeCommand(const MergeOptions& o) {
   const MergeResult merged = MergeShards(o.input_dirs, o.output_dir);
   std::printf("campaign %s: merged %d shards, %ld runs -> %s\n", merged.campaign.name.c_str(), merged.shards,
               merged.runs, o.output_dir.c_str());
-  const int status = FinishCampaignOutputs(o.output_dir, merged.campaign);
-  std::printf("wrote %s/campaign.json, results.jsonl, decisions.jsonl, results.csv, summary.json, junit.xml\n",
-              o.output_dir.c_str());
+  int status = FinishCampaignOutputs(o.output_dir, merged.campaign);
+  // The monitor's cost (campaigns/monitor_cost.h), when every shard measured it.
+  const bool cost = MergeMonitorCost(o.input_dirs, o.output_dir, merged.campaign.floors.monitor_us_per_tick,
+                                     merged.campaign.monitor.type);
+  if (cost) {
+    const nlohmann::json c = ReadJsonFile((std::filesystem::path(o.output_dir) / "monitor_cost.json").string());
+    if (c.contains("floor")) {
+      const bool met = c["floor"]["met"].get<bool>();
+      std::printf("floor %-50s %s  %s\n", "monitor_us_per_tick", met ? "met   " : "MISSED",
+                  c["floor"]["message"].get<std::string>().c_str());
+      if (!met && status == 0) status = 1;
+    }
+  }
+  std::printf("wrote %s/campaign.json, results.jsonl, decisions.jsonl, results.csv, summary.json, junit.xml%s\n",
+              o.output_dir.c_str(), cost ? ", monitor_cost.jsonl, monitor_cost.json" : "");
   return status;
 }
 

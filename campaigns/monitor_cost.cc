@@ -133,4 +133,45 @@ nlohmann::json SummarizeMonitorCost(const std::filesystem::path& cost_path, std:
   return out;
 }
 
+bool MergeMonitorCost(const std::vector<std::string>& shard_dirs, const std::filesystem::path& out,
+                      std::optional<double> floor_us_per_tick, const std::string& monitor_type) {
+  namespace fs = std::filesystem;
+  std::vector<std::unique_ptr<std::ifstream>> inputs;
+  std::optional<double> heap;
+  for (const std::string& dir : shard_dirs) {
+    const fs::path lines = fs::path(dir) / "monitor_cost.jsonl";
+    if (!fs::exists(lines)) {
+      std::error_code ec;
+      fs::remove(out / "monitor_cost.jsonl", ec);
+      fs::remove(out / "monitor_cost.json", ec);
+      return false;
+    }
+    inputs.push_back(std::make_unique<std::ifstream>(lines, std::ios::binary));
+    if (const fs::path summary = fs::path(dir) / "monitor_cost.json"; fs::exists(summary)) {
+      const nlohmann::json j = ReadJsonFile(summary.string());
+      if (j.contains("heap_bytes") && j["heap_bytes"].is_number()) {
+        heap = std::max(heap.value_or(0.0), j["heap_bytes"].get<double>());
+      }
+    }
+  }
+  const fs::path tmp = out / "monitor_cost.jsonl.tmp";
+  {
+    std::ofstream merged(tmp, std::ios::binary | std::ios::trunc);
+    for (bool more = true; more;) {
+      more = false;
+      for (auto& in : inputs) {
+        std::string line;
+        if (!std::getline(*in, line)) continue;
+        merged << line << '\n';
+        more = true;
+      }
+    }
+    if (!merged) throw InputError(tmp.string(), "", "cannot write the file");
+  }
+  fs::rename(tmp, out / "monitor_cost.jsonl");
+  WriteAtomically(out / "monitor_cost.json",
+                  SummarizeMonitorCost(out / "monitor_cost.jsonl", heap, floor_us_per_tick, monitor_type).dump(2) + "\n");
+  return true;
+}
+
 }  // namespace armfault

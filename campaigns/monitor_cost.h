@@ -56,4 +56,11 @@ std::optional<double> ProbeMonitorHeapBytes(const Campaign& campaign);
 nlohmann::json SummarizeMonitorCost(const std::filesystem::path& cost_path, std::optional<double> heap_bytes,
                                     std::optional<double> floor_us_per_tick, const std::string& monitor_type);
 
+// `merge`: the shards' monitor_cost.jsonl joined in case order (shard K holds cases K, K + N, ...:
+// one line from each in turn, streamed) into `out`, and monitor_cost.json from it with the
+// largest heap the shards measured. Returns false, writing nothing, when a shard has no
+// monitor_cost.jsonl (an older armfault's, or one run with --summary-only).
+bool MergeMonitorCost(const std::vector<std::string>& shard_dirs, const std::filesystem::path& out,
+                      std::optional<double> floor_us_per_tick, const std::string& monitor_type);
+
 }  // namespace armfault

@@ -83,5 +83,31 @@ TEST(MonitorCost, ALinePerRunThatResumeKeepsAndNothingElseChanges) {
   EXPECT_GT(ProbeMonitorHeapBytes(c).value_or(-1), 0.0);
 }
 
+TEST(MonitorCost, MergeJoinsTheShardsLinesInCaseOrder) {
+  ScratchDir dir("monitor_cost_merge");
+  const std::string line = R"(,"ticks":10,"mean_us":1,"median_us":1,"p99_us":2,"max_us":3,"finish_us":1})";
+  std::filesystem::create_directories(dir.path() / "s0");
+  std::filesystem::create_directories(dir.path() / "s1");
+  std::filesystem::create_directories(dir.path() / "out");
+  dir.Write("s0/monitor_cost.jsonl", "{\"case\":0" + line + "\n{\"case\":2" + line + "\n{\"case\":4" + line + "\n");
+  dir.Write("s1/monitor_cost.jsonl", "{\"case\":1" + line + "\n{\"case\":3" + line + "\n");
+  dir.Write("s1/monitor_cost.json", R"({"heap_bytes": 512})");
+  const std::vector<std::string> shards = {(dir.path() / "s0").string(), (dir.path() / "s1").string()};
+  ASSERT_TRUE(MergeMonitorCost(shards, dir.path() / "out", 0.5, "x"));
+  std::istringstream merged(ReadAll(dir.path() / "out" / "monitor_cost.jsonl"));
+  long n = 0;
+  for (std::string l; std::getline(merged, l); ++n) EXPECT_EQ(json::parse(l)["case"], n);
+  EXPECT_EQ(n, 5);
+  const json summary = json::parse(ReadAll(dir.path() / "out" / "monitor_cost.json"));
+  EXPECT_EQ(summary["ticks"], 50);
+  EXPECT_EQ(summary["heap_bytes"], 512.0);
+  EXPECT_EQ(summary["floor"]["met"], false);
+  // A shard without the file: nothing merged, and no stale file left.
+  std::filesystem::remove(dir.path() / "s1" / "monitor_cost.jsonl");
+  EXPECT_FALSE(MergeMonitorCost(shards, dir.path() / "out", std::nullopt, "x"));
+  EXPECT_FALSE(std::filesystem::exists(dir.path() / "out" / "monitor_cost.jsonl"));
+  EXPECT_FALSE(std::filesystem::exists(dir.path() / "out" / "monitor_cost.json"));
+}
+
 }  // namespace
 }  // namespace armfault
