@@ -255,6 +255,24 @@ std::string EarlyStopSummaryLine(const nlohmann::json& report) {
   return line;
 }
 
+void ScoreCompoundElements(const MonitorOutput& output, RunRecord* r) {
+  if (!r->is_compound()) return;
+  for (nlohmann::json& e : r->compound) {
+    const double onset = e.value("onset_s", 0.0);
+    const std::string family = e.value("family", "");
+    const int joint = e.value("joint", 0);
+    std::optional<double> found;
+    for (const Verdict& v : output.verdicts) {
+      if (v.alarm && v.t_s >= onset && v.family == family && v.joint == joint) {
+        found = v.t_s;
+        break;
+      }
+    }
+    e["isolated"] = found.has_value();
+    e["detection_time_s"] = found ? nlohmann::json(RoundToMicroseconds(*found)) : nlohmann::json(nullptr);
+  }
+}
+
 void ApplyScore(const RunScore& score, RunRecord* r) {
   r->alarm_before_onset = score.alarm_before_onset;
   r->detected = score.detected;
@@ -319,7 +337,28 @@ RunRecord RunCase(const Campaign& campaign, const CaseSpec& cs, const TickObserv
     const RobotConfig robot = CaseRobot(campaign, cs);
     const ArmModel model(robot);
     std::vector<std::shared_ptr<const Fault>> faults;
-    if (!cs.fault.is_null()) {
+    const bool compound = cs.fault.is_object() && cs.fault.contains("compound");
+    if (compound) {
+      // Every element on the schedule: they act together. The record's onset is the earliest.
+      r.family = "compound";
+      r.joint = 0;
+      r.compound = nlohmann::json::array();
+      const nlohmann::json& elements = cs.fault.at("compound");
+      for (size_t i = 0; i < elements.size(); ++i) {
+        std::shared_ptr<const Fault> made =
+            MakeFault(elements[i], "/fault/compound/" + std::to_string(i), robot);
+        nlohmann::json e = {{"family", made->family()},
+                            {"joint", made->joint_index() + 1},
+                            {"onset_s", RoundToMicroseconds(made->timing().onset_s)}};
+        const std::string key = FaultMagnitudeKey(made->family());
+        const bool sized = !key.empty() && elements[i].contains(key) && elements[i][key].is_number();
+        e["magnitude_key"] = sized ? nlohmann::json(key) : nlohmann::json(nullptr);
+        e["magnitude"] = sized ? elements[i][key] : nlohmann::json(nullptr);
+        r.onset_s = i == 0 ? made->timing().onset_s : std::min(r.onset_s, made->timing().onset_s);
+        r.compound.push_back(std::move(e));
+        faults.push_back(std::move(made));
+      }
+    } else if (!cs.fault.is_null()) {
       std::unique_ptr<Fault> made = MakeFault(cs.fault, "/fault", robot);
       if (made->timing().condition) ResolveConditionalOnset(campaign, cs, model, made.get(), &r);
       faults.push_back(std::move(made));
@@ -377,7 +416,22 @@ RunRecord RunCase(const Campaign& campaign, const CaseSpec& cs, const TickObserv
     }
     r.ok = result.ok;
     r.failure_reason = result.failure_reason;
-    if (!faults.empty()) {
+    if (compound) {
+      // Each element's own effect; the run is not excited only if no element could act.
+      const std::vector<FaultEffect> results = effects.Results();
+      std::string reasons;
+      bool any_excited = false;
+      r.effect = nlohmann::json::array();
+      for (size_t i = 0; i < faults.size(); ++i) {
+        const std::string reason = NotExcitedReason(*faults[i], results[i]);
+        r.effect.push_back(results[i].ToJson());
+        r.compound[i]["effect"] = results[i].ToJson();
+        r.compound[i]["excited"] = reason.empty();
+        any_excited = any_excited || reason.empty();
+        reasons += (reasons.empty() ? "" : "; ") + std::string("element ") + std::to_string(i) + ": " + reason;
+      }
+      r.not_excited_reason = any_excited ? "" : reasons;
+    } else if (!faults.empty()) {
       const FaultEffect effect = effects.Results()[0];
       r.effect = effect.ToJson();
       r.not_excited_reason = r.injected() ? NotExcitedReason(*faults[0], effect) : "";
@@ -395,7 +449,19 @@ RunRecord RunCase(const Campaign& campaign, const CaseSpec& cs, const TickObserv
     // Scored from the verdicts alone, as for any monitor (core/monitors/monitor.h).
     const RunScore score = ScoreVerdicts(monitor->output(), r.onset_s, first_tick_s);
     ApplyScore(score, &r);
-    if (result.ok && r.injected()) {
+    if (compound) {
+      ScoreCompoundElements(monitor->output(), &r);
+      if (result.ok && (!r.detected || !IsolatedRight(r))) {
+        // Explained against the earliest element (the one the first alarm should have named).
+        size_t first = 0;
+        for (size_t i = 1; i < faults.size(); ++i) {
+          if (faults[i]->timing().onset_s < faults[first]->timing().onset_s) first = i;
+        }
+        const std::string family = faults[first]->family();
+        const int joint = faults[first]->joint_index() + 1;
+        r.miss_reason = tap ? tap->Explain(score, family, joint) : ExplainFromVerdicts(score, family, joint);
+      }
+    } else if (result.ok && r.injected()) {
       r.miss_reason = tap ? tap->Explain(score, r.family, r.joint) : ExplainFromVerdicts(score, r.family, r.joint);
     }
   } catch (const std::exception& e) {
@@ -432,6 +498,8 @@ RunnerResult RunCampaign(const Campaign& campaign, const RunnerOptions& o) {
   auto case_at_position = [&](size_t k) {
     return order ? order->CaseIndex(static_cast<long>(k)) : o.shard.CaseIndex(static_cast<long>(k));
   };
+  // A compound case's family is "compound": a faulty case for the overall floors, in no
+  // per_family scope (EarlyStop::Scope::Holds).
   auto family_of = [](const CaseSpec& spec) { return spec.fault.is_null() ? std::string() : spec.fault.value("family", ""); };
 
   // The shard's cases by index (CaseAt): nothing is held per case, so memory stays flat in
