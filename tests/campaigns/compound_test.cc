@@ -275,3 +275,23 @@ TEST(CompoundCampaign, ResultsAreIdenticalForAnyThreadCount) {
 
 }  // namespace
 }  // namespace armfault
+
+namespace armfault {
+namespace {
+
+// --early-stop: a compound case is a faulty case for the overall floors, in no family's scope.
+TEST(CompoundCampaign, EarlyStopScopesCountCompoundCasesAsFaulty) {
+  nlohmann::json overall = WithCompound();
+  overall["floors"] = {{"detection_rate", 0.5}};
+  const Campaign c = Parse(overall);
+  EXPECT_TRUE(EarlyStop(c, EarlyStopOptions()).Needed("compound"));
+  nlohmann::json family = WithCompound();
+  family["floors"] = nlohmann::json::parse(R"({"per_family": {"kt_degradation": {"detection_rate": 0.5}}})");
+  const Campaign f = Parse(family);
+  const EarlyStop per_family(f, EarlyStopOptions());
+  EXPECT_FALSE(per_family.Needed("compound"));
+  EXPECT_TRUE(per_family.Needed("kt_degradation"));
+}
+
+}  // namespace
+}  // namespace armfault
