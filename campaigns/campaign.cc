@@ -450,10 +450,8 @@ FaultEntry ParseCompoundEntry(const nlohmann::json& v, const std::string& pointe
           const std::string kp = PointerJoin(ep, it.key());
           if (it.key() == "compound") {
             shape.Add(InputError("", kp, "a compound fault cannot hold another compound fault"));
-          } else if (it.key() == "onset") {
-            shape.Add(InputError("", kp, "a compound element takes its onset as a time in onset_s; conditional onsets "
-                                         "are not supported in compound faults, got " + Describe(it.value())));
-          } else if (it.value().is_array() || it.value().is_object()) {
+          } else if (it.value().is_array() || (it.value().is_object() && it.key() != "onset")) {
+            // (An "onset" object is one condition: a single value.)
             shape.Add(InputError("", kp, "compound elements take single values (no lists, grids or uniforms), got " +
                                              Describe(it.value())));
           }

@@ -62,6 +62,10 @@ TEST(CompoundCampaign, ErrorsPointIntoTheElement) {
        "-1"},
       {R"([{"op": "replace", "path": "/faults/1/compound/0", "value": 3}])", "/faults/1/compound/0",
        "expected a fault object"},
+      {R"([{"op": "add", "path": "/faults/1/compound/0/onset", "value": [{"when": "after_reversals", "joint": 3, "count": 1}]}])",
+       "/faults/1/compound/0/onset", "compound elements take single values"},
+      {R"([{"op": "add", "path": "/faults/2/compound/1/onset", "value": {"when": "after_reversals", "joint": 5, "count": 1}}])",
+       "/faults/2/compound/1/onset/joint", "joint 5 does not exist"},
       {R"([{"op": "add", "path": "/search", "value": {}}])", "/search/faults/1", "compound"},
   };
   for (const Case& c : cases) {
@@ -291,6 +295,62 @@ TEST(CompoundCampaign, EarlyStopScopesCountCompoundCasesAsFaulty) {
   const EarlyStop per_family(f, EarlyStopOptions());
   EXPECT_FALSE(per_family.Needed("compound"));
   EXPECT_TRUE(per_family.Needed("kt_degradation"));
+}
+
+}  // namespace
+}  // namespace armfault
+
+namespace armfault {
+namespace {
+
+// An element may have a conditional onset: it acts from its fire time + delay; the run is not
+// injected only when no element acted.
+TEST(CompoundCampaign, ConditionalOnsetsPerElement) {
+  nlohmann::json j = WithCompound();
+  j["faults"] = nlohmann::json::parse(R"([
+    {"compound": [{"family": "friction_increase", "joint": 2, "friction_factor": 4, "onset_s": 2.5},
+                  {"family": "torque_sensor_drift", "joint": 3, "drift_Nm_per_s": 2,
+                   "onset": {"when": "joint_velocity_above", "joint": 3, "rad_s": 0.3, "delay_s": 0.2}}], "name": "fires"},
+    {"compound": [{"family": "friction_increase", "joint": 2, "friction_factor": 4, "onset_s": 1},
+                  {"family": "torque_sensor_drift", "joint": 3, "drift_Nm_per_s": 2,
+                   "onset": {"when": "joint_velocity_above", "joint": 1, "rad_s": 0.3}}], "name": "one_never"},
+    {"compound": [{"family": "friction_increase", "joint": 2, "friction_factor": 4,
+                   "onset": {"when": "joint_velocity_above", "joint": 1, "rad_s": 0.3}},
+                  {"family": "torque_sensor_drift", "joint": 3, "drift_Nm_per_s": 2,
+                   "onset": {"when": "joint_velocity_above", "joint": 1, "rad_s": 0.3}}], "name": "none"}
+  ])");
+  j["repetitions"] = 1;
+  const Campaign c = Parse(j);
+  const RunRecord fires = RunCase(c, CaseAt(c, 0));
+  ASSERT_TRUE(fires.ok) << fires.failure_reason;
+  EXPECT_TRUE(fires.injected());
+  EXPECT_TRUE(fires.conditional_onset);
+  ASSERT_TRUE(fires.compound[1]["onset_fired_s"].is_number());
+  const double onset = fires.compound[1]["onset_s"].get<double>();
+  EXPECT_NEAR(onset, fires.compound[1]["onset_fired_s"].get<double>() + 0.2, 1e-6);
+  EXPECT_LT(onset, 2.5);
+  EXPECT_NEAR(fires.onset_s, onset, 1e-6);  // the earliest onset is the fired one
+  EXPECT_FALSE(fires.compound[0].contains("onset_fired_s"));  // a time: no condition keys
+
+  const RunRecord one_never = RunCase(c, CaseAt(c, 1));
+  ASSERT_TRUE(one_never.ok) << one_never.failure_reason;
+  EXPECT_TRUE(one_never.injected());
+  EXPECT_DOUBLE_EQ(one_never.onset_s, 1.0);
+  EXPECT_TRUE(one_never.compound[1]["onset_s"].is_null());
+  EXPECT_TRUE(one_never.compound[1]["onset_fired_s"].is_null());
+  EXPECT_TRUE(one_never.compound[1]["not_injected_reason"].is_string());
+  EXPECT_FALSE(one_never.compound[1]["isolated"].get<bool>());
+  EXPECT_FALSE(one_never.compound[1]["excited"].get<bool>());
+
+  const RunRecord none = RunCase(c, CaseAt(c, 2));
+  ASSERT_TRUE(none.ok) << none.failure_reason;
+  EXPECT_FALSE(none.injected());
+  EXPECT_FALSE(none.detected);
+  EXPECT_TRUE(none.excited());
+  SummaryBuilder b;
+  b.Add(none);
+  EXPECT_EQ(b.not_injected_runs(), 1);
+  EXPECT_EQ(b.Build(Floors(), nullptr, "test")["compound"]["runs"], 0);
 }
 
 }  // namespace

@@ -335,8 +335,8 @@ with tempfile.TemporaryDirectory(prefix="armfault_schema_test.") as tmp:
     # Rejected by the loader only: a JSON Schema cannot say these (see the schema's $comment).
     loader_only = [
         ("compound element with a list", compound(element={"drift_Nm_per_s": [1, 2]})),
-        ("compound element with a conditional onset",
-         compound(element={"onset": {"when": "after_reversals", "joint": 3, "count": 1}})),
+        ("compound element with a list of onset conditions",
+         compound(element={"onset": [{"when": "after_reversals", "joint": 3, "count": 1}]})),
         ("uniform low above high", kt_with(onset_s={"uniform": [2, 1]})),
         ("grid from above to", kt_with(kt_factor={"from": 0.9, "to": 0.5, "steps": 3})),
         ("grid of one step between two ends", kt_with(kt_factor={"from": 0.5, "to": 0.9, "steps": 1})),
