@@ -263,9 +263,12 @@ Floors ParseFloors(const nlohmann::json& v, const std::string& pointer) {
   return floors;
 }
 
+FaultEntry ParseCompoundEntry(const nlohmann::json& v, const std::string& pointer, const RobotConfig* robot);
+
 // Reports every error of the entry it can find. Without a robot (the campaign's own is bad)
 // only the entry's shape is checked: the family's checks need the robot's joints.
 FaultEntry ParseFaultEntry(const nlohmann::json& v, const std::string& pointer, const RobotConfig* robot) {
+  if (v.is_object() && v.contains("compound")) return ParseCompoundEntry(v, pointer, robot);
   ObjectReader reader(v, pointer);
   FaultEntry e;
   e.pointer = pointer;
@@ -419,6 +422,62 @@ FaultEntry ParseFaultEntry(const nlohmann::json& v, const std::string& pointer, 
 }
 
 
+// A compound entry: {"compound": [FAULT, FAULT, ...], "name": "..."} (docs/campaign-format.md,
+// "Compound faults"). Each element is an ordinary fault with single values, checked by the
+// ordinary entry parsing under its own pointer (/faults/2/compound/1/joint).
+FaultEntry ParseCompoundEntry(const nlohmann::json& v, const std::string& pointer, const RobotConfig* robot) {
+  ObjectReader reader(v, pointer);
+  FaultEntry e;
+  e.pointer = pointer;
+  e.family = "compound";
+  e.compound = true;
+  ErrorList errors;
+  errors.Try([&] { reader.AllowOnly({"compound", "name"}); });
+  std::string default_name;
+  errors.Try([&] {
+    const nlohmann::json& list = reader.Require("compound");
+    const std::string lp = reader.PointerTo("compound");
+    if (!list.is_array() || list.size() < 2) {
+      throw InputError("", lp, "expected a list of at least 2 faults that act together, got " + Describe(list));
+    }
+    for (size_t i = 0; i < list.size(); ++i) {
+      const std::string ep = PointerJoin(lp, i);
+      errors.Try([&] {
+        const nlohmann::json& el = list[i];
+        if (!el.is_object()) throw InputError("", ep, "expected a fault object {\"family\": ..., \"joint\": ...}, got " + Describe(el));
+        ErrorList shape;  // every swept key of the element
+        for (auto it = el.begin(); it != el.end(); ++it) {
+          const std::string kp = PointerJoin(ep, it.key());
+          if (it.key() == "compound") {
+            shape.Add(InputError("", kp, "a compound fault cannot hold another compound fault"));
+          } else if (it.value().is_array() || (it.value().is_object() && it.key() != "onset")) {
+            // (An "onset" object is one condition: a single value.)
+            shape.Add(InputError("", kp, "compound elements take single values (no lists, grids or uniforms), got " +
+                                             Describe(it.value())));
+          }
+        }
+        shape.ThrowIfAny();
+        const FaultEntry one = ParseFaultEntry(el, ep, robot);
+        e.elements.push_back(el);
+        if (!one.joints.empty()) {
+          default_name += (default_name.empty() ? "" : "+") + one.family + "_j" + std::to_string(one.joints[0]);
+        }
+      });
+    }
+  });
+  errors.Try([&] {
+    if (const auto* name = reader.Find("name")) {
+      if (!name->is_string() || name->get<std::string>().empty() || name->get<std::string>().find('/') != std::string::npos) {
+        throw InputError("", reader.PointerTo("name"), "expected a non-empty name without '/', got " + Describe(*name));
+      }
+      e.name = name->get<std::string>();
+    }
+  });
+  errors.ThrowIfAny();
+  if (e.name.empty()) e.name = default_name;
+  return e;
+}
+
 // The "search" block (docs/campaign-format.md, "Boundary search"). Needs the fault entries
 // parsed (`faults_ok`) and the robot for the family checks of the range's ends.
 void ParseSearch(const nlohmann::json& v, const std::string& pointer, const nlohmann::json* faults_json, Campaign* c,
@@ -483,6 +542,10 @@ void ParseSearch(const nlohmann::json& v, const std::string& pointer, const nloh
     const FaultEntry& e = c->faults[i];
     SearchEntryRange range;
     entries_ok &= errors->Try([&] {
+      if (e.compound) {
+        throw InputError("", e.pointer, "a compound fault entry cannot be searched (a boundary search sizes one fault "
+                                        "by its magnitude); leave it out of a campaign with \"search\"");
+      }
       range.key = FaultMagnitudeKey(e.family);
       if (range.key.empty()) {
         throw InputError("", PointerJoin(e.pointer, "family"),
@@ -910,7 +973,7 @@ long CaseCount(const Campaign& c) {
   if (c.search.has_runs) return static_cast<long>(c.search.runs.size());
   long per_trajectory = c.healthy;
   for (const FaultEntry& e : c.faults) {
-    long n = static_cast<long>(e.joints.size()) * c.repetitions;
+    long n = static_cast<long>(e.compound ? 1 : e.joints.size()) * c.repetitions;
     for (const auto& [key, sweep] : e.keys) {
       n *= static_cast<long>(sweep.count());
       if (n > kMaxCases) return kMaxCases + 1;
@@ -970,6 +1033,7 @@ namespace {
 
 // Runs of one fault entry: its value combinations x joints x repetitions.
 long EntryRuns(const Campaign& c, const FaultEntry& e) {
+  if (e.compound) return c.repetitions;  // one case per trajectory x repetition
   long n = static_cast<long>(e.joints.size()) * c.repetitions;
   for (const auto& [key, sweep] : e.keys) n *= static_cast<long>(sweep.count());
   return n;
@@ -1046,6 +1110,17 @@ CaseSpec CaseAt(const Campaign& c, long index) {
       r -= n;
       continue;
     }
+    if (e.compound) {
+      // One case per repetition: all its elements act together.
+      cs.repetition = static_cast<int>(r);
+      cs.run_id = tname + "/compound#" + std::to_string(ei) + "/" + e.name + "/r" + std::to_string(r);
+      cs.group = "compound:" + e.name;
+      cs.seed = MixSeed(c.seed, Fnv1a(cs.run_id));
+      Rng rng(MixSeed(cs.seed, 0x7a71a710ULL));
+      cs.fault = {{"family", "compound"}, {"name", e.name}, {"compound", e.elements}};
+      DrawVariation(c, &rng, &cs);
+      return cs;
+    }
     // r = (values x joints + joint) x repetitions + repetition; values: last key fastest.
     const int rep = static_cast<int>(r % c.repetitions);
     r /= c.repetitions;
@@ -1111,14 +1186,22 @@ std::vector<std::string> CampaignWarnings(const Campaign& c) {
       const AngleRange range = SampleRange(*it->second, c.duration_s);
       if (range.max_rad - range.min_rad < kMinTravelToExcite_rad) still.insert(j);
     }
+    auto warn = [&](const std::string& pointer, const std::string& family, int j) {
+      if (still.count(j) == 0) return;
+      out.push_back(pointer + " (" + family + ") targets joint " + std::to_string(j) + ", which trajectory \"" +
+                    t.name + "\" leaves still: " +
+                    (FaultNeedsMotion(family) ? "its runs there will be not excited (" + family +
+                                                    " shows only in motion) and left out of the rates"
+                                              : "the fault can act at rest, but no motion of its joint helps see it"));
+    };
     for (const FaultEntry& e : c.faults) {
-      for (int j : e.joints) {
-        if (still.count(j) == 0) continue;
-        out.push_back(e.pointer + " (" + e.family + ") targets joint " + std::to_string(j) + ", which trajectory \"" +
-                      t.name + "\" leaves still: " +
-                      (FaultNeedsMotion(e.family) ? "its runs there will be not excited (" + e.family +
-                                                        " shows only in motion) and left out of the rates"
-                                                  : "the fault can act at rest, but no motion of its joint helps see it"));
+      for (int j : e.joints) warn(e.pointer, e.family, j);
+      // A compound entry: each element (its run is not excited only if no element can act).
+      for (size_t i = 0; i < e.elements.size(); ++i) {
+        const nlohmann::json& el = e.elements[i];
+        if (el.contains("joint") && el["joint"].is_number_integer() && el.contains("family") && el["family"].is_string()) {
+          warn(PointerJoin(PointerJoin(e.pointer, "compound"), i), el["family"].get<std::string>(), el["joint"].get<int>());
+        }
       }
     }
   }

@@ -40,6 +40,12 @@ struct FaultEntry {
   std::string pointer;                              // "/faults/1"
   std::vector<int> joints;                          // 1-based
   std::vector<std::pair<std::string, Sweep>> keys;  // every other key, in alphabetical order
+  // A compound entry ({"compound": [FAULT, ...], "name": ...}, docs/campaign-format.md,
+  // "Compound faults"): family "compound", no joints or keys; its elements act together in
+  // one run, each an ordinary fault with single values ({"family", "joint", ...}).
+  bool compound = false;
+  std::string name;                                 // compound only: its name in run_ids and groups
+  std::vector<nlohmann::json> elements;             // compound only
 };
 
 struct CampaignTrajectory {

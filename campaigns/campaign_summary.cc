@@ -19,6 +19,8 @@ constexpr double kWilsonZ = 1.959963984540054;
 constexpr size_t kMaxListedFailures = 100;
 const char* const kHealthyLabel = "healthy";
 const char* const kUnknownLabel = "unknown";
+const char* const kCompoundFamily = "compound";  // compound runs: in no per_family entry
+
 
 nlohmann::json StrOrNull(const std::string& s) { return s.empty() ? nlohmann::json(nullptr) : nlohmann::json(s); }
 
@@ -89,6 +91,17 @@ nlohmann::json MetricsJson(const SummaryTally& t, bool with_healthy) {
     j["false_alarm"] = RateJson(t.healthy_alarms, t.healthy);
   }
   return j;
+}
+
+nlohmann::json CompoundJson(const SummaryBuilder::CompoundTally& c) {
+  nlohmann::json elements = nlohmann::json::array();
+  for (const auto& [key, counts] : c.elements) {
+    elements.push_back({{"position", key.first}, {"family", key.second}, {"isolated", RateJson(counts.first, counts.second)}});
+  }
+  return {{"runs", c.runs},
+          {"detection", RateJson(c.detected, c.runs)},
+          {"first_alarm_named_a_fault", RateJson(c.named, c.detected)},
+          {"elements", std::move(elements)}};
 }
 
 // A verdict on successes / trials against a bound; `of_what` names the trials in the
@@ -190,6 +203,7 @@ void SummaryBuilder::Add(const RunRecord& r) {
   }
   ++ok_runs_;
   conditional_onset_runs_ += r.conditional_onset ? 1 : 0;
+  compound_seen_ += r.is_compound() ? 1 : 0;
   if (!r.family.empty() && !r.injected()) {
     // Its onset condition never fired: no fault acted, so neither a detection nor a miss.
     ++not_injected_runs_;
@@ -226,7 +240,7 @@ void SummaryBuilder::Add(const RunRecord& r) {
       ++tt.faulty;
       tt.before_onset += r.alarm_before_onset;
       tt.detected += r.detected;
-      const bool isolated = r.detected && r.isolated_family == r.family && r.isolated_joint == r.joint;
+      const bool isolated = IsolatedRight(r);
       tt.isolated += isolated;
       wrong = !isolated;
     }
@@ -244,9 +258,23 @@ void SummaryBuilder::Add(const RunRecord& r) {
     t.magnitude = r.magnitude;
   }
 
-  const std::string predicted =
-      !r.detected ? kHealthyLabel : (r.isolated_family.empty() ? kUnknownLabel : r.isolated_family);
-  ++confusion_[r.family.empty() ? kHealthyLabel : r.family][predicted];
+  if (r.is_compound()) {
+    // Its own section; no row in the confusion matrix (its truth is no single family).
+    for (CompoundTally* c : {&compound_, &compound_by_name_[r.fault.value("name", "")]}) {
+      ++c->runs;
+      c->detected += r.detected;
+      c->named += IsolatedRight(r);
+      for (size_t i = 0; i < r.compound.size(); ++i) {
+        auto& e = c->elements[{i, r.compound[i].value("family", "")}];
+        e.first += r.compound[i].value("isolated", false);
+        ++e.second;
+      }
+    }
+  } else {
+    const std::string predicted =
+        !r.detected ? kHealthyLabel : (r.isolated_family.empty() ? kUnknownLabel : r.isolated_family);
+    ++confusion_[r.family.empty() ? kHealthyLabel : r.family][predicted];
+  }
 
   if (r.family.empty()) {
     ++t.healthy;
@@ -258,8 +286,7 @@ void SummaryBuilder::Add(const RunRecord& r) {
   if (!r.detected) return;
   ++t.detected;
   if (r.latency_s && std::isfinite(*r.latency_s)) t.latencies_s.push_back(*r.latency_s);
-  const bool isolated = r.isolated_family == r.family && r.isolated_joint == r.joint;
-  if (!isolated) return;
+  if (!IsolatedRight(r)) return;
   ++t.isolated;
   if (r.magnitude_estimate && !r.magnitude_key.empty() && r.magnitude_name == r.magnitude_key && r.magnitude != 0) {
     const double error = std::abs(*r.magnitude_estimate - r.magnitude) / std::abs(r.magnitude);
@@ -272,7 +299,7 @@ std::vector<FloorVerdict> SummaryBuilder::Verdicts(const Floors& floors) const {
   std::map<std::string, SummaryTally> families;
   for (const auto& [key, t] : cells_) {
     MergeInto(t, &overall);
-    if (!key.second.empty()) MergeInto(t, &families[key.second]);
+    if (!key.second.empty() && key.second != kCompoundFamily) MergeInto(t, &families[key.second]);
   }
   std::vector<FloorVerdict> out;
   CheckSet(floors.overall, "", overall, false, "no faulty runs", &out);
@@ -306,7 +333,7 @@ nlohmann::json SummaryBuilder::Build(const Floors& floors, const nlohmann::json&
     for (; it != cells_.end() && it->first.first == group; ++it) {
       MergeInto(it->second, &merged);
       MergeInto(it->second, &overall);
-      if (!it->first.second.empty()) MergeInto(it->second, &families[it->first.second]);
+      if (!it->first.second.empty() && it->first.second != kCompoundFamily) MergeInto(it->second, &families[it->first.second]);
       if (described == nullptr || (described->first.second.empty() && !it->first.second.empty())) described = &*it;
     }
     const SummaryTally& d = described->second;
@@ -383,6 +410,13 @@ nlohmann::json SummaryBuilder::Build(const Floors& floors, const nlohmann::json&
                            {"included", include_not_excited_},
                            {"truncated", not_excited_runs_ > static_cast<long>(not_excited_listed_.size())},
                            {"runs", std::move(not_excited)}};
+  // Only for a campaign with compound faults, so other summaries are unchanged.
+  if (compound_seen_ > 0) {
+    nlohmann::json c = CompoundJson(compound_);
+    c["per_name"] = nlohmann::json::object();
+    for (const auto& [name, t] : compound_by_name_) c["per_name"][name] = CompoundJson(t);
+    j["compound"] = std::move(c);
+  }
   // Only for a campaign with conditional onsets, so other summaries are unchanged.
   if (conditional_onset_runs_ > 0) {
     nlohmann::json not_injected = nlohmann::json::array();

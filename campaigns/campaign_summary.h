@@ -159,6 +159,12 @@ class SummaryBuilder {
   using TrajectoryKey = std::tuple<std::string, std::string, std::string>;
   const std::map<TrajectoryKey, TrajectoryCell>& trajectory_cells() const { return by_trajectory_; }
 
+  // Compound runs (docs/campaign-format.md, "Compound faults"), scored runs only; the section
+  // "compound" of summary.json is written when any ok compound run was added.
+  struct CompoundTally {
+    long runs = 0, detected = 0, named = 0;  // named: the first alarm named one of its faults
+    std::map<std::pair<size_t, std::string>, std::pair<long, long>> elements;  // (position, family) -> (isolated, runs)
+  };
  private:
   std::map<std::pair<std::string, std::string>, internal::SummaryTally> cells_;  // (group, family)
   std::map<std::string, std::map<std::string, long>> confusion_;  // true -> predicted -> count
@@ -172,6 +178,9 @@ class SummaryBuilder {
   long conditional_onset_runs_ = 0;  // ok runs whose fault has a conditional onset
   long ok_runs_ = 0;
   long failed_runs_ = 0;
+  long compound_seen_ = 0;
+  CompoundTally compound_;
+  std::map<std::string, CompoundTally> compound_by_name_;
 };
 
 // JUnit XML with one testcase per floor verdict (classname "floors"), a <failure> for each

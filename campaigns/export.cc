@@ -21,6 +21,19 @@
 namespace armfault {
 
 namespace {
+// A compound run's elements without the monitor's outcome ("isolated", "detection_time_s"):
+// the manifest holds the truth only.
+void StripCompoundOutcome(nlohmann::json* m) {
+  if (const auto it = m->find("compound"); it != m->end() && it->is_array()) {
+    for (nlohmann::json& e : *it) {
+      e.erase("isolated");
+      e.erase("detection_time_s");
+    }
+  }
+}
+}  // namespace
+
+namespace {
 
 namespace fs = std::filesystem;
 
@@ -209,6 +222,7 @@ ExportResult ExportCampaign(const Campaign& campaign, const ExportOptions& o) {
                   writer.Close();
                   nlohmann::json m = ToJson(r);
                   for (const char* key : kMonitorKeys) m.erase(key);
+                  StripCompoundOutcome(&m);
                   m["split"] = o.split.enabled ? nlohmann::json(SplitOf(o.split, r.seed)) : nlohmann::json(nullptr);
                   m["signals"] = file;
                   m["ticks"] = writer.ticks();
@@ -383,6 +397,10 @@ ScoreResult ScoreExternalVerdicts(const Campaign& campaign, const std::string& d
       const RunScore score = ScoreVerdicts(outputs[k], r.onset_s, first_tick_s);
       ApplyScore(score, &r);
       r.miss_reason = ExplainFromVerdicts(score, r.family, r.joint);
+      if (r.is_compound()) {
+        ScoreCompoundElements(outputs[k], &r);
+        if (IsolatedRight(r)) r.miss_reason.clear();
+      }
     }
     lines << ToJson(r).dump() << "\n";
     ++result.runs;

@@ -73,6 +73,7 @@ nlohmann::json ToJson(const RunRecord& r) {
     j["onset_fired_s"] = OptTime(r.onset_fired_s);
     j["not_injected_reason"] = StrOrNull(r.not_injected_reason);
   }
+  if (r.is_compound()) j["compound"] = r.compound;
   return j;
 }
 
@@ -117,9 +118,22 @@ RunRecord RunRecordFromJson(const nlohmann::json& j) {
     r.onset_fired_s = OptDouble(j, "onset_fired_s");
     r.not_injected_reason = StrOrEmpty(j, "not_injected_reason");
   }
+  if (const auto it = j.find("compound"); it != j.end() && !it->is_null()) {
+    if (!it->is_array()) throw std::runtime_error("key \"compound\" has the wrong type");
+    r.compound = *it;
+  }
   // Written inline by older versions; now in decisions.jsonl.
   if (const auto it = j.find("decision"); it != j.end()) r.decision = *it;
   return r;
+}
+
+bool IsolatedRight(const RunRecord& r) {
+  if (!r.detected) return false;
+  if (!r.is_compound()) return r.isolated_family == r.family && r.isolated_joint == r.joint;
+  for (const nlohmann::json& e : r.compound) {
+    if (e.value("family", "") == r.isolated_family && e.value("joint", 0) == r.isolated_joint) return true;
+  }
+  return false;
 }
 
 nlohmann::json DecisionLineJson(const RunRecord& r) {

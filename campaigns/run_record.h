@@ -65,7 +65,17 @@ struct RunRecord {
   // What the monitor's calls cost in this run (MonitorClock::ToJson, campaigns/monitor_cost.h):
   // a measurement, so in memory only, written to monitor_cost.jsonl. Null when not measured.
   nlohmann::json cost;
+  // A compound fault (docs/campaign-format.md, "Compound faults"): family "compound", joint 0,
+  // onset_s the earliest element's, and here one object per element: {"family", "joint",
+  // "onset_s", "magnitude_key", "magnitude", "effect", "excited", "isolated",
+  // "detection_time_s"}. Null (not written) for every other run.
+  nlohmann::json compound;
+  bool is_compound() const { return compound.is_array(); }
 };
+
+// Whether a detected run's first alarm named its fault: the family and joint of the fault, or
+// for a compound run those of one of its elements.
+bool IsolatedRight(const RunRecord& r);
 
 // The results.jsonl line, without "decision".
 nlohmann::json ToJson(const RunRecord& r);

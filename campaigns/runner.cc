@@ -255,6 +255,29 @@ std::string EarlyStopSummaryLine(const nlohmann::json& report) {
   return line;
 }
 
+void ScoreCompoundElements(const MonitorOutput& output, RunRecord* r) {
+  if (!r->is_compound()) return;
+  for (nlohmann::json& e : r->compound) {
+    if (!e.contains("onset_s") || !e["onset_s"].is_number()) {  // a conditional onset that never fired
+      e["isolated"] = false;
+      e["detection_time_s"] = nullptr;
+      continue;
+    }
+    const double onset = e["onset_s"].get<double>();
+    const std::string family = e.value("family", "");
+    const int joint = e.value("joint", 0);
+    std::optional<double> found;
+    for (const Verdict& v : output.verdicts) {
+      if (v.alarm && v.t_s >= onset && v.family == family && v.joint == joint) {
+        found = v.t_s;
+        break;
+      }
+    }
+    e["isolated"] = found.has_value();
+    e["detection_time_s"] = found ? nlohmann::json(RoundToMicroseconds(*found)) : nlohmann::json(nullptr);
+  }
+}
+
 void ApplyScore(const RunScore& score, RunRecord* r) {
   r->alarm_before_onset = score.alarm_before_onset;
   r->detected = score.detected;
@@ -319,7 +342,68 @@ RunRecord RunCase(const Campaign& campaign, const CaseSpec& cs, const TickObserv
     const RobotConfig robot = CaseRobot(campaign, cs);
     const ArmModel model(robot);
     std::vector<std::shared_ptr<const Fault>> faults;
-    if (!cs.fault.is_null()) {
+    const bool compound = cs.fault.is_object() && cs.fault.contains("compound");
+    if (compound) {
+      // Every element on the schedule: they act together. The record's onset is the earliest.
+      r.family = "compound";
+      r.joint = 0;
+      r.compound = nlohmann::json::array();
+      const nlohmann::json& elements = cs.fault.at("compound");
+      std::vector<std::unique_ptr<Fault>> made;
+      std::vector<Fault*> conditional;
+      for (size_t i = 0; i < elements.size(); ++i) {
+        made.push_back(MakeFault(elements[i], "/fault/compound/" + std::to_string(i), robot));
+        if (made.back()->timing().condition) conditional.push_back(made.back().get());
+      }
+      // Conditional onsets: resolved on the run's own plant with every element acting.
+      const long last_tick = std::lround(campaign.duration_s / model.control_dt_s());
+      const double end_s = static_cast<double>(last_tick) * model.control_dt_s();
+      if (!conditional.empty()) {
+        RunSpec resolve;
+        resolve.duration_s = campaign.duration_s;
+        resolve.seed = cs.seed;
+        resolve.ambient_C = cs.ambient_C;
+        resolve.joints.resize(static_cast<size_t>(model.joint_count()));
+        for (const auto& [joint, trajectory] : campaign.trajectories[cs.trajectory].parsed) {
+          resolve.joints[joint - 1].trajectory = trajectory;
+        }
+        ResolveConditionalOnsets(model, resolve, conditional);
+        r.conditional_onset = true;
+      }
+      bool any_injected = false;
+      std::string not_injected;
+      for (size_t i = 0; i < made.size(); ++i) {
+        const Fault& f = *made[i];
+        const std::string why = NotInjectedReason(f, end_s);
+        nlohmann::json e = {{"family", f.family()},
+                            {"joint", f.joint_index() + 1},
+                            {"onset_s", why.empty() ? nlohmann::json(RoundToMicroseconds(f.timing().onset_s))
+                                                    : nlohmann::json(nullptr)}};
+        const std::string key = FaultMagnitudeKey(f.family());
+        const bool sized = !key.empty() && elements[i].contains(key) && elements[i][key].is_number();
+        e["magnitude_key"] = sized ? nlohmann::json(key) : nlohmann::json(nullptr);
+        e["magnitude"] = sized ? elements[i][key] : nlohmann::json(nullptr);
+        if (f.timing().condition) {
+          const double fired = f.timing().fired_s;
+          e["onset_fired_s"] = std::isnan(fired) ? nlohmann::json(nullptr) : nlohmann::json(RoundToMicroseconds(fired));
+          e["not_injected_reason"] = why.empty() ? nlohmann::json(nullptr) : nlohmann::json(why);
+          if (!std::isnan(fired) && (!r.onset_fired_s || fired < *r.onset_fired_s)) r.onset_fired_s = fired;
+        }
+        if (why.empty()) {
+          r.onset_s = any_injected ? std::min(r.onset_s, f.timing().onset_s) : f.timing().onset_s;
+          any_injected = true;
+        } else {
+          not_injected += (not_injected.empty() ? "" : "; ") + std::string("element ") + std::to_string(i) + ": " + why;
+        }
+        r.compound.push_back(std::move(e));
+      }
+      // Not injected only when no element acted; then scored against an onset after the last tick.
+      if (!any_injected) {
+        r.not_injected_reason = not_injected;
+        r.onset_s = static_cast<double>(last_tick + 1) * model.control_dt_s();
+      }
+      for (std::unique_ptr<Fault>& f : made) faults.push_back(std::move(f));
+    } else if (!cs.fault.is_null()) {
       std::unique_ptr<Fault> made = MakeFault(cs.fault, "/fault", robot);
       if (made->timing().condition) ResolveConditionalOnset(campaign, cs, model, made.get(), &r);
       faults.push_back(std::move(made));
@@ -377,7 +461,24 @@ RunRecord RunCase(const Campaign& campaign, const CaseSpec& cs, const TickObserv
     }
     r.ok = result.ok;
     r.failure_reason = result.failure_reason;
-    if (!faults.empty()) {
+    if (compound) {
+      // Each element's own effect; the run is not excited only if no element could act.
+      const std::vector<FaultEffect> results = effects.Results();
+      std::string reasons;
+      bool any_excited = false;
+      r.effect = nlohmann::json::array();
+      for (size_t i = 0; i < faults.size(); ++i) {
+        const bool injected = r.compound[i]["onset_s"].is_number();  // a condition that never fired: never acted
+        const std::string reason = injected ? NotExcitedReason(*faults[i], results[i]) : "";
+        r.effect.push_back(results[i].ToJson());
+        r.compound[i]["effect"] = results[i].ToJson();
+        r.compound[i]["excited"] = injected && reason.empty();
+        if (!injected) continue;
+        any_excited = any_excited || reason.empty();
+        reasons += (reasons.empty() ? "" : "; ") + std::string("element ") + std::to_string(i) + ": " + reason;
+      }
+      r.not_excited_reason = any_excited || !r.injected() ? "" : reasons;
+    } else if (!faults.empty()) {
       const FaultEffect effect = effects.Results()[0];
       r.effect = effect.ToJson();
       r.not_excited_reason = r.injected() ? NotExcitedReason(*faults[0], effect) : "";
@@ -395,7 +496,19 @@ RunRecord RunCase(const Campaign& campaign, const CaseSpec& cs, const TickObserv
     // Scored from the verdicts alone, as for any monitor (core/monitors/monitor.h).
     const RunScore score = ScoreVerdicts(monitor->output(), r.onset_s, first_tick_s);
     ApplyScore(score, &r);
-    if (result.ok && r.injected()) {
+    if (compound) {
+      ScoreCompoundElements(monitor->output(), &r);
+      if (result.ok && r.injected() && (!r.detected || !IsolatedRight(r))) {
+        // Explained against the earliest element (the one the first alarm should have named).
+        size_t first = 0;  // (a condition that never fired has onset_s +infinity)
+        for (size_t i = 1; i < faults.size(); ++i) {
+          if (faults[i]->timing().onset_s < faults[first]->timing().onset_s) first = i;
+        }
+        const std::string family = faults[first]->family();
+        const int joint = faults[first]->joint_index() + 1;
+        r.miss_reason = tap ? tap->Explain(score, family, joint) : ExplainFromVerdicts(score, family, joint);
+      }
+    } else if (result.ok && r.injected()) {
       r.miss_reason = tap ? tap->Explain(score, r.family, r.joint) : ExplainFromVerdicts(score, r.family, r.joint);
     }
   } catch (const std::exception& e) {
@@ -432,6 +545,8 @@ RunnerResult RunCampaign(const Campaign& campaign, const RunnerOptions& o) {
   auto case_at_position = [&](size_t k) {
     return order ? order->CaseIndex(static_cast<long>(k)) : o.shard.CaseIndex(static_cast<long>(k));
   };
+  // A compound case's family is "compound": a faulty case for the overall floors, in no
+  // per_family scope (EarlyStop::Scope::Holds).
   auto family_of = [](const CaseSpec& spec) { return spec.fault.is_null() ? std::string() : spec.fault.value("family", ""); };
 
   // The shard's cases by index (CaseAt): nothing is held per case, so memory stays flat in

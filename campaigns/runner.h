@@ -87,6 +87,10 @@ class UnitMonitors {
 };
 
 // Sets a record's diagnosis (detection, latency, isolation, size) from its score.
+// A compound run's per-element isolation (RunRecord::compound): each element's "isolated"
+// and "detection_time_s" from the first alarm verdict naming its family on its joint at or
+// after its onset_s. Nothing for another run.
+void ScoreCompoundElements(const MonitorOutput& output, RunRecord* r);
 void ApplyScore(const RunScore& score, RunRecord* record);
 
 // One case, fully: builds the varied robot, the faults and the monitor, simulates, diagnoses.

@@ -1013,6 +1013,7 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
         continue;
       }
       if (!rec.injected()) continue;  // its onset condition never fired: no fault to detect
+      if (rec.is_compound()) continue;  // several faults at once: no family or magnitude to fit
       const std::string decision_file = separate ? decisions_path.string() : results_path.string();
       if (!power && decision.is_null()) throw InputError(campaign_path.string(), "/campaign/monitor/type", cannot_sweep);
       RunTable r;

@@ -1466,7 +1466,7 @@ ReportData GatherReportData(const ReportOptions& options) {
         ++d.not_excited_count;
         if (!d.not_excited_included) continue;  // as summary.json: outside the rates
       }
-      AddPodRun(r, &d.pod[r.family]);
+      if (!r.is_compound()) AddPodRun(r, &d.pod[r.family]);  // no single magnitude to plot against
       if (r.detected) {
         if (r.latency_s && std::isfinite(*r.latency_s)) d.latencies_s[r.family].push_back(*r.latency_s);
         if (!first_detected) first_detected = r;

@@ -34,8 +34,18 @@ std::string ResultsCsvRow(const RunRecord& r) {
   std::string took;
   if (r.effect.is_object() && r.effect.contains("took_effect") && r.effect["took_effect"].is_boolean()) {
     took = r.effect["took_effect"].get<bool>() ? "true" : "false";
+  } else if (r.is_compound() && r.effect.is_array()) {
+    // A compound fault took effect when one of its elements did.
+    bool any = false, known = false;
+    for (const nlohmann::json& e : r.effect) {
+      if (e.is_object() && e.contains("took_effect") && e["took_effect"].is_boolean()) {
+        known = true;
+        any = any || e["took_effect"].get<bool>();
+      }
+    }
+    if (known) took = any ? "true" : "false";
   }
-  const bool isolated = faulty && r.detected && r.isolated_family == r.family && r.isolated_joint == r.joint;
+  const bool isolated = faulty && IsolatedRight(r);
   std::string row;
   auto add = [&](const std::string& cell) { row += (row.empty() ? "" : ",") + cell; };
   row = std::to_string(r.case_index);
@@ -43,7 +53,7 @@ std::string ResultsCsvRow(const RunRecord& r) {
   add(Quote(r.trajectory));
   add(Quote(r.group));
   add(Quote(r.family));
-  add(faulty ? std::to_string(r.joint) : "");
+  add(faulty && !r.is_compound() ? std::to_string(r.joint) : "");
   add(faulty ? Number(r.onset_s) : "");
   add(Quote(r.magnitude_key));
   add(r.magnitude_key.empty() ? "" : Number(r.magnitude));

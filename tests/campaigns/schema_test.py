@@ -162,7 +162,36 @@ with tempfile.TemporaryDirectory(prefix="armfault_schema_test.") as tmp:
         return fault(e)
 
     # Rejected by the loader and by the schema.
+    COMPOUND = {"compound": [{"family": "friction_increase", "joint": 2, "friction_factor": 2, "onset_s": 0.5},
+                             {"family": "torque_sensor_drift", "joint": 3, "drift_Nm_per_s": 1}], "name": "f+d"}
+
+    def compound(**changes):
+        def edit(d):
+            entry = copy.deepcopy(COMPOUND)
+            for key, value in changes.items():
+                if key == "element":
+                    entry["compound"][1].update(value)
+                elif value is None:
+                    entry.pop(key)
+                else:
+                    entry[key] = value
+            d["faults"].append(entry)
+        return edit
+
+    good = copy.deepcopy(BASE)
+    compound()(good)
+    good_path = os.path.join(tmp, "good-compound.json")
+    with open(good_path, "w") as f:
+        json.dump(good, f)
+    check("schema accepts a compound entry", not schema_errors(good), str(schema_errors(good)[:1]))
+    status, stderr = loader(good_path)
+    check("loader accepts a compound entry", status == 0, stderr[:300])
+
     both = [
+        ("compound of one fault", compound(compound=[COMPOUND["compound"][0]])),
+        ("compound with an unknown key", compound(joint=2)),
+        ("compound name with a slash", compound(name="a/b")),
+        ("compound element of an unknown family", compound(element={"family": "rust"})),
         ("unknown top-level key", put(["duraton_s"], 5)),
         ("negative seed", put(["seed"], -1)),
         ("fractional seed", put(["seed"], 1.5)),
@@ -305,6 +334,9 @@ with tempfile.TemporaryDirectory(prefix="armfault_schema_test.") as tmp:
     ]
     # Rejected by the loader only: a JSON Schema cannot say these (see the schema's $comment).
     loader_only = [
+        ("compound element with a list", compound(element={"drift_Nm_per_s": [1, 2]})),
+        ("compound element with a list of onset conditions",
+         compound(element={"onset": [{"when": "after_reversals", "joint": 3, "count": 1}]})),
         ("uniform low above high", kt_with(onset_s={"uniform": [2, 1]})),
         ("grid from above to", kt_with(kt_factor={"from": 0.9, "to": 0.5, "steps": 3})),
         ("grid of one step between two ends", kt_with(kt_factor={"from": 0.5, "to": 0.9, "steps": 1})),
