@@ -293,12 +293,8 @@ void ApplyScore(const RunScore& score, RunRecord* r) {
 
 namespace {
 
-// A fault with a conditional onset: when its condition fires in this run (faults/fault.h,
-// ResolveConditionalOnsets, on the run's own plant, seed and trajectories), and the record's
-// fire time; a condition that never fires (or too late to act) makes the run not injected, and
-// it is then scored against an onset after its last tick (so every alarm is before it).
-void ResolveConditionalOnset(const Campaign& campaign, const CaseSpec& cs, const ArmModel& model, Fault* fault,
-                             RunRecord* r) {
+// A case's run without its faults: duration, seed, ambient and the trajectory's joints.
+RunSpec CaseRunSpec(const Campaign& campaign, const CaseSpec& cs, const ArmModel& model) {
   RunSpec spec;
   spec.duration_s = campaign.duration_s;
   spec.seed = cs.seed;
@@ -307,7 +303,16 @@ void ResolveConditionalOnset(const Campaign& campaign, const CaseSpec& cs, const
   for (const auto& [joint, trajectory] : campaign.trajectories[cs.trajectory].parsed) {
     spec.joints[joint - 1].trajectory = trajectory;
   }
-  ResolveConditionalOnsets(model, spec, {fault});
+  return spec;
+}
+
+// A fault with a conditional onset: when its condition fires in this run (faults/fault.h,
+// ResolveConditionalOnsets, on the run's own plant, seed and trajectories), and the record's
+// fire time; a condition that never fires (or too late to act) makes the run not injected, and
+// it is then scored against an onset after its last tick (so every alarm is before it).
+void ResolveConditionalOnset(const Campaign& campaign, const CaseSpec& cs, const ArmModel& model, Fault* fault,
+                             RunRecord* r) {
+  ResolveConditionalOnsets(model, CaseRunSpec(campaign, cs, model), {fault});
   r->conditional_onset = true;
   if (!std::isnan(fault->timing().fired_s)) r->onset_fired_s = fault->timing().fired_s;
   const long last_tick = std::lround(campaign.duration_s / model.control_dt_s());
@@ -359,15 +364,7 @@ RunRecord RunCase(const Campaign& campaign, const CaseSpec& cs, const TickObserv
       const long last_tick = std::lround(campaign.duration_s / model.control_dt_s());
       const double end_s = static_cast<double>(last_tick) * model.control_dt_s();
       if (!conditional.empty()) {
-        RunSpec resolve;
-        resolve.duration_s = campaign.duration_s;
-        resolve.seed = cs.seed;
-        resolve.ambient_C = cs.ambient_C;
-        resolve.joints.resize(static_cast<size_t>(model.joint_count()));
-        for (const auto& [joint, trajectory] : campaign.trajectories[cs.trajectory].parsed) {
-          resolve.joints[joint - 1].trajectory = trajectory;
-        }
-        ResolveConditionalOnsets(model, resolve, conditional);
+        ResolveConditionalOnsets(model, CaseRunSpec(campaign, cs, model), conditional);
         r.conditional_onset = true;
       }
       bool any_injected = false;
@@ -418,14 +415,7 @@ RunRecord RunCase(const Campaign& campaign, const CaseSpec& cs, const TickObserv
         r.magnitude_key.clear();
       }
     }
-    RunSpec spec;
-    spec.duration_s = campaign.duration_s;
-    spec.seed = cs.seed;
-    spec.ambient_C = cs.ambient_C;
-    spec.joints.resize(robot.modules.size());
-    for (const auto& [joint, trajectory] : campaign.trajectories[cs.trajectory].parsed) {
-      spec.joints[joint - 1].trajectory = trajectory;
-    }
+    RunSpec spec = CaseRunSpec(campaign, cs, model);
     if (!faults.empty()) spec.hardware = std::make_shared<FaultSchedule>(faults);
     // The monitor knows the nominal robot (payload and friction as designed) and what it learnt
     // on this unit while commissioning, not this run's truth. The tap beside it (scoring's)
