@@ -25,6 +25,10 @@ struct FaultCommon {
 FaultCommon ReadFaultCommon(ObjectReader& reader, const RobotConfig& robot, std::initializer_list<const char*> own_keys,
                             ErrorList* errors);
 
+// The 0-based index of the required key "joint" (1..joints of the robot); an InputError naming
+// the pointer and the robot's joints otherwise.
+int ReadJointIndex(ObjectReader& reader, const RobotConfig& robot);
+
 // Ticks after onset + settle_s count as "faulty"; before onset as "healthy".
 constexpr double kEffectSettle_s = 0.05;
 

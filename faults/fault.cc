@@ -262,22 +262,25 @@ std::string NotExcitedReason(const Fault& fault, const FaultEffect& effect) {
   return "";
 }
 
+int ReadJointIndex(ObjectReader& reader, const RobotConfig& robot) {
+  const int n = static_cast<int>(robot.modules.size());
+  const int joint = reader.RequireInt("joint");
+  if (joint < 1 || joint > n) {
+    throw InputError("", reader.PointerTo("joint"),
+                     "joint " + std::to_string(joint) + " does not exist: robot " + robot.name + " has joints 1.." +
+                         std::to_string(n));
+  }
+  return joint - 1;
+}
+
 FaultCommon ReadFaultCommon(ObjectReader& reader, const RobotConfig& robot, std::initializer_list<const char*> own_keys,
                             ErrorList* errors) {
   std::vector<std::string> keys = {"family", "joint", "onset_s", "onset", "profile", "ramp_s", "period_s", "duty"};
   for (const char* k : own_keys) keys.push_back(k);
   errors->Try([&] { reader.AllowOnly(keys); });
   FaultCommon c;
-  const int n = static_cast<int>(robot.modules.size());
   errors->Try([&] {
-    if (!reader.ShouldRead("joint")) return;
-    const int joint = reader.RequireInt("joint");
-    if (joint < 1 || joint > n) {
-      throw InputError("", reader.PointerTo("joint"),
-                       "joint " + std::to_string(joint) + " does not exist: robot " + robot.name + " has joints 1.." +
-                           std::to_string(n));
-    }
-    c.joint_index = joint - 1;
+    if (reader.ShouldRead("joint")) c.joint_index = ReadJointIndex(reader, robot);
   });
   errors->Try([&] {
     reader.OptionalNumber("onset_s", &c.timing.onset_s);

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "core/base/json_input.h"
+#include "faults/family_support.h"
 #include "faults/fault.h"
 
 namespace armfault {
@@ -83,17 +84,10 @@ OnsetCondition ReadOnsetCondition(const nlohmann::json& value, const std::string
       throw InputError(named);
     }
   });
-  const int n = static_cast<int>(robot.modules.size());
   bool joint_ok = false;
   errors.Try([&] {
     if (!reader.ShouldRead("joint")) return;
-    const int joint = reader.RequireInt("joint");
-    if (joint < 1 || joint > n) {
-      throw InputError("", reader.PointerTo("joint"),
-                       "joint " + std::to_string(joint) + " does not exist: robot " + robot.name + " has joints 1.." +
-                           std::to_string(n));
-    }
-    c.joint_index = joint - 1;
+    c.joint_index = ReadJointIndex(reader, robot);
     joint_ok = true;
   });
   errors.Try([&] {

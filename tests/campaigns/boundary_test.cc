@@ -137,6 +137,17 @@ TEST(BoundarySearch, DefaultsAndRunsMakeTheCases) {
   EXPECT_EQ(a.group, "kt_degradation kt_factor=0.9 joint=3");
 }
 
+// A K_T factor range searched to 0.02 on a 1e-4 lattice.
+SearchEntryRange KtRange(double low, double high) {
+  SearchEntryRange range;
+  range.key = "kt_factor";
+  range.low = low;
+  range.high = high;
+  range.tolerance = 0.02;
+  range.lattice = 1e-4;
+  return range;
+}
+
 // A synthetic cell: detection probability logistic in log severity with a known a90. The
 // search must end near it within its budget.
 TEST(BoundarySearch, PlannerConvergesOnASyntheticCell) {
@@ -144,12 +155,7 @@ TEST(BoundarySearch, PlannerConvergesOnASyntheticCell) {
   spec.present = true;
   spec.batch = 8;
   spec.max_runs = 200;
-  SearchEntryRange range;
-  range.key = "kt_factor";
-  range.low = 0.80;
-  range.high = 0.995;
-  range.tolerance = 0.02;
-  range.lattice = 1e-4;
+  const SearchEntryRange range = KtRange(0.80, 0.995);
   // PoD(s) = 1 / (1 + exp(-(a + b ln s))) with a90 at severity 0.08 (kt 0.92).
   const double b = 6, a = std::log(9.0) - b * std::log(0.08);
   Rng rng(42);
@@ -181,12 +187,7 @@ TEST(BoundarySearch, PlannerConvergesOnASyntheticCell) {
 TEST(BoundarySearch, AllMissedOrAllDetectedTriesTheEndsThenStops) {
   SearchSpec spec;
   spec.batch = 4;
-  SearchEntryRange range;
-  range.key = "kt_factor";
-  range.low = 0.8;
-  range.high = 0.99;
-  range.tolerance = 0.02;
-  range.lattice = 1e-4;
+  const SearchEntryRange range = KtRange(0.8, 0.99);
   CellData none;
   const CellStep first = PlanCell(spec, range, none);
   ASSERT_EQ(first.magnitudes.size(), 4u);
@@ -208,12 +209,7 @@ TEST(BoundarySearch, AllMissedOrAllDetectedTriesTheEndsThenStops) {
 TEST(BoundarySearch, CompleteSeparationBisectsTheGap) {
   SearchSpec spec;
   spec.batch = 4;
-  SearchEntryRange range;
-  range.key = "kt_factor";
-  range.low = 0.8;
-  range.high = 0.99;
-  range.tolerance = 0.02;
-  range.lattice = 1e-4;
+  const SearchEntryRange range = KtRange(0.8, 0.99);
   CellData d;
   for (auto [m, hit] : {std::pair{0.99, false}, {0.96, false}, {0.95, false}, {0.93, true}, {0.9, true}, {0.8, true}}) {
     d.magnitudes.push_back(m), d.detected.push_back(hit), ++d.runs;
