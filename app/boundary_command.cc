@@ -7,7 +7,6 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 
 #include "app/commands.h"
 #include "campaigns/boundary.h"
@@ -36,14 +35,6 @@ std::string Quote(const std::string& s) {
   return out + "'";
 }
 
-Campaign DirCampaign(const fs::path& dir) {
-  const fs::path path = dir / "campaign.json";
-  const nlohmann::json file = ReadJsonFile(path.string());
-  if (!file.is_object() || !file.contains("campaign")) {
-    throw InputError(path.string(), "/campaign", "missing: not the campaign.json of an armfault output directory");
-  }
-  return CampaignFromJson(file["campaign"], path.string(), dir.string());
-}
 
 }  // namespace
 
@@ -51,24 +42,13 @@ int BoundaryCommand(const BoundaryCommandOptions& o) {
   if (!o.from_dir.empty()) {
     if (!o.campaign_file.empty()) throw InputError("--from", "", "give a campaign or --from DIR, not both");
     const fs::path dir(o.from_dir);
-    const Campaign campaign = DirCampaign(dir);
+    const Campaign campaign = ReadRunDirCampaign(dir);
     if (!campaign.search.present) {
-      throw InputError((dir / "campaign.json").string(), "/campaign/search",
+      throw InputError((dir / run_dir::kCampaign).string(), "/campaign/search",
                        "missing: the campaign has no \"search\" block saying what to estimate");
     }
     std::vector<RunRecord> records;
-    std::ifstream in(dir / "results.jsonl", std::ios::binary);
-    if (!in) throw InputError((dir / "results.jsonl").string(), "", "cannot read the file");
-    std::string line;
-    long n = 0;
-    while (std::getline(in, line)) {
-      ++n;
-      try {
-        records.push_back(RunRecordFromJson(nlohmann::json::parse(line)));
-      } catch (const std::exception& e) {
-        throw InputError((dir / "results.jsonl").string(), "", "line " + std::to_string(n) + ": " + e.what());
-      }
-    }
+    ReadRunRecords(dir / run_dir::kResults, {}, [&](RunRecord&& r, long) { records.push_back(std::move(r)); });
     const nlohmann::json report = BoundaryReport(campaign, records, {}, 0);
     WriteAtomically(dir / "boundary.json", report.dump(2) + "\n");
     std::printf("campaign %s: boundary estimated from %ld runs in %s\n", campaign.name.c_str(), report["runs"].get<long>(),
@@ -124,7 +104,7 @@ int BoundaryCommand(const BoundaryCommandOptions& o) {
   // summary.json, junit.xml and results.csv of the runs made, as `run` writes them, so that
   // report and diff read the directory; the floors are printed but judge runs placed near the
   // boundary on purpose, so they do not set the exit status.
-  const int status = FinishCampaignOutputs(o.output_dir, DirCampaign(o.output_dir));
+  const int status = FinishCampaignOutputs(o.output_dir, ReadRunDirCampaign(o.output_dir));
   std::printf("wrote %s/boundary.json, campaign.json, results.jsonl, decisions.jsonl, results.csv, summary.json, junit.xml\n",
               o.output_dir.c_str());
   if (r.stopped) std::printf("stopped after %d batches (--max-batches); continue with: %s\n", r.batches, resume.c_str());

@@ -19,7 +19,7 @@
 #include "campaigns/runner.h"
 #include "core/base/json_input.h"
 #include "campaigns/campaign_summary.h"
-#include "reports/results_csv.h"
+#include "campaigns/results_csv.h"
 
 namespace armfault {
 
@@ -126,68 +126,21 @@ void PrintWarnings(const std::string& campaign_file, const Campaign& campaign) {
 
 }  // namespace
 
-int FinishCampaignOutputs(const std::string& dir_name, const Campaign& campaign, bool write_csv) {
+int FinishCampaignOutputs(const std::string& dir_name, const Campaign& campaign, bool summary_only) {
   const fs::path dir(dir_name);
-  SummaryBuilder builder(campaign.include_not_excited);
-  {
-    std::ifstream in(dir / "results.jsonl", std::ios::binary);
-    // results.csv streams beside the summary (one row at a time: flat in campaign size), into a
-    // temporary file renamed at the end, so a crash never leaves half of one.
-    const fs::path csv_tmp = dir / "results.csv.tmp";
-    std::ofstream csv;
-    if (write_csv) {
-      csv.open(csv_tmp, std::ios::binary | std::ios::trunc);
-      csv << ResultsCsvHeader();
-    }
-    std::string line;
-    long n = 0;
-    long previous_case = -1;
-    while (std::getline(in, line)) {
-      ++n;
-      try {
-        const RunRecord record = RunRecordFromJson(nlohmann::json::parse(line));
-        // The runner and merge write each case once, in case order: a case again (or out of
-        // order) means two writers shared the directory; counting it twice would lie.
-        if (record.case_index <= previous_case) {
-          throw std::runtime_error("case " + std::to_string(record.case_index) + " (run \"" + record.run_id +
-                                   "\") comes after case " + std::to_string(previous_case) +
-                                   ": a run appears twice or out of order (did two commands write into this "
-                                   "directory?); run the campaign again into an empty directory");
-        }
-        previous_case = record.case_index;
-        builder.Add(record);
-        if (write_csv) csv << ResultsCsvRow(record);
-      } catch (const std::exception& e) {
-        throw InputError((dir / "results.jsonl").string(), "", "line " + std::to_string(n) + ": " + e.what());
-      }
-    }
-    if (write_csv) {
-      csv.close();
-      if (!csv) throw InputError(csv_tmp.string(), "", "cannot write the file");
-      fs::rename(csv_tmp, dir / "results.csv");
-    }
-  }
-  const std::vector<FloorVerdict> verdicts = builder.Verdicts(campaign.floors);
+  const RecordOutputsResult written = WriteRecordOutputs(dir, campaign, summary_only);
+  const SummaryBuilder& builder = written.summary;
+  const std::vector<FloorVerdict>& verdicts = written.verdicts;
+  const std::map<std::string, bool>& decided = written.early_stop_decided;
   if (builder.not_excited_runs() > 0) {
     std::printf("%ld runs not excited (their fault could not act; %s): see not_excited_runs in %s\n",
                 builder.not_excited_runs(), campaign.include_not_excited ? "scored, as the campaign asks" : "left out of the rates",
-                (dir / "summary.json").string().c_str());
+                (dir / run_dir::kSummary).string().c_str());
   }
   if (builder.not_injected_runs() > 0) {
     std::printf("%ld runs not injected (their onset condition never fired; left out of the rates): see not_injected_runs in %s\n",
-                builder.not_injected_runs(), (dir / "summary.json").string().c_str());
+                builder.not_injected_runs(), (dir / run_dir::kSummary).string().c_str());
   }
-  nlohmann::json summary = builder.Build(campaign.floors, campaign.resolved, ARMFAULT_VERSION);
-  // An early-stopped run (`run --early-stop`): its decisions, which the exit status follows.
-  std::map<std::string, bool> decided;
-  if (const fs::path early_path = dir / "early_stop.json"; fs::exists(early_path)) {
-    summary["early_stop"] = ReadJsonFile(early_path.string());
-    for (const nlohmann::json& f : summary["early_stop"]["floors"]) {
-      if (f["decided"].get<bool>()) decided[f["name"].get<std::string>()] = f["met"].get<bool>();
-    }
-  }
-  WriteAtomically(dir / "summary.json", summary.dump(2) + "\n");
-  WriteAtomically(dir / "junit.xml", JUnitXml(campaign.name, builder, campaign.floors, "campaign.json"));
   bool all_met = true;
   for (const FloorVerdict& v : verdicts) {
     std::printf("floor %-50s %s  %s\n", v.name.c_str(), v.met ? "met   " : "MISSED", v.message.c_str());
@@ -203,7 +156,7 @@ int FinishCampaignOutputs(const std::string& dir_name, const Campaign& campaign,
   }
   if (builder.failed_runs() > 0) {
     std::fprintf(stderr, "armfault: %ld of %ld runs failed (see %s)\n", builder.failed_runs(), builder.runs(),
-                 (dir / "summary.json").string().c_str());
+                 (dir / run_dir::kSummary).string().c_str());
     return 3;
   }
   return all_met ? 0 : 1;
@@ -280,12 +233,12 @@ int RunCampaignCommand(const CampaignRunOptions& o) {
   }
   std::printf("ran %ld runs in %.1f s (%ld resumed, %ld failed)\n", r.ran, seconds, r.resumed, r.failed);
   if (!r.early_stop.is_null()) std::printf("%s\n", EarlyStopSummaryLine(r.early_stop).c_str());
-  int status = FinishCampaignOutputs(o.output_dir, campaign, !o.summary_only);
+  int status = FinishCampaignOutputs(o.output_dir, campaign, o.summary_only);
   // What the monitor cost (campaigns/monitor_cost.h): a measurement, in files of its own.
-  if (const fs::path cost_path = fs::path(o.output_dir) / "monitor_cost.jsonl"; fs::exists(cost_path)) {
+  if (const fs::path cost_path = fs::path(o.output_dir) / run_dir::kMonitorCost; fs::exists(cost_path)) {
     const std::optional<double> heap = ProbeMonitorHeapBytes(campaign);
     const nlohmann::json cost = SummarizeMonitorCost(cost_path, heap, campaign.floors.monitor_us_per_tick, campaign.monitor.type);
-    WriteAtomically(fs::path(o.output_dir) / "monitor_cost.json", cost.dump(2) + "\n");
+    WriteAtomically(fs::path(o.output_dir) / run_dir::kMonitorCostSummary, cost.dump(2) + "\n");
     if (!cost["mean_us_per_tick"].is_null()) {
       std::printf("monitor %s: %.3f us per tick on average (run medians %.3f us, 99th percentiles %.3f us), %s heap%s\n",
                   campaign.monitor.type.c_str(), cost["mean_us_per_tick"].get<double>(),
@@ -301,13 +254,7 @@ int RunCampaignCommand(const CampaignRunOptions& o) {
     }
   }
   if (o.summary_only) {
-    // Small CI artefacts: decisions.jsonl is most of the bytes and only `tune` reads it;
-    // results.csv repeats results.jsonl, which diff and report need. A stale csv goes too.
-    const fs::path dir(o.output_dir);
-    std::error_code ec;
-    for (const char* name : {"decisions.jsonl", "results.csv", "monitor_cost.jsonl"}) {
-      if (!fs::remove(dir / name, ec) && ec) throw InputError((dir / name).string(), "", "cannot remove: " + ec.message());
-    }
+    RemoveNotKeptBySummaryOnly(o.output_dir);
     std::printf("wrote %s/results.jsonl, summary.json, junit.xml, monitor_cost.json (--summary-only: decisions.jsonl, "
                 "results.csv and monitor_cost.jsonl removed)\n",
                 o.output_dir.c_str());

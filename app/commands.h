@@ -92,10 +92,11 @@ struct ScoreCommandOptions {
 // does, with the same floors and exit status.
 int ScoreCommand(const ScoreCommandOptions& options);
 
-// Writes summary.json, junit.xml and (with `csv`) results.csv from DIR/results.jsonl; prints
-// the floors; exit status.
+// Writes the outputs of DIR/results.jsonl (campaigns/run_dir.h, WriteRecordOutputs: results.csv,
+// summary.json, junit.xml; with `summary_only` the ones --summary-only keeps); prints the floors;
+// exit status.
 struct Campaign;
-int FinishCampaignOutputs(const std::string& dir, const Campaign& campaign, bool csv = true);
+int FinishCampaignOutputs(const std::string& dir, const Campaign& campaign, bool summary_only = false);
 int ValidateCommand(const std::string& campaign_file);
 
 struct MergeOptions {

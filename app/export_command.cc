@@ -45,12 +45,7 @@ int ExportCommand(const ExportCommandOptions& o) {
 
 int ScoreCommand(const ScoreCommandOptions& o) {
   namespace fs = std::filesystem;
-  const fs::path campaign_path = fs::path(o.dir) / "campaign.json";
-  const nlohmann::json file = ReadJsonFile(campaign_path.string());
-  if (!file.is_object() || !file.contains("campaign")) {
-    throw InputError(campaign_path.string(), "", "not the campaign.json of an armfault output directory (no \"campaign\")");
-  }
-  const Campaign campaign = CampaignFromJson(file["campaign"], campaign_path.string(), o.dir);
+  const Campaign campaign = ReadRunDirCampaign(o.dir);
   const std::string out = o.output_dir.empty() ? (fs::path(o.dir) / "scored").string() : o.output_dir;
   const OutputLock lock(out, "armfault score " + o.dir + " " + o.verdicts_file);
   const ScoreResult r = ScoreExternalVerdicts(campaign, o.dir, o.verdicts_file, out);

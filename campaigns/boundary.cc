@@ -57,22 +57,6 @@ bool Scored(const Campaign& c, const SearchEntryRange& range, const RunRecord& r
   return r.ok && r.injected() && (r.excited() || c.include_not_excited) && r.magnitude_key == range.key;
 }
 
-// The complete lines at the start of results.jsonl that parse, in order.
-std::vector<RunRecord> ReadRecords(const fs::path& path) {
-  std::vector<RunRecord> out;
-  std::ifstream in(path, std::ios::binary);
-  std::string line;
-  while (std::getline(in, line)) {
-    if (in.eof()) break;  // cut by a kill
-    try {
-      out.push_back(RunRecordFromJson(nlohmann::json::parse(line)));
-    } catch (const std::exception&) {
-      break;
-    }
-  }
-  return out;
-}
-
 // The first severity in [lo, hi] (log-spaced scan) where `value` reaches `target`.
 template <class F>
 std::optional<double> FirstAt(double lo, double hi, double target, F&& value) {
@@ -358,7 +342,7 @@ BoundaryResult RunBoundary(const Campaign& campaign, const BoundaryOptions& o) {
                        "--resume: this directory holds another campaign or search; run it without --resume, or choose "
                        "another output directory");
     }
-    records = ReadRecords(results_path);
+    records = CompleteRunRecords(results_path);
   } else {
     for (const fs::path& p : {results_path, decisions_path, boundary_path, campaign_path}) fs::remove(p);
   }
@@ -442,7 +426,7 @@ BoundaryResult RunBoundary(const Campaign& campaign, const BoundaryOptions& o) {
       const RunnerResult r = RunCampaign(*current, ro);
       out.resumed += r.resumed - static_cast<long>(runs.size());
       out.interrupted = r.interrupted;
-      records = ReadRecords(results_path);
+      records = CompleteRunRecords(results_path);
       if (r.interrupted) {
         out.runs = static_cast<long>(records.size());
         return out;
@@ -468,7 +452,7 @@ BoundaryResult RunBoundary(const Campaign& campaign, const BoundaryOptions& o) {
     ro.threads = o.threads;
     ro.resume = true;
     RunCampaign(*current, ro);
-    records = ReadRecords(results_path);
+    records = CompleteRunRecords(results_path);
   }
   for (const RunRecord& r : records) out.failed += r.ok ? 0 : 1;
   out.runs = static_cast<long>(records.size());

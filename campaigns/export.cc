@@ -239,7 +239,7 @@ ExportResult ExportCampaign(const Campaign& campaign, const ExportOptions& o) {
               if (o.progress) o.progress(done, mine);
             }));
   });
-  WriteAtomically(dir / "campaign.json", CampaignFileJson(campaign, o.shard).dump(2) + "\n");
+  WriteAtomically(dir / run_dir::kCampaign, CampaignFileJson(campaign, o.shard).dump(2) + "\n");
   manifest.Commit();
   manifest_csv.Commit();
   return out;
@@ -318,29 +318,18 @@ ScoreResult ScoreExternalVerdicts(const Campaign& campaign, const std::string& d
   const fs::path dir(dir_name);
   // The truth: an export's manifest, or the records of a run.
   fs::path truth_path = dir / "manifest.jsonl";
-  if (!fs::exists(truth_path)) truth_path = dir / "results.jsonl";
+  if (!fs::exists(truth_path)) truth_path = dir / run_dir::kResults;
   if (!fs::exists(truth_path)) {
     throw InputError(dir.string(), "", "neither manifest.jsonl (armfault export) nor results.jsonl (armfault run) is here");
   }
   std::vector<RunRecord> runs;
   std::map<std::string, size_t> by_id;
-  {
-    std::ifstream in(truth_path, std::ios::binary);
-    std::string line;
-    long n = 0;
-    while (std::getline(in, line)) {
-      ++n;
-      try {
-        runs.push_back(TruthOf(nlohmann::json::parse(line)));
-      } catch (const std::exception& e) {
-        throw InputError(truth_path.string(), "", "line " + std::to_string(n) + ": " + e.what());
-      }
-      if (!by_id.emplace(runs.back().run_id, runs.size() - 1).second) {
-        throw InputError(truth_path.string(), "", "line " + std::to_string(n) + ": run_id \"" + runs.back().run_id +
-                                                      "\" appears twice");
-      }
+  ReadJsonLines(truth_path.string(), {}, [&](nlohmann::json&& line, long) {
+    runs.push_back(TruthOf(line));
+    if (!by_id.emplace(runs.back().run_id, runs.size() - 1).second) {
+      throw std::runtime_error("run_id \"" + runs.back().run_id + "\" appears twice");
     }
-  }
+  });
   const ArmModel arm(campaign.robot);
   const double tick_s = arm.control_dt_s();
   const int joints = arm.joint_count();
@@ -406,8 +395,8 @@ ScoreResult ScoreExternalVerdicts(const Campaign& campaign, const std::string& d
     ++result.runs;
   }
   // The campaign as `run` writes it, then the records: the summary, JUnit and report read them.
-  WriteAtomically(out_dir / "campaign.json", CampaignFileJson(campaign, ShardSpec{}).dump(2) + "\n");
-  WriteAtomically(out_dir / "results.jsonl", lines.str());
+  WriteAtomically(out_dir / run_dir::kCampaign, CampaignFileJson(campaign, ShardSpec{}).dump(2) + "\n");
+  WriteAtomically(out_dir / run_dir::kResults, lines.str());
   return result;
 }
 

@@ -42,9 +42,9 @@ long LongAt(const nlohmann::json& j, const std::string& pointer, const std::stri
 ShardInput ReadShard(const std::string& dir) {
   ShardInput s;
   s.dir = dir;
-  s.campaign_path = (s.dir / "campaign.json").string();
-  s.results_path = (s.dir / "results.jsonl").string();
-  s.decisions_path = (s.dir / "decisions.jsonl").string();
+  s.campaign_path = (s.dir / run_dir::kCampaign).string();
+  s.results_path = (s.dir / run_dir::kResults).string();
+  s.decisions_path = (s.dir / run_dir::kDecisions).string();
   s.file = ReadJsonFile(s.campaign_path);
   if (!s.file.is_object()) throw InputError(s.campaign_path, "", "expected the JSON object `armfault run` writes");
   if (!s.file.contains("armfault_version") || !s.file["armfault_version"].is_string()) {
@@ -302,7 +302,7 @@ MergeResult MergeShards(const std::vector<std::string>& input_dirs, const std::s
   // line of shard c % N must be case c. Lines are copied as read; each decisions.jsonl line
   // must be of its results line's run. An older shard's inline decisions are written out as
   // the runner writes them (the same numbers print the same).
-  const fs::path results_path = out / "results.jsonl", decisions_path = out / "decisions.jsonl";
+  const fs::path results_path = out / run_dir::kResults, decisions_path = out / run_dir::kDecisions;
   const fs::path tmp_path = out / "results.jsonl.tmp", decisions_tmp_path = out / "decisions.jsonl.tmp";
   std::FILE* merged = std::fopen(tmp_path.string().c_str(), "wb");
   if (!merged) throw InputError(tmp_path.string(), "", "cannot open the file for writing");
@@ -385,7 +385,7 @@ MergeResult MergeShards(const std::vector<std::string>& input_dirs, const std::s
     throw;
   }
   // As an unsharded run writes it (the same function, shard 0/1).
-  WriteAtomically(out / "campaign.json", CampaignFileJson(result.campaign, ShardSpec{}).dump(2) + "\n");
+  WriteAtomically(out / run_dir::kCampaign, CampaignFileJson(result.campaign, ShardSpec{}).dump(2) + "\n");
   fs::rename(decisions_tmp_path, decisions_path);
   fs::rename(tmp_path, results_path);
   return result;

@@ -1,16 +1,11 @@
 #include "campaigns/runner.h"
 
-#include <fcntl.h>
-#include <sys/file.h>
-#include <unistd.h>
-
 #include <tbb/parallel_pipeline.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <optional>
@@ -182,55 +177,6 @@ UnitMonitor UnitMonitors::For(const CaseSpec& spec) {
   const size_t u = static_cast<size_t>(spec.unit);
   std::call_once(once_[u], [&] { units_[u] = CommissionUnit(campaign_, spec); });
   return units_[u];
-}
-
-OutputLock::OutputLock(const fs::path& dir, const std::string& command) {
-  fs::create_directories(dir);
-  const fs::path path = dir / ".armfault.lock";
-  fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-  if (fd_ < 0) throw InputError(path.string(), "", "cannot open the directory's lock file");
-  if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
-    std::string holder(512, '\0');
-    const ssize_t n = ::pread(fd_, holder.data(), holder.size(), 0);
-    holder.resize(n > 0 ? static_cast<size_t>(n) : 0);
-    while (!holder.empty() && (holder.back() == '\n' || holder.back() == '\0')) holder.pop_back();
-    ::close(fd_);
-    fd_ = -1;
-    throw InputError(dir.string(), "",
-                     "another armfault is writing here (" + (holder.empty() ? std::string("holder unknown") : holder) +
-                         "); wait for it to finish, or choose another output directory");
-  }
-  char host[256] = "?";
-  gethostname(host, sizeof host - 1);
-  const std::time_t now = std::time(nullptr);
-  char when[32];
-  std::strftime(when, sizeof when, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
-  const std::string text = "pid " + std::to_string(getpid()) + " on " + host + " since " + when + ": " + command + "\n";
-  if (::ftruncate(fd_, 0) != 0 || ::pwrite(fd_, text.data(), text.size(), 0) < 0) {
-    // The lock holds; only the holder's description could not be written.
-  }
-}
-
-OutputLock::~OutputLock() {
-  if (fd_ >= 0) ::close(fd_);  // releases the flock
-}
-
-void WriteAtomically(const fs::path& path, const std::string& text) {
-  const fs::path tmp = path.string() + ".tmp";
-  {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    f << text;
-    f.flush();
-    if (!f) throw InputError(tmp.string(), "", "cannot write the file");
-  }
-  fs::rename(tmp, path);
-}
-
-nlohmann::json CampaignFileJson(const Campaign& campaign, const ShardSpec& shard) {
-  return {{"armfault_version", ARMFAULT_VERSION},
-          {"shard", {{"index", shard.index}, {"count", shard.count}}},
-          {"cases", CaseCount(campaign)},
-          {"campaign", campaign.resolved}};
 }
 
 std::string EarlyStopSummaryLine(const nlohmann::json& report) {
@@ -511,14 +457,14 @@ RunRecord RunCase(const Campaign& campaign, const CaseSpec& cs, const TickObserv
 RunnerResult RunCampaign(const Campaign& campaign, const RunnerOptions& o) {
   const fs::path dir(o.output_dir);
   fs::create_directories(dir);
-  const fs::path campaign_path = dir / "campaign.json";
-  const fs::path results_path = dir / "results.jsonl";
-  const fs::path decisions_path = dir / "decisions.jsonl";
-  const fs::path cost_path = dir / "monitor_cost.jsonl";
+  const fs::path campaign_path = dir / run_dir::kCampaign;
+  const fs::path results_path = dir / run_dir::kResults;
+  const fs::path decisions_path = dir / run_dir::kDecisions;
+  const fs::path cost_path = dir / run_dir::kMonitorCost;
   nlohmann::json campaign_file = CampaignFileJson(campaign, o.shard);
   // --early-stop: the runs go in an even sweep of the case space and stop when every floor is
   // decided (campaigns/early_stop.h); early_stop.json marks a finished one.
-  const fs::path early_path = dir / "early_stop.json";
+  const fs::path early_path = dir / run_dir::kEarlyStop;
   std::unique_ptr<EarlyStop> early;
   std::optional<EarlyStopOrder> order;
   std::mutex early_mutex;  // the input stage asks what the output stage decides

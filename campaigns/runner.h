@@ -18,19 +18,12 @@
 
 #include "campaigns/campaign.h"
 #include "campaigns/early_stop.h"
+#include "campaigns/run_dir.h"
 #include "campaigns/run_record.h"
 #include "core/plant/simulation.h"
 
 namespace armfault {
 
-struct ShardSpec {
-  int index = 0;  // 0-based
-  int count = 1;
-  bool Contains(long case_index) const { return case_index % count == index; }
-  // The shard's cases of a campaign of `total`: how many, and the k-th (k from 0) by index.
-  long Size(long total) const { return total > index ? (total - index + count - 1) / count : 0; }
-  long CaseIndex(long k) const { return index + k * count; }
-};
 
 struct RunnerOptions {
   std::string output_dir = "out";
@@ -98,27 +91,5 @@ void ApplyScore(const RunScore& score, RunRecord* record);
 // null) shares the commissioned monitors between the runs of one unit.
 RunRecord RunCase(const Campaign& campaign, const CaseSpec& spec, const TickObserver& also = nullptr,
                   UnitMonitors* units = nullptr);
-
-// The JSON written to campaign.json (the summary embeds `resolved` only, so shards merge to
-// the same bytes).
-nlohmann::json CampaignFileJson(const Campaign& campaign, const ShardSpec& shard);
-
-// One writer per output directory: holds an exclusive lock (flock) on DIR/.armfault.lock, which
-// names the holder (pid, host, command, start time). A second writer gets an InputError naming
-// that holder. The lock goes with the process, even when it is killed.
-class OutputLock {
- public:
-  OutputLock(const std::filesystem::path& dir, const std::string& command);
-  ~OutputLock();
-  OutputLock(const OutputLock&) = delete;
-  OutputLock& operator=(const OutputLock&) = delete;
-
- private:
-  int fd_ = -1;
-};
-
-// Writes `text` to `path` through a temporary file and a rename: a crash leaves the old file
-// or the new one, never half of one. Throws InputError if it cannot write.
-void WriteAtomically(const std::filesystem::path& path, const std::string& text);
 
 }  // namespace armfault

@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "campaigns/run_dir.h"
 #include "core/base/json_input.h"
 
 namespace armfault {
@@ -365,20 +366,6 @@ std::optional<double> Median(std::vector<double> v) {
   return n % 2 == 1 ? v[n / 2] : (v[n / 2 - 1] + v[n / 2]) / 2;
 }
 
-void ReadRunRecords(std::istream& in, const std::string& source, SummaryBuilder* into) {
-  std::string line;
-  long n = 0;
-  while (std::getline(in, line)) {
-    ++n;
-    try {
-      into->Add(RunRecordFromJson(nlohmann::json::parse(line)));
-    } catch (const std::exception& e) {
-      throw InputError(source, "", "line " + std::to_string(n) + ": " + e.what());
-    }
-  }
-  if (in.bad()) throw InputError(source, "", "error while reading the file");
-}
-
 CampaignResults ReadCampaignResults(const std::string& dir_name) {
   const fs::path dir(dir_name);
   std::error_code ec;
@@ -386,27 +373,21 @@ CampaignResults ReadCampaignResults(const std::string& dir_name) {
   if (!fs::is_directory(dir, ec)) throw InputError(dir_name, "", "not a directory (expected a campaign output directory)");
   CampaignResults r;
   r.label = dir_name;
-  const fs::path results = dir / "results.jsonl";
+  const fs::path results = dir / run_dir::kResults;
   if (!fs::exists(results, ec)) {
     throw InputError(results.string(), "", "no such file (is " + dir_name + " an armfault run output directory?)");
   }
-  {
-    std::ifstream in(results, std::ios::binary);
-    if (!in) throw InputError(results.string(), "", "cannot open the file for reading");
-    ReadRunRecords(in, results.string(), &r.records);
-  }
-  const fs::path campaign = dir / "campaign.json";
+  JsonLinesOptions lines;
+  lines.open_error = "cannot open the file for reading";
+  ReadRunRecords(results, lines, [&](RunRecord&& record, long) { r.records.Add(record); });
+  const fs::path campaign = dir / run_dir::kCampaign;
   if (fs::exists(campaign, ec)) {
-    const nlohmann::json j = ReadJsonFile(campaign.string());
-    if (!j.is_object() || !j.contains("campaign")) {
-      throw InputError(campaign.string(), "/campaign", "missing: expected armfault's campaign.json");
-    }
-    r.campaign = j.at("campaign");
+    r.campaign = ReadCampaignFileJson(dir).at("campaign");
   } else {
     r.warnings.push_back(campaign.string() + " is missing: the campaign is unknown");
   }
   // Cross-check: summary.json's overall counts against the records (a stale summary warns).
-  const fs::path summary = dir / "summary.json";
+  const fs::path summary = dir / run_dir::kSummary;
   if (fs::exists(summary, ec)) {
     try {
       const nlohmann::json s = ReadJsonFile(summary.string());

@@ -103,10 +103,6 @@ struct CampaignResults {
   std::vector<std::string> warnings;    // e.g. a summary.json that disagrees
 };
 
-// Adds every line of `in` (results.jsonl) to `into`. Throws InputError(source, "",
-// "line N: ...") for an unparsable line or record; unknown keys are ignored.
-void ReadRunRecords(std::istream& in, const std::string& source, SummaryBuilder* into);
-
 // Reads DIR/results.jsonl (required), DIR/campaign.json (optional: without it the campaign
 // is unknown; unparsable is an error) and cross-checks DIR/summary.json (optional; a
 // mismatch or an unreadable one only warns). Throws InputError naming the directory or file.

@@ -1429,27 +1429,16 @@ ReportData GatherReportData(const ReportOptions& options) {
   if (campaign) d.not_excited_included = campaign->include_not_excited;
   std::optional<RunRecord> first, first_missed, first_detected, wanted;
   {
-    const fs::path path = dir / "results.jsonl";
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw InputError(path.string(), "", "cannot read the file (run `armfault run` first)");
-    std::string line;
-    long n = 0;
-    while (std::getline(in, line)) {
-      ++n;
-      if (line.empty()) continue;
-      RunRecord r;
-      try {
-        r = RunRecordFromJson(nlohmann::json::parse(line));
-      } catch (const std::exception& e) {
-        throw InputError(path.string(), "", "line " + std::to_string(n) + ": " + e.what());
-      }
+    const fs::path path = dir / run_dir::kResults;
+    JsonLinesOptions lines;
+    lines.open_error = "cannot read the file (run `armfault run` first)";
+    lines.skip_blank = true;
+    ReadRunRecords(path, lines, [&](RunRecord&& r, long) {
       if (matcher) {
         if (const std::string why = matcher->Mismatch(r); !why.empty()) {
-          throw InputError(path.string(), "",
-                           "line " + std::to_string(n) + ": " + why + ": this results.jsonl is not a run of " +
-                               campaign_path.string() +
-                               " (files of different campaigns are not read together); run the campaign into " +
-                               options.dir + " again");
+          throw std::runtime_error(why + ": this results.jsonl is not a run of " + campaign_path.string() +
+                                   " (files of different campaigns are not read together); run the campaign into " +
+                                   options.dir + " again");
         }
       }
       ++d.records;
@@ -1459,12 +1448,12 @@ ReportData GatherReportData(const ReportOptions& options) {
         if (d.wrong.size() < ReportData::kListedRuns) d.wrong.push_back({r.run_id, r.miss_reason});
         ++d.wrong_count;
       }
-      if (!r.ok || r.family.empty()) continue;
-      if (!r.injected()) continue;  // its onset condition never fired: as summary.json, outside the rates
+      if (!r.ok || r.family.empty()) return;
+      if (!r.injected()) return;  // its onset condition never fired: as summary.json, outside the rates
       if (!r.excited()) {
         if (d.not_excited.size() < ReportData::kListedRuns) d.not_excited.push_back({r.run_id, r.not_excited_reason});
         ++d.not_excited_count;
-        if (!d.not_excited_included) continue;  // as summary.json: outside the rates
+        if (!d.not_excited_included) return;  // as summary.json: outside the rates
       }
       if (!r.is_compound()) AddPodRun(r, &d.pod[r.family]);  // no single magnitude to plot against
       if (r.detected) {
@@ -1474,7 +1463,7 @@ ReportData GatherReportData(const ReportOptions& options) {
         ++d.misses[r.family];
         if (!first_missed) first_missed = r;
       }
-    }
+    });
   }
 
   // Tuning: DIR/tuning.json must be of this campaign; without one, the tuner's defaults.

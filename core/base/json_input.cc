@@ -272,4 +272,21 @@ std::string ReadTextFile(const std::string& path) {
 
 nlohmann::json ReadJsonFile(const std::string& path) { return ParseJsonText(ReadTextFile(path), path); }
 
+void ReadJsonLines(const std::string& path, const JsonLinesOptions& options,
+                   const std::function<void(nlohmann::json&& line, long number)>& each) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, "", options.open_error);
+  std::string line;
+  long n = 0;
+  while (std::getline(in, line)) {
+    ++n;
+    if (options.skip_blank && line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    try {
+      each(nlohmann::json::parse(line), n);
+    } catch (const std::exception& e) {
+      throw InputError(path, "", "line " + std::to_string(n) + ": " + e.what());
+    }
+  }
+}
+
 }  // namespace armfault

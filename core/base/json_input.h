@@ -165,6 +165,17 @@ void RequireInRange(double value, double min, double max, const std::string& poi
 nlohmann::json ParseJsonText(const std::string& text, const std::string& source);
 // Reads and parses a file; a missing or unreadable file is an InputError too.
 nlohmann::json ReadJsonFile(const std::string& path);
+
+// JSON Lines read strictly: each line of `path` parsed and handed to `each` with its number
+// (from 1). A line that does not parse, or that `each` refuses by throwing, is an InputError
+// "PATH: line N: why"; a file that cannot be opened is "PATH: <open_error>". Lines of only
+// white space are skipped when `skip_blank` is set, else they are errors like any other.
+struct JsonLinesOptions {
+  std::string open_error = "cannot read the file";
+  bool skip_blank = false;
+};
+void ReadJsonLines(const std::string& path, const JsonLinesOptions& options,
+                   const std::function<void(nlohmann::json&& line, long number)>& each);
 // Reads a whole text file; throws InputError if it cannot be read.
 std::string ReadTextFile(const std::string& path);
 

@@ -21,13 +21,13 @@
 
 #include "campaigns/campaign.h"
 #include "campaigns/campaign_summary.h"
+#include "campaigns/run_dir.h"
 #include "campaigns/run_record.h"
 #include "campaigns/runner.h"
 #include "core/base/json_input.h"
 #include "core/base/suggest.h"
 #include "faults/fault.h"
 #include "python/src/python_monitor.h"
-#include "reports/results_csv.h"
 
 namespace armfault::python {
 
@@ -197,9 +197,9 @@ std::pair<std::vector<std::string>, std::vector<std::string>> RunCases(const PyC
   return {std::move(lines), std::move(decision_lines)};
 }
 
-// What `armfault run` writes beside results.jsonl (app/campaign_command.cc's
-// FinishCampaignOutputs, without its printing): records read back from their lines, so every
-// number is the one results.jsonl holds.
+// What `armfault run` writes: campaign.json, results.jsonl and decisions.jsonl from the runs'
+// lines, then the outputs of results.jsonl from the run directory's table
+// (campaigns/run_dir.h, WriteRecordOutputs), as every command writes them.
 void WriteOutputs(const std::string& dir_name, const PyCampaign& pc, const std::vector<std::string>& lines,
                   const std::vector<std::string>& decision_lines) {
   const Campaign& campaign = *pc.campaign;
@@ -208,22 +208,15 @@ void WriteOutputs(const std::string& dir_name, const PyCampaign& pc, const std::
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec) throw InputError(dir_name, "", "cannot create the output directory: " + ec.message());
-  WriteAtomically(dir / "campaign.json", CampaignFileJson(campaign, ShardSpec{}).dump(2) + "\n");
-  std::string jsonl, csv = ResultsCsvHeader();
-  SummaryBuilder builder(campaign.include_not_excited);
-  for (const std::string& line : lines) {
-    jsonl += line + "\n";
-    const RunRecord record = RunRecordFromJson(nlohmann::json::parse(line));
-    builder.Add(record);
-    csv += ResultsCsvRow(record);
-  }
-  WriteAtomically(dir / "results.jsonl", jsonl);
+  fs::remove(dir / run_dir::kEarlyStop, ec);  // of an earlier `run --early-stop` here: not this run's
+  WriteAtomically(dir / run_dir::kCampaign, CampaignFileJson(campaign, ShardSpec{}).dump(2) + "\n");
+  std::string jsonl;
+  for (const std::string& line : lines) jsonl += line + "\n";
+  WriteAtomically(dir / run_dir::kResults, jsonl);
   std::string decisions;  // what `armfault tune` reads
   for (const std::string& line : decision_lines) decisions += line + "\n";
-  WriteAtomically(dir / "decisions.jsonl", decisions);
-  WriteAtomically(dir / "results.csv", csv);
-  WriteAtomically(dir / "summary.json", builder.Build(campaign.floors, campaign.resolved, ARMFAULT_VERSION).dump(2) + "\n");
-  WriteAtomically(dir / "junit.xml", JUnitXml(campaign.name, builder, campaign.floors, "campaign.json"));
+  WriteAtomically(dir / run_dir::kDecisions, decisions);
+  WriteRecordOutputs(dir, campaign, false);
 }
 
 // summary.json's content from records (results.jsonl lines); without a campaign no floors and

@@ -382,25 +382,6 @@ TEST(CampaignDiffTest, JsonAndMarkdownCarryEveryComparison) {
   EXPECT_THAT(md, HasSubstr(std::string("| ") + kKt07 + " | detection | 0.950 (38/40) | 0.950 (38/40) |"));
 }
 
-TEST(CampaignDiffTest, ReadRunRecordsNamesTheFileAndLine) {
-  const RunRecord r = Faulty("x/0", kKt07, true);
-  std::istringstream in(ToJson(r).dump() + "\n" + "{\"case\": 1, not json\n");
-  SummaryBuilder b;
-  try {
-    ReadRunRecords(in, "dir/results.jsonl", &b);
-    FAIL() << "no error";
-  } catch (const InputError& e) {
-    EXPECT_THAT(std::string(e.what()), HasSubstr("dir/results.jsonl: line 2: "));
-  }
-  // Unknown keys (e.g. a newer "decision") are ignored.
-  nlohmann::json extra = ToJson(r);
-  extra["decision"] = {{"anything", 1}};
-  std::istringstream ok(extra.dump() + "\n");
-  SummaryBuilder c;
-  ReadRunRecords(ok, "x", &c);
-  EXPECT_EQ(c.runs(), 1);
-}
-
 TEST(CampaignDiffTest, ReadCampaignResultsRejectsAMissingDirectory) {
   try {
     ReadCampaignResults("/no/such/armfault/dir");

@@ -1,6 +1,6 @@
 // results.csv: one flat row per run, quoted where a field holds a comma or a quote, empty where
 // results.jsonl has null.
-#include "reports/results_csv.h"
+#include "campaigns/results_csv.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>

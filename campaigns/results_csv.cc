@@ -1,4 +1,4 @@
-#include "reports/results_csv.h"
+#include "campaigns/results_csv.h"
 
 #include <cstdio>
 #include <optional>
