@@ -12,7 +12,6 @@
 #include "campaigns/campaign.h"
 #include "campaigns/runner.h"
 #include "core/base/json_input.h"
-#include "core/monitors/power_monitor.h"
 #include "reports/trace_csv.h"
 
 namespace armfault {
@@ -108,23 +107,14 @@ int TraceCampaignCase(const TraceOptions& o) {
   std::ofstream file(o.output, std::ios::binary);
   if (!file) throw InputError(o.output, "", "cannot open the trace file for writing");
   TraceCsvWriter writer(&file, static_cast<int>(campaign.robot.modules.size()));
-  // A second monitor beside the one inside RunCase, for --monitor-out: it sees the same ticks,
-  // with the same knowledge (the unit's commissioned model).
-  UnitMonitors units(campaign);
-  const UnitMonitor unit = units.For(spec);
-  const std::unique_ptr<HealthMonitor> monitor = (unit.model ? unit.model : campaign.monitor_model)->NewMonitor();
-  double end_s = 0;
-  const RunRecord record = RunCase(campaign, spec, ObserveWith(monitor.get(), [&](const Tick& tick) {
-                                     writer.Write(tick);
-                                     end_s = tick.t_s;
-                                   }),
-                                   &units);
-  monitor->Finish(end_s);
+  // The run's own monitor's output, for --monitor-out.
+  MonitorOutput output;
+  const RunRecord record = RunCase(campaign, spec, [&](const Tick& tick) { writer.Write(tick); }, nullptr, &output);
   file.close();
   if (!file) throw InputError(o.output, "", "error while writing the trace file");
 
   if (!o.monitor_output.empty()) {
-    nlohmann::json out = ToJson(monitor->output());
+    nlohmann::json out = ToJson(output);
     out["record"] = ToJson(record);
     std::ofstream mf(o.monitor_output, std::ios::binary);
     mf << out.dump(1) << "\n";

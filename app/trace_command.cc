@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "app/commands.h"
+#include "campaigns/run_pipeline.h"
 #include "core/base/json_input.h"
 #include "core/monitors/power_monitor.h"
 #include "core/run_config.h"
@@ -110,8 +111,6 @@ int RunTrace(const TraceOptions& o) {
   std::vector<std::shared_ptr<const Fault>> faults;
   for (auto& fault : made) faults.push_back(std::move(fault));
   if (!faults.empty()) spec.hardware = std::make_shared<FaultSchedule>(faults);
-  EffectRecorder effects(model, faults);
-
   std::ofstream file(o.output, std::ios::binary);
   if (!file) throw InputError(o.output, "", "cannot open the trace file for writing");
   TraceCsvWriter writer(&file, n);
@@ -122,10 +121,10 @@ int RunTrace(const TraceOptions& o) {
   } catch (const InputError& e) {
     throw e.WithSource(context.source);
   }
-  const std::unique_ptr<HealthMonitor> monitor = monitor_model->NewMonitor();
-  const RunResult result = Simulate(model, spec, ObserveWith(monitor.get(), [&](const Tick& tick) {
+  // The run pipeline's plant, monitor and effect meters (campaigns/run_pipeline.h); nothing is
+  // scored here, so scoring's tap needs no onset.
+  const ExecutedRun run_out = Execute(model, spec, faults, *monitor_model, 0.0, [&](const Tick& tick) {
     writer.Write(tick);
-    effects.Observe(tick);
     for (int j = 0; j < n; ++j) {
       const JointTick& jt = (*tick.joints)[j];
       const double err = (jt.q_rad - jt.q_ref_rad) * 180.0 / M_PI;
@@ -136,8 +135,13 @@ int RunTrace(const TraceOptions& o) {
       s.sum_sq_cmd += jt.i_cmd_A * jt.i_cmd_A;
       ++s.count;
     }
-  }));
-  monitor->Finish(result.end_time_s);
+  });
+  if (!run_out.monitor_failure.empty()) {
+    std::fprintf(stderr, "armfault: error: monitor failed: %s\n", run_out.monitor_failure.c_str());
+    return 3;
+  }
+  const RunResult& result = run_out.result;
+  const HealthMonitor& monitor = *run_out.monitor;
   file.close();
   if (!file) throw InputError(o.output, "", "error while writing the trace file");
 
@@ -162,7 +166,7 @@ int RunTrace(const TraceOptions& o) {
                 supply, stored, losses, supply - stored - losses, 100.0 * (supply - stored - losses) / supply);
   }
   if (!o.quiet && !faults.empty()) {
-    const std::vector<FaultEffect> measured = effects.Results();
+    const std::vector<FaultEffect>& measured = run_out.effects;
     for (size_t k = 0; k < faults.size(); ++k) {
       const FaultEffect& e = measured[k];
       std::printf("fault %s -> %s: healthy %.4g, faulty %.4g: %s\n", faults[k]->ToJson().dump().c_str(),
@@ -179,10 +183,10 @@ int RunTrace(const TraceOptions& o) {
   }
   if (!o.monitor_output.empty()) {
     std::ofstream mf(o.monitor_output, std::ios::binary);
-    mf << ToJson(monitor->output()).dump(1) << "\n";
+    mf << ToJson(monitor.output()).dump(1) << "\n";
     if (!mf) throw InputError(o.monitor_output, "", "cannot write the monitor output");
   }
-  if (!o.quiet) PrintMonitorSummary(*monitor);
+  if (!o.quiet) PrintMonitorSummary(monitor);
   if (!result.ok) {
     std::fprintf(stderr, "armfault: run failed: %s\n", result.failure_reason.c_str());
     return 3;

@@ -7,20 +7,13 @@
 #include <cstdio>
 #include <fstream>
 
-#include "campaigns/runner.h"
+#include "campaigns/run_dir.h"
+#include "campaigns/run_pipeline.h"
 #include "core/base/json_input.h"
 
 namespace armfault {
 
 namespace {
-
-// Nearest rank: the sorted value at index ceil(q n) - 1, as summary.json's latency p95.
-double Quantile(std::vector<float> v, double q) {
-  const size_t n = v.size();
-  const size_t k = static_cast<size_t>(std::ceil(q * static_cast<double>(n))) - 1;
-  std::nth_element(v.begin(), v.begin() + static_cast<long>(k), v.end());
-  return v[k];
-}
 
 double Median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
@@ -28,31 +21,12 @@ double Median(std::vector<double> v) {
   return n % 2 == 1 ? v[n / 2] : (v[n / 2 - 1] + v[n / 2]) / 2;
 }
 
-// Rounded to 1 ns: the clock says no more.
-double Us(double us) { return std::round(us * 1e3) / 1e3; }
-
 double HeapBytes() {
   const struct mallinfo2 m = mallinfo2();
   return static_cast<double>(m.uordblks + m.hblkhd);
 }
 
 }  // namespace
-
-nlohmann::json MonitorClock::ToJson() const {
-  const long n = static_cast<long>(ticks_us_.size());
-  if (n == 0) {
-    return {{"ticks", 0}, {"mean_us", nullptr}, {"median_us", nullptr}, {"p99_us", nullptr}, {"max_us", nullptr},
-            {"finish_us", Us(finish_us_)}};
-  }
-  double total = 0;
-  for (float t : ticks_us_) total += t;
-  return {{"ticks", n},
-          {"mean_us", Us(total / static_cast<double>(n))},
-          {"median_us", Us(Quantile(ticks_us_, 0.5))},
-          {"p99_us", Us(Quantile(ticks_us_, 0.99))},
-          {"max_us", Us(*std::max_element(ticks_us_.begin(), ticks_us_.end()))},
-          {"finish_us", Us(finish_us_)}};
-}
 
 std::optional<double> ProbeMonitorHeapBytes(const Campaign& campaign) {
   if (CaseCount(campaign) == 0) return std::nullopt;
@@ -108,10 +82,10 @@ nlohmann::json SummarizeMonitorCost(const std::filesystem::path& cost_path, std:
   }
   nlohmann::json out = {{"monitor", monitor_type}, {"runs", runs}, {"ticks", ticks}};
   const double mean = ticks > 0 ? total_us / static_cast<double>(ticks) : 0.0;
-  out["mean_us_per_tick"] = ticks > 0 ? nlohmann::json(Us(mean)) : nlohmann::json(nullptr);
-  out["median_of_run_medians_us"] = runs > 0 ? nlohmann::json(Us(Median(medians))) : nlohmann::json(nullptr);
+  out["mean_us_per_tick"] = ticks > 0 ? nlohmann::json(RoundedUs(mean)) : nlohmann::json(nullptr);
+  out["median_of_run_medians_us"] = runs > 0 ? nlohmann::json(RoundedUs(Median(medians))) : nlohmann::json(nullptr);
   out["max_of_run_medians_us"] = runs > 0 ? nlohmann::json(*std::max_element(medians.begin(), medians.end())) : nlohmann::json(nullptr);
-  out["median_of_run_p99s_us"] = runs > 0 ? nlohmann::json(Us(Median(p99s))) : nlohmann::json(nullptr);
+  out["median_of_run_p99s_us"] = runs > 0 ? nlohmann::json(RoundedUs(Median(p99s))) : nlohmann::json(nullptr);
   out["max_of_run_p99s_us"] = runs > 0 ? nlohmann::json(*std::max_element(p99s.begin(), p99s.end())) : nlohmann::json(nullptr);
   out["max_tick_us"] = runs > 0 ? nlohmann::json(max_us) : nlohmann::json(nullptr);
   out["heap_bytes"] = heap_bytes ? nlohmann::json(*heap_bytes) : nlohmann::json(nullptr);
@@ -126,7 +100,7 @@ nlohmann::json SummarizeMonitorCost(const std::filesystem::path& cost_path, std:
                     met ? "<=" : ">", *floor_us_per_tick, ticks, runs);
     }
     out["floor"] = {{"bound", *floor_us_per_tick},
-                    {"measured", ticks > 0 ? nlohmann::json(Us(mean)) : nlohmann::json(nullptr)},
+                    {"measured", ticks > 0 ? nlohmann::json(RoundedUs(mean)) : nlohmann::json(nullptr)},
                     {"met", met},
                     {"message", message}};
   }

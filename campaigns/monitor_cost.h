@@ -13,34 +13,15 @@
 
 #include <nlohmann/json.hpp>
 
-#include <chrono>
 #include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "campaigns/campaign.h"
+#include "campaigns/monitor_clock.h"
 
 namespace armfault {
-
-// Times one run's monitor calls.
-class MonitorClock {
- public:
-  void Start() { start_ = std::chrono::steady_clock::now(); }
-  void StopTick() { ticks_us_.push_back(Elapsed()); }
-  void StopFinish() { finish_us_ = Elapsed(); }
-  // {"ticks", "mean_us", "median_us", "p99_us", "max_us", "finish_us"}; null statistics when
-  // there was no tick.
-  nlohmann::json ToJson() const;
-
- private:
-  float Elapsed() const {
-    return std::chrono::duration<float, std::micro>(std::chrono::steady_clock::now() - start_).count();
-  }
-  std::chrono::steady_clock::time_point start_;
-  std::vector<float> ticks_us_;
-  float finish_us_ = 0;
-};
 
 // The most heap (bytes) one fresh monitor of the campaign holds while it replays the signals
 // of the campaign's first case, above what the process held before it was made; nullopt when

@@ -19,6 +19,7 @@
 #include "campaigns/campaign.h"
 #include "campaigns/early_stop.h"
 #include "campaigns/run_dir.h"
+#include "campaigns/run_pipeline.h"
 #include "campaigns/run_record.h"
 #include "core/plant/simulation.h"
 
@@ -51,45 +52,5 @@ struct RunnerResult {
 std::string EarlyStopSummaryLine(const nlohmann::json& early_stop_json);
 
 RunnerResult RunCampaign(const Campaign& campaign, const RunnerOptions& options);
-
-// The monitor a unit's runs use: the campaign's (the datasheet, widened where tolerances are
-// stated) or, with commissioning, that model fitted on the unit's commissioning run.
-struct UnitMonitor {
-  std::shared_ptr<const MonitorModel> model;
-  std::string failure;  // non-empty: the unit's commissioning run failed, and why
-};
-
-// The commissioning motion of a robot: every joint on a sine pair of its own frequency, both
-// ways through a good part of its range, for 16 s (docs/campaign-format.md, "Commissioning").
-nlohmann::json CommissioningMotion(const RobotConfig& robot);
-// Commissions the unit of `spec` (its robot, healthy, at the campaign's middle ambient, with a
-// seed of the unit's own) and fits the monitor on what it recorded.
-UnitMonitor CommissionUnit(const Campaign& campaign, const CaseSpec& spec);
-
-// Per-unit monitors, each computed once, by the first run of that unit that needs it, from any
-// thread. Runs that are their own unit are not cached.
-class UnitMonitors {
- public:
-  explicit UnitMonitors(const Campaign& campaign);
-  UnitMonitor For(const CaseSpec& spec);
-
- private:
-  const Campaign& campaign_;
-  std::unique_ptr<std::once_flag[]> once_;
-  std::vector<UnitMonitor> units_;
-};
-
-// Sets a record's diagnosis (detection, latency, isolation, size) from its score.
-// A compound run's per-element isolation (RunRecord::compound): each element's "isolated"
-// and "detection_time_s" from the first alarm verdict naming its family on its joint at or
-// after its onset_s. Nothing for another run.
-void ScoreCompoundElements(const MonitorOutput& output, RunRecord* r);
-void ApplyScore(const RunScore& score, RunRecord* record);
-
-// One case, fully: builds the varied robot, the faults and the monitor, simulates, diagnoses.
-// Never throws for a failing run: the record says "failed" with the reason. `units` (may be
-// null) shares the commissioned monitors between the runs of one unit.
-RunRecord RunCase(const Campaign& campaign, const CaseSpec& spec, const TickObserver& also = nullptr,
-                  UnitMonitors* units = nullptr);
 
 }  // namespace armfault

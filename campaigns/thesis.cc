@@ -5,6 +5,7 @@
 #include <cmath>
 #include <memory>
 
+#include "campaigns/run_pipeline.h"
 #include "core/monitors/power_monitor.h"
 #include "core/run_config.h"
 #include "core/plant/simulation.h"
@@ -111,13 +112,12 @@ ThesisResults RunThesisExperiments(unsigned long long seed) {
     std::vector<std::shared_ptr<const Fault>> faults;
     for (auto& f : MakeFaults(run.faults_json, "/faults", run.robot)) faults.push_back(std::move(f));
     if (!faults.empty()) spec.hardware = std::make_shared<FaultSchedule>(faults);
-    const std::unique_ptr<HealthMonitor> monitor = monitor_model->NewMonitor();
-    const RunResult result = Simulate(model, spec, ObserveWith(monitor.get()));
-    monitor->Finish(result.end_time_s);
+    // The run pipeline's plant and monitor (campaigns/run_pipeline.h); nothing here is scored.
+    const ExecutedRun run_out = Execute(model, spec, faults, *monitor_model, 0.0);
     ThesisRow& row = results.experiments[c.experiment].rows[c.row];
-    row.ok = result.ok;
-    row.failure = result.failure_reason;
-    Evaluate(monitor->output(), &row);
+    row.ok = run_out.result.ok && run_out.monitor_failure.empty();
+    row.failure = run_out.monitor_failure.empty() ? run_out.result.failure_reason : "monitor failed: " + run_out.monitor_failure;
+    if (run_out.monitor_failure.empty()) Evaluate(run_out.monitor->output(), &row);
   });
   for (ThesisExperiment& e : results.experiments) {
     for (ThesisRow& r : e.rows) {

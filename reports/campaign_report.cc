@@ -1350,14 +1350,7 @@ RunSeries SimulateRunSeries(const Campaign& campaign, const CaseSpec& spec) {
   s.i_cmd_A.resize(s.joints.size());
   s.i_supply_A.resize(s.joints.size());
   s.tau_sensor_Nm.resize(s.joints.size());
-  // The same model (the unit's, commissioned where the campaign commissions) and the same
-  // signals as the run's own monitor: the same output.
-  UnitMonitors units(campaign);
-  const UnitMonitor unit = units.For(spec);
-  const std::unique_ptr<HealthMonitor> monitor = (unit.model ? unit.model : campaign.monitor_model)->NewMonitor();
-  double t_last = 0;
-  const TickObserver observer = ObserveWith(monitor.get(), [&](const Tick& tick) {
-    t_last = tick.t_s;
+  const TickObserver observer = [&](const Tick& tick) {
     s.t_s.push_back(tick.t_s);
     for (size_t k = 0; k < s.joints.size(); ++k) {
       const JointTick& jt = (*tick.joints)[s.joints[k] - 1];
@@ -1365,10 +1358,8 @@ RunSeries SimulateRunSeries(const Campaign& campaign, const CaseSpec& spec) {
       s.i_supply_A[k].push_back(jt.i_supply_meas_A);
       s.tau_sensor_Nm[k].push_back(jt.tau_sensor_Nm);
     }
-  });
-  s.record = RunCase(campaign, spec, observer, &units);
-  monitor->Finish(t_last);
-  s.monitor = monitor->output();
+  };
+  s.record = RunCase(campaign, spec, observer, nullptr, &s.monitor);
   for (const Verdict& v : s.monitor.verdicts) {
     if (v.alarm) {
       s.first_alarm_s = v.t_s;
