@@ -39,6 +39,113 @@ std::string A90Cell(const json* fit, const char* key, bool numeric) {
   return v != nullptr && Num(*v, "magnitude") ? Sig4(*Num(*v, "magnitude")) : "not reached";
 }
 
+// One family's plot: every run as run (dots at 1 and 0), the detected fraction per magnitude
+// with its Wilson interval, the fit as run and, when the operating point's thresholds differ
+// (`tuned_differs`), its fit from `tuned` (tuning.json's detection_probability, or nullptr).
+// *fit_possible: whether the runs allow a fit (2 or more numeric magnitudes).
+std::string PodFamilyPlot(const std::string& family, const PodAsRun& p, const json* tuned, bool tuned_differs,
+                          bool* fit_possible) {
+  const std::string color = FamilyColor(family);
+  const bool numeric = !p.magnitude_key.empty() && !p.by_magnitude.empty();
+  const std::string key = numeric ? p.magnitude_key : p.name_key;
+  svg::Plot plot("pod-" + IdPart(family), family, kHalfWidth, 340);
+  plot.y().label = "detection probability (fraction of runs)";
+  plot.y().min = 0;
+  plot.y().max = 1;
+  plot.x().label = numeric ? WithUnit(key) + ", fault magnitude"
+                           : (key.empty() ? std::string("fault (no magnitude)") : key + " (named fault variant)");
+  std::vector<double> xs, ys, lo, hi, hx, hy, mx, my;
+  std::vector<std::string> tips, htips, mtips, categories;
+  long runs = 0, detected = 0;
+  bool capped = false;
+  auto add_cell = [&](double x, const std::string& mtext, const PodAsRun::Cell& c) {
+    const RateInterval w = Wilson(c.detected, c.runs);
+    runs += c.runs;
+    detected += c.detected;
+    xs.push_back(x);
+    ys.push_back(w.rate);
+    lo.push_back(w.low);
+    hi.push_back(w.high);
+    tips.push_back(key + " " + mtext + ": " + std::to_string(c.detected) + " of " + std::to_string(c.runs) +
+                   " runs detected (" + Pct(w.rate) + ", 95 % Wilson [" + Fixed(100 * w.low, 1) + ", " +
+                   Fixed(100 * w.high, 1) + "] %)");
+    // The runs themselves, stacked a little inwards from 0 and 1 so that several show.
+    for (size_t i = 0; i < c.hit_ids.size(); ++i) {
+      hx.push_back(x);
+      hy.push_back(1 - 0.014 * static_cast<double>(i % 5));
+      htips.push_back(c.hit_ids[i] + ": detected");
+    }
+    for (size_t i = 0; i < c.miss_ids.size(); ++i) {
+      mx.push_back(x);
+      my.push_back(0.014 * static_cast<double>(i % 5));
+      mtips.push_back(c.miss_ids[i] + ": missed");
+    }
+    capped = capped || c.hit_ids.size() < static_cast<size_t>(c.detected) ||
+             c.miss_ids.size() < static_cast<size_t>(c.runs - c.detected);
+  };
+  if (numeric) {
+    for (const auto& [m, c] : p.by_magnitude) add_cell(m, FormatNumber(m), c);
+    // Severity grows to the right: a falling parameter (kt_factor, resistance_ohm) gets a reversed axis.
+    plot.x().reversed = PodSeverity(key, 2.0) < PodSeverity(key, 1.0);
+  } else {
+    for (const auto& [name, c] : p.by_name) {
+      add_cell(static_cast<double>(categories.size()), name.empty() ? "–" : name, c);
+      categories.push_back(name.empty() ? "–" : name);
+    }
+    plot.x().categories = categories;
+  }
+  std::string caption = std::to_string(runs) + " runs at " + std::to_string(xs.size()) +
+                        (numeric ? " magnitude" : " variant") + (xs.size() == 1 ? "" : "s") + ": " + std::to_string(detected) + " detected, " +
+                        std::to_string(runs - detected) + " missed" + (capped ? " (dots: the first 40 of each)" : "") +
+                        ". ";
+  const json fit = AsRunFit(p);
+  *fit_possible = !fit.is_null();
+  const json* usable = fit.is_object() && fit.value("ok", false) ? &fit : nullptr;
+  if (usable != nullptr) {
+    std::vector<double> cx, cp, cl, ch;
+    for (const json& c : (*usable)["curve"]) {
+      cx.push_back(c["magnitude"].get<double>());
+      cp.push_back(c["pod"].get<double>());
+      cl.push_back(c["low"].get<double>());
+      ch.push_back(c["high"].get<double>());
+    }
+    plot.Band("95 % confidence band (as run)", cx, cl, ch, color, 0.18);
+    plot.Line("fitted as run", cx, cp, svg::Stroke{color, 2, "", 1});
+    plot.HLine(0.9, "90 %", svg::Stroke{"#666", 1, "4 3", 1});
+    if (const json* a = Field(*usable, "a90"); a != nullptr && Num(*a, "magnitude")) {
+      plot.VLine(*Num(*a, "magnitude"), "a90 = " + Sig4(*Num(*a, "magnitude")), svg::Stroke{"#333", 1.4, "", 1});
+    }
+    if (const json* a = Field(*usable, "a90_95"); a != nullptr && Num(*a, "magnitude")) {
+      plot.VLine(*Num(*a, "magnitude"), "a90/95 = " + Sig4(*Num(*a, "magnitude")),
+                 svg::Stroke{"#b00020", 1.4, "5 3", 1});
+    }
+    if (Field(*usable, "a90_95") == nullptr) caption += "a90/95 not reached in the tested range.";
+  } else if (!numeric) {
+    caption += "Named variants: no fitted curve.";
+  } else if (p.by_magnitude.size() < 2) {
+    caption += "One magnitude only: no curve (a fit needs 2 or more).";
+  } else {
+    caption += "No fitted curve: " + Str(fit, "reason") + ".";
+  }
+  // The tuned operating point's fit, when its thresholds differ from the ones run.
+  const json* tuned_family = tuned != nullptr ? Field(*tuned, family) : nullptr;
+  const json* tuned_fit = tuned_family != nullptr ? UsableFit(*tuned_family) : nullptr;
+  if (numeric && tuned_differs && tuned_fit != nullptr) {
+    std::vector<double> cx, cp;
+    if (const json* curve = Field(*tuned_fit, "curve"); curve != nullptr && curve->is_array()) {
+      for (const json& c : *curve) {
+        if (Num(c, "magnitude") && Num(c, "pod")) cx.push_back(*Num(c, "magnitude")), cp.push_back(*Num(c, "pod"));
+      }
+    }
+    if (!cx.empty()) plot.Line("fitted at the tuned operating point", cx, cp, svg::Stroke{"#000", 1.4, "6 4", 0.8});
+  }
+  plot.set_caption(caption);
+  if (!hx.empty()) plot.Points("runs detected (at 1)", hx, hy, {}, {}, color, svg::Marker::kCircle, htips, 2.2);
+  if (!mx.empty()) plot.Points("runs missed (at 0)", mx, my, {}, {}, "#c62828", svg::Marker::kSquare, mtips, 2.4);
+  plot.Points("detected fraction as run (95 % Wilson)", xs, ys, lo, hi, color, svg::Marker::kCircle, tips, 4.5);
+  return plot.Render();
+}
+
 }  // namespace
 
 std::vector<std::vector<std::string>> A90Rows(const ReportData& d) {
@@ -81,105 +188,9 @@ std::string PodSection(const ReportData& d) {
   o += "</p><div class=\"plots\">";
   bool any_curve_possible = false;
   for (const auto& [family, p] : d.pod) {
-    const std::string color = FamilyColor(family);
-    const bool numeric = !p.magnitude_key.empty() && !p.by_magnitude.empty();
-    const std::string key = numeric ? p.magnitude_key : p.name_key;
-    svg::Plot plot("pod-" + IdPart(family), family, kHalfWidth, 340);
-    plot.y().label = "detection probability (fraction of runs)";
-    plot.y().min = 0;
-    plot.y().max = 1;
-    plot.x().label = numeric ? WithUnit(key) + ", fault magnitude"
-                             : (key.empty() ? std::string("fault (no magnitude)") : key + " (named fault variant)");
-    std::vector<double> xs, ys, lo, hi, hx, hy, mx, my;
-    std::vector<std::string> tips, htips, mtips, categories;
-    long runs = 0, detected = 0;
-    bool capped = false;
-    auto add_cell = [&](double x, const std::string& mtext, const PodAsRun::Cell& c) {
-      const RateInterval w = Wilson(c.detected, c.runs);
-      runs += c.runs;
-      detected += c.detected;
-      xs.push_back(x);
-      ys.push_back(w.rate);
-      lo.push_back(w.low);
-      hi.push_back(w.high);
-      tips.push_back(key + " " + mtext + ": " + std::to_string(c.detected) + " of " + std::to_string(c.runs) +
-                     " runs detected (" + Pct(w.rate) + ", 95 % Wilson [" + Fixed(100 * w.low, 1) + ", " +
-                     Fixed(100 * w.high, 1) + "] %)");
-      // The runs themselves, stacked a little inwards from 0 and 1 so that several show.
-      for (size_t i = 0; i < c.hit_ids.size(); ++i) {
-        hx.push_back(x);
-        hy.push_back(1 - 0.014 * static_cast<double>(i % 5));
-        htips.push_back(c.hit_ids[i] + ": detected");
-      }
-      for (size_t i = 0; i < c.miss_ids.size(); ++i) {
-        mx.push_back(x);
-        my.push_back(0.014 * static_cast<double>(i % 5));
-        mtips.push_back(c.miss_ids[i] + ": missed");
-      }
-      capped = capped || c.hit_ids.size() < static_cast<size_t>(c.detected) ||
-               c.miss_ids.size() < static_cast<size_t>(c.runs - c.detected);
-    };
-    if (numeric) {
-      for (const auto& [m, c] : p.by_magnitude) add_cell(m, FormatNumber(m), c);
-      // Severity grows to the right: a falling parameter (kt_factor, resistance_ohm) gets a reversed axis.
-      plot.x().reversed = PodSeverity(key, 2.0) < PodSeverity(key, 1.0);
-    } else {
-      for (const auto& [name, c] : p.by_name) {
-        add_cell(static_cast<double>(categories.size()), name.empty() ? "–" : name, c);
-        categories.push_back(name.empty() ? "–" : name);
-      }
-      plot.x().categories = categories;
-    }
-    std::string caption = std::to_string(runs) + " runs at " + std::to_string(xs.size()) +
-                          (numeric ? " magnitude" : " variant") + (xs.size() == 1 ? "" : "s") + ": " + std::to_string(detected) + " detected, " +
-                          std::to_string(runs - detected) + " missed" + (capped ? " (dots: the first 40 of each)" : "") +
-                          ". ";
-    const json fit = AsRunFit(p);
-    any_curve_possible = any_curve_possible || !fit.is_null();
-    const json* usable = fit.is_object() && fit.value("ok", false) ? &fit : nullptr;
-    if (usable != nullptr) {
-      std::vector<double> cx, cp, cl, ch;
-      for (const json& c : (*usable)["curve"]) {
-        cx.push_back(c["magnitude"].get<double>());
-        cp.push_back(c["pod"].get<double>());
-        cl.push_back(c["low"].get<double>());
-        ch.push_back(c["high"].get<double>());
-      }
-      plot.Band("95 % confidence band (as run)", cx, cl, ch, color, 0.18);
-      plot.Line("fitted as run", cx, cp, svg::Stroke{color, 2, "", 1});
-      plot.HLine(0.9, "90 %", svg::Stroke{"#666", 1, "4 3", 1});
-      if (const json* a = Field(*usable, "a90"); a != nullptr && Num(*a, "magnitude")) {
-        plot.VLine(*Num(*a, "magnitude"), "a90 = " + Sig4(*Num(*a, "magnitude")), svg::Stroke{"#333", 1.4, "", 1});
-      }
-      if (const json* a = Field(*usable, "a90_95"); a != nullptr && Num(*a, "magnitude")) {
-        plot.VLine(*Num(*a, "magnitude"), "a90/95 = " + Sig4(*Num(*a, "magnitude")),
-                   svg::Stroke{"#b00020", 1.4, "5 3", 1});
-      }
-      if (Field(*usable, "a90_95") == nullptr) caption += "a90/95 not reached in the tested range.";
-    } else if (!numeric) {
-      caption += "Named variants: no fitted curve.";
-    } else if (p.by_magnitude.size() < 2) {
-      caption += "One magnitude only: no curve (a fit needs 2 or more).";
-    } else {
-      caption += "No fitted curve: " + Str(fit, "reason") + ".";
-    }
-    // The tuned operating point's fit, when its thresholds differ from the ones run.
-    const json* tuned_family = tuned != nullptr ? Field(*tuned, family) : nullptr;
-    const json* tuned_fit = tuned_family != nullptr ? UsableFit(*tuned_family) : nullptr;
-    if (numeric && tuned_differs && tuned_fit != nullptr) {
-      std::vector<double> cx, cp;
-      if (const json* curve = Field(*tuned_fit, "curve"); curve != nullptr && curve->is_array()) {
-        for (const json& c : *curve) {
-          if (Num(c, "magnitude") && Num(c, "pod")) cx.push_back(*Num(c, "magnitude")), cp.push_back(*Num(c, "pod"));
-        }
-      }
-      if (!cx.empty()) plot.Line("fitted at the tuned operating point", cx, cp, svg::Stroke{"#000", 1.4, "6 4", 0.8});
-    }
-    plot.set_caption(caption);
-    if (!hx.empty()) plot.Points("runs detected (at 1)", hx, hy, {}, {}, color, svg::Marker::kCircle, htips, 2.2);
-    if (!mx.empty()) plot.Points("runs missed (at 0)", mx, my, {}, {}, "#c62828", svg::Marker::kSquare, mtips, 2.4);
-    plot.Points("detected fraction as run (95 % Wilson)", xs, ys, lo, hi, color, svg::Marker::kCircle, tips, 4.5);
-    o += plot.Render();
+    bool fit_possible = false;
+    o += PodFamilyPlot(family, p, tuned, tuned_differs, &fit_possible);
+    any_curve_possible = any_curve_possible || fit_possible;
   }
   o += "</div>";
   if (!any_curve_possible) {

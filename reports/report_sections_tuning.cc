@@ -162,6 +162,75 @@ RocView ReadRocCurve(const std::string& name, const json& curve) {
   return v;
 }
 
+
+// A marked point of the ROC plots, from tuning.json.
+struct RocMark {
+  std::string label, color;
+  svg::Marker marker;
+  double size;
+  const json* point;
+};
+using PlacedRocMark = std::pair<RocMark, std::pair<double, double>>;  // at (false alarms, detection)
+
+// The marked points: the thresholds as run, the operating point over every run and, when
+// it was chosen on one half, on each half; those with both rates.
+std::vector<PlacedRocMark> PlacedRocMarks(const json& tuning) {
+  std::vector<RocMark> marks = {{"thresholds as run", "#888888", svg::Marker::kTriangle, 5, Field(tuning, "default_point")},
+                                {"operating point (all runs)", "#000000", svg::Marker::kDiamond, 6,
+                                 Field(tuning, "operating_point")}};
+  const json* selection = Field(tuning, "selection");
+  if (selection != nullptr) {
+    marks.push_back({"operating point on the runs it was chosen on", "#1a7f37", svg::Marker::kDiamond, 4,
+                     Field(*selection, "chosen_on")});
+    marks.push_back({"operating point on the held-out runs", "#b00020", svg::Marker::kDiamond, 4,
+                     Field(*selection, "held_out")});
+  }
+  std::vector<PlacedRocMark> placed;
+  for (const RocMark& m : marks) {
+    if (m.point == nullptr) continue;
+    const Rate fa = TuningRate(Field(*m.point, "false_alarm_rate")), det = TuningRate(Field(*m.point, "detection_rate"));
+    if (fa.value && det.value) placed.push_back({m, {*fa.value, *det.value}});
+  }
+  return placed;
+}
+
+// One ROC plot of the swept curves (the overall frontier on top) and the marked points, the
+// false-alarm axis from 0 to x_max.
+std::string RocPlot(const std::string& id, const std::string& title, double x_max, const std::string& caption,
+                    const std::vector<RocView>& swept, const std::vector<PlacedRocMark>& placed) {
+  svg::Plot plot(id, title, kFullWidth, 430);
+  plot.set_caption(caption);
+  plot.x().label = "false-alarm rate (fraction of healthy runs alarmed; axis 0 to " + FormatNumber(x_max) + ")";
+  plot.x().min = 0;
+  plot.x().max = x_max;
+  plot.y().label = "detection rate (fraction of faulty runs; a family: of its runs)";
+  plot.y().min = 0;
+  plot.y().max = 1;
+  for (size_t k = swept.size(); k-- > 0;) {  // the overall frontier last: on top
+    const RocView& v = swept[k];
+    const std::string color = FamilyColor(v.overall ? "overall" : v.name);
+    std::string label = v.overall ? "overall frontier" : v.name + " (" + v.parameter + " swept)";
+    label += v.auc ? ", AUC " + Fixed(*v.auc, 3) + " over false alarms " + FormatNumber(v.auc_from) + " to " +
+                         FormatNumber(v.auc_to)
+                   : ", no AUC: every point at one false-alarm rate";
+    std::vector<size_t> order(v.fa.size());
+    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(),
+                     [&](size_t a, size_t b) { return std::tie(v.fa[a], v.det[a]) < std::tie(v.fa[b], v.det[b]); });
+    std::vector<double> xs, ys;
+    for (size_t i : order) xs.push_back(v.fa[i]), ys.push_back(v.det[i]);
+    plot.Line("", xs, ys, svg::Stroke{color, v.overall ? 2.6 : 1.6, "", 0.9});
+    plot.Points(label, v.fa, v.det, {}, {}, color, v.overall ? svg::Marker::kCircle : svg::Marker::kSquare, v.tips,
+                v.overall ? 3.2 : 2.8);
+  }
+  for (const auto& [m, p] : placed) {
+    plot.Points(m.label, {p.first}, {p.second}, {}, {}, m.color, m.marker,
+                {m.label + ": false alarms " + Pct(p.first) + ", detection " + Pct(p.second) + "; " +
+                 SettingText(Field(*m.point, "setting"))},
+                m.size);
+  }
+  return plot.Render();
+}
 }  // namespace
 
 std::string RocSection(const ReportData& d) {
@@ -183,30 +252,8 @@ std::string RocSection(const ReportData& d) {
     (v.swept ? swept : unswept).push_back(v);
   }
 
-  // The marked points: the thresholds as run, the operating point over every run and, when
-  // it was chosen on one half, on each half.
-  struct Mark {
-    std::string label, color;
-    svg::Marker marker;
-    double size;
-    const json* point;
-  };
-  std::vector<Mark> marks = {{"thresholds as run", "#888888", svg::Marker::kTriangle, 5, Field(*d.tuning, "default_point")},
-                             {"operating point (all runs)", "#000000", svg::Marker::kDiamond, 6,
-                              Field(*d.tuning, "operating_point")}};
+  const std::vector<PlacedRocMark> placed = PlacedRocMarks(*d.tuning);
   const json* selection = Field(*d.tuning, "selection");
-  if (selection != nullptr) {
-    marks.push_back({"operating point on the runs it was chosen on", "#1a7f37", svg::Marker::kDiamond, 4,
-                     Field(*selection, "chosen_on")});
-    marks.push_back({"operating point on the held-out runs", "#b00020", svg::Marker::kDiamond, 4,
-                     Field(*selection, "held_out")});
-  }
-  std::vector<std::pair<Mark, std::pair<double, double>>> placed;
-  for (const Mark& m : marks) {
-    if (m.point == nullptr) continue;
-    const Rate fa = TuningRate(Field(*m.point, "false_alarm_rate")), det = TuningRate(Field(*m.point, "detection_rate"));
-    if (fa.value && det.value) placed.push_back({m, {*fa.value, *det.value}});
-  }
 
   std::string notes;
   const std::string split = selection != nullptr ? Str(*selection, "split") : "";
@@ -244,45 +291,12 @@ std::string RocSection(const ReportData& d) {
   fa_max = std::max(fa_max, marked_max);
   const json* rule = Field(*d.tuning, "rule");
   const double ceiling = rule != nullptr ? Num(*rule, "false_alarm_ceiling").value_or(0) : 0;
-  auto draw = [&](const std::string& id, const std::string& title, double x_max, const std::string& caption) {
-    svg::Plot plot(id, title, kFullWidth, 430);
-    plot.set_caption(caption);
-    plot.x().label = "false-alarm rate (fraction of healthy runs alarmed; axis 0 to " + FormatNumber(x_max) + ")";
-    plot.x().min = 0;
-    plot.x().max = x_max;
-    plot.y().label = "detection rate (fraction of faulty runs; a family: of its runs)";
-    plot.y().min = 0;
-    plot.y().max = 1;
-    for (size_t k = swept.size(); k-- > 0;) {  // the overall frontier last: on top
-      const RocView& v = swept[k];
-      const std::string color = FamilyColor(v.overall ? "overall" : v.name);
-      std::string label = v.overall ? "overall frontier" : v.name + " (" + v.parameter + " swept)";
-      label += v.auc ? ", AUC " + Fixed(*v.auc, 3) + " over false alarms " + FormatNumber(v.auc_from) + " to " +
-                           FormatNumber(v.auc_to)
-                     : ", no AUC: every point at one false-alarm rate";
-      std::vector<size_t> order(v.fa.size());
-      for (size_t i = 0; i < order.size(); ++i) order[i] = i;
-      std::stable_sort(order.begin(), order.end(),
-                       [&](size_t a, size_t b) { return std::tie(v.fa[a], v.det[a]) < std::tie(v.fa[b], v.det[b]); });
-      std::vector<double> xs, ys;
-      for (size_t i : order) xs.push_back(v.fa[i]), ys.push_back(v.det[i]);
-      plot.Line("", xs, ys, svg::Stroke{color, v.overall ? 2.6 : 1.6, "", 0.9});
-      plot.Points(label, v.fa, v.det, {}, {}, color, v.overall ? svg::Marker::kCircle : svg::Marker::kSquare, v.tips,
-                  v.overall ? 3.2 : 2.8);
-    }
-    for (const auto& [m, p] : placed) {
-      plot.Points(m.label, {p.first}, {p.second}, {}, {}, m.color, m.marker,
-                  {m.label + ": false alarms " + Pct(p.first) + ", detection " + Pct(p.second) + "; " +
-                   SettingText(Field(*m.point, "setting"))},
-                  m.size);
-    }
-    return plot.Render();
-  };
   const double x_max = axis_end(fa_max);
-  std::string plots = draw("roc", "Detection against false alarms, per threshold setting", x_max,
-                           std::string(x_max < 1 ? "False-alarm axis zoomed to 0 to " : "False-alarm axis 0 to ") +
-                               FormatNumber(x_max) + " (largest measured: " + FormatNumber(fa_max) +
-                               "). Each point is one threshold setting; lines join measured points only.");
+  std::string plots = RocPlot("roc", "Detection against false alarms, per threshold setting", x_max,
+                              std::string(x_max < 1 ? "False-alarm axis zoomed to 0 to " : "False-alarm axis 0 to ") +
+                                  FormatNumber(x_max) + " (largest measured: " + FormatNumber(fa_max) +
+                                  "). Each point is one threshold setting; lines join measured points only.",
+                              swept, placed);
   // When the curves reach far, a second plot zooms on the low end where the operating point
   // lies (up to a little above it and the rule's ceiling); the points beyond are cut off.
   const double low_max = axis_end(std::max(marked_max, ceiling));
@@ -292,9 +306,10 @@ std::string RocSection(const ReportData& d) {
       for (double x : v.fa) (x > low_max ? beyond : within) += 1;
     }
     if (within > 0 && beyond > 0) {
-      plots += draw("roc-low-false-alarms", "The low false-alarm end, where the operating point lies", low_max,
-                    "Zoomed to false alarms 0 to " + FormatNumber(low_max) + ": " + std::to_string(beyond) +
-                        " points lie beyond the axis (see the plot above).");
+      plots += RocPlot("roc-low-false-alarms", "The low false-alarm end, where the operating point lies", low_max,
+                       "Zoomed to false alarms 0 to " + FormatNumber(low_max) + ": " + std::to_string(beyond) +
+                           " points lie beyond the axis (see the plot above).",
+                       swept, placed);
     }
   }
   return o + "<div class=\"plots\">" + plots + "</div><ul class=\"note\">" + notes + "</ul></section>";
