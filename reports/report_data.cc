@@ -139,29 +139,26 @@ CampaignFiles ReadSummaryAndCampaign(const ReportOptions& options, ReportData* d
   // names its campaign; only the run section says what went wrong.
   files.campaign_path = dir / "campaign.json";
   const fs::path& campaign_path = files.campaign_path;
-  std::optional<Campaign>& campaign = files.campaign;
-  std::string& campaign_error = files.campaign_error;
-  std::vector<CampaignClaim>& claims = files.claims;
   if (fs::exists(campaign_path)) {
     const json file = ReadJsonFile(campaign_path.string());
-    claims.push_back({campaign_path.string(), ClaimedCampaignHash(file, campaign_path.string()), ""});
+    files.claims.push_back({campaign_path.string(), ClaimedCampaignHash(file, campaign_path.string()), ""});
     try {
       if (!file.is_object() || !file.contains("campaign")) {
         throw InputError(campaign_path.string(), "", "no \"campaign\" key: not written by `armfault run`");
       }
       // Relative file names (csv trajectories) resolve against DIR: the campaign's own folder is not recorded.
-      campaign = CampaignFromJson(file["campaign"], campaign_path.string(), options.dir);
+      files.campaign = CampaignFromJson(file["campaign"], campaign_path.string(), options.dir);
     } catch (const InputError& e) {
-      campaign_error = e.what();
+      files.campaign_error = e.what();
     }
   } else {
-    campaign_error = campaign_path.string() + ": no such file";
+    files.campaign_error = campaign_path.string() + ": no such file";
   }
-  claims.push_back({summary_path.string(), ClaimedCampaignHash(d.summary, summary_path.string()),
+  files.claims.push_back({summary_path.string(), ClaimedCampaignHash(d.summary, summary_path.string()),
                     "summary.json is stale or was copied from elsewhere: run the campaign into " + options.dir +
                         " again (or merge its shards there)"});
-  RequireOneCampaign(claims);
-  for (const CampaignClaim& c : claims) {
+  RequireOneCampaign(files.claims);
+  for (const CampaignClaim& c : files.claims) {
     if (!c.hash) continue;
     if (d.campaign_hash.empty()) d.campaign_hash = *c.hash;
     d.hashed_files.push_back(fs::path(c.file).filename().string());
@@ -185,8 +182,6 @@ RunCandidates ReadResults(const ReportOptions& options, const CampaignFiles& fil
   if (campaign) matcher.emplace(*campaign);
   if (campaign) d.not_excited_included = campaign->include_not_excited;
   RunCandidates candidates;
-  std::optional<RunRecord>&first = candidates.first, &first_missed = candidates.first_missed,
-                       &first_detected = candidates.first_detected, &wanted = candidates.wanted;
   {
     const fs::path path = dir / "results.jsonl";
     std::ifstream in(path, std::ios::binary);
@@ -212,8 +207,8 @@ RunCandidates ReadResults(const ReportOptions& options, const CampaignFiles& fil
         }
       }
       ++d.records;
-      if (!first) first = r;
-      if (!options.run_id.empty() && r.run_id == options.run_id) wanted = r;
+      if (!candidates.first) candidates.first = r;
+      if (!options.run_id.empty() && r.run_id == options.run_id) candidates.wanted = r;
       if (r.ok && !r.miss_reason.empty() && (r.family.empty() || r.excited() || d.not_excited_included)) {
         if (d.wrong.size() < ReportData::kListedRuns) d.wrong.push_back({r.run_id, r.miss_reason});
         ++d.wrong_count;
@@ -228,10 +223,10 @@ RunCandidates ReadResults(const ReportOptions& options, const CampaignFiles& fil
       if (!r.is_compound()) AddPodRun(r, &d.pod[r.family]);  // no single magnitude to plot against
       if (r.detected) {
         if (r.latency_s && std::isfinite(*r.latency_s)) d.latencies_s[r.family].push_back(*r.latency_s);
-        if (!first_detected) first_detected = r;
+        if (!candidates.first_detected) candidates.first_detected = r;
       } else {
         ++d.misses[r.family];
-        if (!first_missed) first_missed = r;
+        if (!candidates.first_missed) candidates.first_missed = r;
       }
     }
   }
