@@ -15,6 +15,7 @@ using svg::Fixed;
 
 namespace {
 
+// The p-quantile of sorted values, interpolated linearly between ranks; NaN when there are none.
 double Quantile(const std::vector<double>& sorted, double p) {
   if (sorted.empty()) return std::nan("");
   const double h = (static_cast<double>(sorted.size()) - 1) * p;

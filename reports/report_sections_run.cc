@@ -72,6 +72,7 @@ void Thin(const std::vector<double>& t, const std::vector<double>& y, size_t max
   }
 }
 
+// A run record's outcome in words, for the page.
 std::string RecordText(const RunRecord& r) {
   if (!r.ok) return "failed: " + r.failure_reason;
   if (!r.detected) return "not detected";
