@@ -15,6 +15,9 @@
 // Units in the page: rates as fractions or %, times in s, currents in A, torques in N m,
 // magnitudes and thresholds in their own (docs/faults.md, docs/monitor.md).
 //
+// Code: the data is gathered in report_data.cc, the page's sections are report_sections.h (one
+// row each in the table of campaign_report.cc), their shared helpers report_common.h.
+//
 // Provenance: the files must be of one campaign (campaigns/provenance.h). The report refuses
 // (InputError, exit status 2) a summary.json or tuning.json whose campaign_hash is not
 // campaign.json's (or summary.json's, without campaign.json), a tuning.json without one, and a

@@ -320,7 +320,23 @@ void Plot::LegendEntry(const std::string& name, const std::string& color, bool f
   legend_.push_back({name, color, "", Marker::kNone, !filled, filled});
 }
 
-std::string Plot::Render() const {
+// Where Render puts everything, in pixels: the axes' scales (with their pixel ends), the plot
+// area, the x labels, the legend entries and the total height.
+struct Plot::Layout {
+  Scale sx, sy;
+  double title_h = 0, area_top = 0, area_h = 0, area_bottom = 0, px0 = 0, px1 = 0;
+  bool turn_x = false;  // categorical x labels turned, as they do not fit their slots
+  double xaxis_label_y = 0;
+  struct Placed {
+    const LegendItem* item;
+    double x, y;
+  };
+  std::vector<Placed> placed;  // legend entries
+  double total_h = 0;
+};
+
+// The data's extents on both axes and where everything goes: Render's first step.
+Plot::Layout Plot::Arrange() const {
   // Data extents (log axes: positive values only).
   const double nan = std::numeric_limits<double>::quiet_NaN();
   double xmin = nan, xmax = nan, ymin = nan, ymax = nan;
@@ -344,99 +360,214 @@ std::string Plot::Render() const {
     for (double v : it.lo) grow(v, y_.log, &ymin, &ymax);
     for (double v : it.hi) grow(v, y_.log, &ymin, &ymax);
   }
-  Scale sx = Resolve(x_, xmin, xmax);
-  Scale sy = Resolve(y_, ymin, ymax);
+  Layout l;
+  l.sx = Resolve(x_, xmin, xmax);
+  l.sy = Resolve(y_, ymin, ymax);
 
   // Layout: title block, stacked marker-label rows, plot area, x ticks and label, legend.
   int vlines = 0;
   for (const Item& it : items_) vlines += it.kind == Item::Kind::kVLine && !it.text.empty() ? 1 : 0;
   double tick_w = 0;
-  for (const TickMark& t : sy.ticks) tick_w = std::max(tick_w, TextWidth(t.label, kFont));
+  for (const TickMark& t : l.sy.ticks) tick_w = std::max(tick_w, TextWidth(t.label, kFont));
   const double left = std::max(min_left_, tick_w + (y_.label.empty() ? 14 : 34));
   const double right = 18;
-  const double title_h = caption_.empty() ? 28 : 44;
-  const double area_top = title_h + vlines * kLabelRow + (vlines > 0 ? 4 : 0);
-  const double area_h = std::max(60.0, height_ - 28.0 - 50.0);
-  const double area_bottom = area_top + area_h;
-  const double px0 = left, px1 = width_ - right;
+  l.title_h = caption_.empty() ? 28 : 44;
+  l.area_top = l.title_h + vlines * kLabelRow + (vlines > 0 ? 4 : 0);
+  l.area_h = std::max(60.0, height_ - 28.0 - 50.0);
+  l.area_bottom = l.area_top + l.area_h;
+  l.px0 = left;
+  l.px1 = width_ - right;
   // Categorical x labels that do not fit their slot are turned.
   double xcat_w = 0;
-  for (const TickMark& t : sx.ticks) xcat_w = std::max(xcat_w, TextWidth(t.label, kFont));
-  const bool turn_x = !x_.categories.empty() && xcat_w + 6 > (px1 - px0) / std::max<size_t>(1, sx.ticks.size());
-  const double xlabels_h = turn_x ? xcat_w * 0.6 + 16 : 18;
-  const double xaxis_label_y = area_bottom + xlabels_h + 16;
+  for (const TickMark& t : l.sx.ticks) xcat_w = std::max(xcat_w, TextWidth(t.label, kFont));
+  l.turn_x = !x_.categories.empty() && xcat_w + 6 > (l.px1 - l.px0) / std::max<size_t>(1, l.sx.ticks.size());
+  const double xlabels_h = l.turn_x ? xcat_w * 0.6 + 16 : 18;
+  l.xaxis_label_y = l.area_bottom + xlabels_h + 16;
 
   // Legend rows, wrapped to the width.
-  struct Placed {
-    const LegendItem* item;
-    double x, y;
-  };
-  std::vector<Placed> placed;
-  double lx = px0, ly = xaxis_label_y + (x_.label.empty() ? 4 : 20);
-  for (const LegendItem& l : legend_) {
-    const double w = 30 + TextWidth(l.name, kFont) + 16;
-    if (lx > px0 && lx + w > width_ - 4) {
-      lx = px0;
+  double lx = l.px0, ly = l.xaxis_label_y + (x_.label.empty() ? 4 : 20);
+  for (const LegendItem& entry : legend_) {
+    const double w = 30 + TextWidth(entry.name, kFont) + 16;
+    if (lx > l.px0 && lx + w > width_ - 4) {
+      lx = l.px0;
       ly += kLegendRow;
     }
-    placed.push_back({&l, lx, ly});
+    l.placed.push_back({&entry, lx, ly});
     lx += w;
   }
-  const double total_h = (placed.empty() ? xaxis_label_y + 8 : ly + 10);
+  l.total_h = (l.placed.empty() ? l.xaxis_label_y + 8 : ly + 10);
 
-  sx.p0 = x_.reversed ? px1 : px0;
-  sx.p1 = x_.reversed ? px0 : px1;
-  sy.p0 = y_.reversed ? area_top : area_bottom;
-  sy.p1 = y_.reversed ? area_bottom : area_top;
+  l.sx.p0 = x_.reversed ? l.px1 : l.px0;
+  l.sx.p1 = x_.reversed ? l.px0 : l.px1;
+  l.sy.p0 = y_.reversed ? l.area_top : l.area_bottom;
+  l.sy.p1 = y_.reversed ? l.area_bottom : l.area_top;
+  return l;
+}
 
-  std::string o;
-  o += "<svg id=\"" + Escape(id_) + "\" class=\"plot\" width=\"" + std::to_string(width_) + "\" height=\"" +
-       Px(total_h) + "\" viewBox=\"0 0 " + std::to_string(width_) + " " + Px(total_h) +
-       "\" role=\"img\" font-family=\"sans-serif\">";
+// One drawn element into `o` (lines, bands, rectangles, markers), `points` (point markers, on
+// top in the padded clip) or `labels` (vertical markers' labels, outside the clip); `vline_row`
+// counts the labelled vertical markers so far.
+void Plot::DrawItem(const Item& it, const Layout& l, int* vline_row, std::string* o, std::string* points,
+                    std::string* labels) const {
+  switch (it.kind) {
+    case Item::Kind::kLine: {
+      std::string d, marks;
+      bool pen = false;
+      for (size_t k = 0; k < it.xs.size() && k < it.ys.size(); ++k) {
+        if (!Finite(it.xs[k]) || !Finite(it.ys[k])) {
+          pen = false;
+          continue;
+        }
+        const double x = l.sx(it.xs[k]), y = l.sy(it.ys[k]);
+        d += (pen ? "L" : "M") + Px(x) + " " + Px(y);
+        pen = true;
+        marks += MarkerPath(it.marker, x, y, 3.2);
+      }
+      *o += PathEl("data line", d, " fill=\"none\"" + StrokeAttrs(it.stroke) + " stroke-linejoin=\"round\"");
+      *o += PathEl("data marks", marks, " fill=\"" + Escape(it.color) + "\" stroke=\"none\"");
+      break;
+    }
+    case Item::Kind::kSegments: {
+      std::string d, marks;
+      for (size_t k = 0; k < it.xs.size() && k < it.x1s.size() && k < it.ys.size(); ++k) {
+        if (!Finite(it.xs[k]) || !Finite(it.x1s[k]) || !Finite(it.ys[k])) continue;
+        const double y = l.sy(it.ys[k]);
+        d += "M" + Px(l.sx(it.xs[k])) + " " + Px(y) + "H" + Px(l.sx(it.x1s[k]));
+        marks += MarkerPath(it.marker, (l.sx(it.xs[k]) + l.sx(it.x1s[k])) / 2, y, 3.2);
+      }
+      *o += PathEl("data segments", d, " fill=\"none\"" + StrokeAttrs(it.stroke));
+      *o += PathEl("data marks", marks, " fill=\"" + Escape(it.color) + "\" stroke=\"none\"");
+      break;
+    }
+    case Item::Kind::kBand: {
+      std::string upper, lower;
+      for (size_t k = 0; k < it.xs.size() && k < it.lo.size() && k < it.hi.size(); ++k) {
+        if (!Finite(it.xs[k]) || !Finite(it.lo[k]) || !Finite(it.hi[k])) continue;
+        upper += (upper.empty() ? "M" : "L") + Px(l.sx(it.xs[k])) + " " + Px(l.sy(it.hi[k]));
+        lower = "L" + Px(l.sx(it.xs[k])) + " " + Px(l.sy(it.lo[k])) + lower;
+      }
+      if (!upper.empty()) {
+        *o += PathEl("data band", upper + lower + "Z",
+                    " fill=\"" + Escape(it.color) + "\" fill-opacity=\"" + Fixed(it.opacity, 2) + "\" stroke=\"none\"");
+      }
+      break;
+    }
+    case Item::Kind::kPoints: {
+      for (size_t k = 0; k < it.xs.size() && k < it.ys.size(); ++k) {
+        if (!Finite(it.xs[k]) || !Finite(it.ys[k])) continue;
+        const double x = l.sx(it.xs[k]), y = l.sy(it.ys[k]);
+        if (k < it.lo.size() && k < it.hi.size() && Finite(it.lo[k]) && Finite(it.hi[k])) {
+          const double y0 = l.sy(it.lo[k]), y1 = l.sy(it.hi[k]);
+          *points += PathEl("data errorbar",
+                      "M" + Px(x) + " " + Px(y0) + "V" + Px(y1) + "M" + Px(x - 3.5) + " " + Px(y0) + "h7M" +
+                          Px(x - 3.5) + " " + Px(y1) + "h7",
+                      " fill=\"none\" stroke=\"" + Escape(it.color) + "\" stroke-width=\"1.3\"");
+        }
+        *points += PathEl("data point", MarkerPath(it.marker, x, y, it.size),
+                    " fill=\"" + Escape(it.color) + "\" stroke=\"#fff\" stroke-width=\"0.8\"",
+                    k < it.tooltips.size() ? it.tooltips[k] : "");
+      }
+      break;
+    }
+    case Item::Kind::kRect: {
+      const double x0 = l.sx(it.xs[0]), x1 = l.sx(it.xs[1]), y0 = l.sy(it.ys[0]), y1 = l.sy(it.ys[1]);
+      if (!Finite(x0) || !Finite(x1) || !Finite(y0) || !Finite(y1)) break;
+      std::string attrs = " fill=\"" + Escape(it.color) + "\"";
+      if (it.opacity < 1) attrs += " fill-opacity=\"" + Fixed(it.opacity, 2) + "\"";
+      attrs += it.stroke.color.empty() ? " stroke=\"none\""
+                                       : " stroke=\"" + Escape(it.stroke.color) + "\" stroke-width=\"1\"";
+      *o += PathEl("data rect",
+                  "M" + Px(std::min(x0, x1)) + " " + Px(std::min(y0, y1)) + "H" + Px(std::max(x0, x1)) + "V" +
+                      Px(std::max(y0, y1)) + "H" + Px(std::min(x0, x1)) + "Z",
+                  attrs, it.tooltips.empty() ? "" : it.tooltips[0]);
+      break;
+    }
+    case Item::Kind::kVLine: {
+      if (!Finite(it.xs[0])) break;
+      const double x = l.sx(it.xs[0]);
+      *o += PathEl("marker vline", "M" + Px(x) + " " + Px(l.area_top) + "V" + Px(l.area_bottom),
+                  " fill=\"none\"" + StrokeAttrs(it.stroke));
+      if (!it.text.empty()) {
+        const double y = l.title_h + kLabelRow * ((*vline_row)++) + 11;
+        const bool to_left = x + 4 + TextWidth(it.text, kFont) > width_ - 2;
+        *labels += PathEl("marker tick", "M" + Px(x) + " " + Px(y + 2) + "V" + Px(l.area_top),
+                         " fill=\"none\"" + StrokeAttrs(Stroke{it.stroke.color, 1, "2 2", 0.6}));
+        *labels += TextEl(to_left ? x - 4 : x + 4, y, it.text, to_left ? "end" : "start", kFont,
+                         " fill=\"" + Escape(it.stroke.color) + "\"");
+      }
+      break;
+    }
+    case Item::Kind::kHLine: {
+      if (!Finite(it.ys[0])) break;
+      const double y = l.sy(it.ys[0]);
+      *o += PathEl("marker hline", "M" + Px(l.px0) + " " + Px(y) + "H" + Px(l.px1),
+                  " fill=\"none\"" + StrokeAttrs(it.stroke));
+      if (!it.text.empty()) {
+        *o += TextEl(l.px1 - 4, y - 4, it.text, "end", kFont, " fill=\"" + Escape(it.stroke.color) + "\"");
+      }
+      break;
+    }
+    case Item::Kind::kText: {
+      if (!Finite(it.xs[0]) || !Finite(it.ys[0])) break;
+      *o += TextEl(l.sx(it.xs[0]), l.sy(it.ys[0]), it.text, it.anchor, kFont, " fill=\"" + Escape(it.color) + "\"");
+      break;
+    }
+  }
+}
+
+std::string Plot::Render() const {
+  const Layout l = Arrange();
+  std::string o = "<svg id=\"" + Escape(id_) + "\" class=\"plot\" width=\"" + std::to_string(width_) +
+                  "\" height=\"" + Px(l.total_h) + "\" viewBox=\"0 0 " + std::to_string(width_) + " " + Px(l.total_h) +
+                  "\" role=\"img\" font-family=\"sans-serif\">";
   o += "<title>" + Escape(title_) + "</title>";
   // Lines and bands are clipped to the plot area; point markers to a slightly larger one, so
   // a point on the frame (a rate of 1, a false-alarm rate of 0) is drawn whole.
   constexpr double kPointPad = 8;
-  o += "<defs><clipPath id=\"" + Escape(id_) + "-clip\"><rect x=\"" + Px(px0) + "\" y=\"" + Px(area_top) +
-       "\" width=\"" + Px(px1 - px0) + "\" height=\"" + Px(area_h) + "\"/></clipPath><clipPath id=\"" + Escape(id_) +
-       "-clip-points\"><rect x=\"" + Px(px0 - kPointPad) + "\" y=\"" + Px(area_top - kPointPad) + "\" width=\"" +
-       Px(px1 - px0 + 2 * kPointPad) + "\" height=\"" + Px(area_h + 2 * kPointPad) + "\"/></clipPath></defs>";
+  o += "<defs><clipPath id=\"" + Escape(id_) + "-clip\"><rect x=\"" + Px(l.px0) + "\" y=\"" + Px(l.area_top) +
+       "\" width=\"" + Px(l.px1 - l.px0) + "\" height=\"" + Px(l.area_h) + "\"/></clipPath><clipPath id=\"" +
+       Escape(id_) + "-clip-points\"><rect x=\"" + Px(l.px0 - kPointPad) + "\" y=\"" + Px(l.area_top - kPointPad) +
+       "\" width=\"" + Px(l.px1 - l.px0 + 2 * kPointPad) + "\" height=\"" + Px(l.area_h + 2 * kPointPad) +
+       "\"/></clipPath></defs>";
   o += TextEl(8, 18, title_, "start", kTitleFont, " font-weight=\"bold\" fill=\"#222\"");
   if (!caption_.empty()) o += TextEl(8, 35, caption_, "start", kFont, " fill=\"#555\"");
 
   // Grid and ticks.
   std::string grid, ticks;
-  for (const TickMark& t : sx.ticks) {
-    const double x = sx(t.value);
-    grid += "M" + Px(x) + " " + Px(area_top) + "V" + Px(area_bottom);
-    ticks += "M" + Px(x) + " " + Px(area_bottom) + "v4";
+  for (const TickMark& t : l.sx.ticks) {
+    const double x = l.sx(t.value);
+    grid += "M" + Px(x) + " " + Px(l.area_top) + "V" + Px(l.area_bottom);
+    ticks += "M" + Px(x) + " " + Px(l.area_bottom) + "v4";
   }
-  for (const TickMark& t : sy.ticks) {
-    const double y = sy(t.value);
-    grid += "M" + Px(px0) + " " + Px(y) + "H" + Px(px1);
-    ticks += "M" + Px(px0) + " " + Px(y) + "h-4";
+  for (const TickMark& t : l.sy.ticks) {
+    const double y = l.sy(t.value);
+    grid += "M" + Px(l.px0) + " " + Px(y) + "H" + Px(l.px1);
+    ticks += "M" + Px(l.px0) + " " + Px(y) + "h-4";
   }
   o += PathEl("grid", grid, " fill=\"none\" stroke=\"#e6e6e6\" stroke-width=\"1\"");
   o += PathEl("ticks", ticks, " fill=\"none\" stroke=\"#444\" stroke-width=\"1\"");
   o += PathEl("frame",
-              "M" + Px(px0) + " " + Px(area_top) + "V" + Px(area_bottom) + "H" + Px(px1) + "V" + Px(area_top) + "Z",
+              "M" + Px(l.px0) + " " + Px(l.area_top) + "V" + Px(l.area_bottom) + "H" + Px(l.px1) + "V" +
+                  Px(l.area_top) + "Z",
               " fill=\"none\" stroke=\"#888\" stroke-width=\"1\"");
   o += "<g class=\"xticks\" fill=\"#333\">";
-  for (const TickMark& t : sx.ticks) {
-    const double x = sx(t.value);
-    if (turn_x) {
-      o += "<text transform=\"translate(" + Px(x + 3) + " " + Px(area_bottom + 12) +
+  for (const TickMark& t : l.sx.ticks) {
+    const double x = l.sx(t.value);
+    if (l.turn_x) {
+      o += "<text transform=\"translate(" + Px(x + 3) + " " + Px(l.area_bottom + 12) +
            ") rotate(-35)\" text-anchor=\"end\" font-size=\"" + Fixed(kFont, 0) + "\">" + Escape(t.label) + "</text>";
     } else {
-      o += TextEl(x, area_bottom + 16, t.label, "middle", kFont);
+      o += TextEl(x, l.area_bottom + 16, t.label, "middle", kFont);
     }
   }
   o += "</g><g class=\"yticks\" fill=\"#333\">";
-  for (const TickMark& t : sy.ticks) o += TextEl(px0 - 7, sy(t.value) + 4, t.label, "end", kFont);
+  for (const TickMark& t : l.sy.ticks) o += TextEl(l.px0 - 7, l.sy(t.value) + 4, t.label, "end", kFont);
   o += "</g>";
-  if (!x_.label.empty()) o += TextEl((px0 + px1) / 2, xaxis_label_y, x_.label, "middle", kLabelFont, " fill=\"#222\"");
+  if (!x_.label.empty()) {
+    o += TextEl((l.px0 + l.px1) / 2, l.xaxis_label_y, x_.label, "middle", kLabelFont, " fill=\"#222\"");
+  }
   if (!y_.label.empty()) {
-    const double cy = (area_top + area_bottom) / 2;
+    const double cy = (l.area_top + l.area_bottom) / 2;
     o += "<text transform=\"translate(14 " + Px(cy) + ") rotate(-90)\" text-anchor=\"middle\" font-size=\"" +
          Fixed(kLabelFont, 0) + "\" fill=\"#222\">" + Escape(y_.label) + "</text>";
   }
@@ -446,132 +577,28 @@ std::string Plot::Render() const {
   std::string labels;  // marker labels go outside the clip
   std::string points;  // point markers go on top, in the padded clip
   int vline_row = 0;
-  for (const Item& it : items_) {
-    switch (it.kind) {
-      case Item::Kind::kLine: {
-        std::string d, marks;
-        bool pen = false;
-        for (size_t k = 0; k < it.xs.size() && k < it.ys.size(); ++k) {
-          if (!Finite(it.xs[k]) || !Finite(it.ys[k])) {
-            pen = false;
-            continue;
-          }
-          const double x = sx(it.xs[k]), y = sy(it.ys[k]);
-          d += (pen ? "L" : "M") + Px(x) + " " + Px(y);
-          pen = true;
-          marks += MarkerPath(it.marker, x, y, 3.2);
-        }
-        o += PathEl("data line", d, " fill=\"none\"" + StrokeAttrs(it.stroke) + " stroke-linejoin=\"round\"");
-        o += PathEl("data marks", marks, " fill=\"" + Escape(it.color) + "\" stroke=\"none\"");
-        break;
-      }
-      case Item::Kind::kSegments: {
-        std::string d, marks;
-        for (size_t k = 0; k < it.xs.size() && k < it.x1s.size() && k < it.ys.size(); ++k) {
-          if (!Finite(it.xs[k]) || !Finite(it.x1s[k]) || !Finite(it.ys[k])) continue;
-          const double y = sy(it.ys[k]);
-          d += "M" + Px(sx(it.xs[k])) + " " + Px(y) + "H" + Px(sx(it.x1s[k]));
-          marks += MarkerPath(it.marker, (sx(it.xs[k]) + sx(it.x1s[k])) / 2, y, 3.2);
-        }
-        o += PathEl("data segments", d, " fill=\"none\"" + StrokeAttrs(it.stroke));
-        o += PathEl("data marks", marks, " fill=\"" + Escape(it.color) + "\" stroke=\"none\"");
-        break;
-      }
-      case Item::Kind::kBand: {
-        std::string upper, lower;
-        for (size_t k = 0; k < it.xs.size() && k < it.lo.size() && k < it.hi.size(); ++k) {
-          if (!Finite(it.xs[k]) || !Finite(it.lo[k]) || !Finite(it.hi[k])) continue;
-          upper += (upper.empty() ? "M" : "L") + Px(sx(it.xs[k])) + " " + Px(sy(it.hi[k]));
-          lower = "L" + Px(sx(it.xs[k])) + " " + Px(sy(it.lo[k])) + lower;
-        }
-        if (!upper.empty()) {
-          o += PathEl("data band", upper + lower + "Z",
-                      " fill=\"" + Escape(it.color) + "\" fill-opacity=\"" + Fixed(it.opacity, 2) + "\" stroke=\"none\"");
-        }
-        break;
-      }
-      case Item::Kind::kPoints: {
-        for (size_t k = 0; k < it.xs.size() && k < it.ys.size(); ++k) {
-          if (!Finite(it.xs[k]) || !Finite(it.ys[k])) continue;
-          const double x = sx(it.xs[k]), y = sy(it.ys[k]);
-          if (k < it.lo.size() && k < it.hi.size() && Finite(it.lo[k]) && Finite(it.hi[k])) {
-            const double y0 = sy(it.lo[k]), y1 = sy(it.hi[k]);
-            points += PathEl("data errorbar",
-                        "M" + Px(x) + " " + Px(y0) + "V" + Px(y1) + "M" + Px(x - 3.5) + " " + Px(y0) + "h7M" +
-                            Px(x - 3.5) + " " + Px(y1) + "h7",
-                        " fill=\"none\" stroke=\"" + Escape(it.color) + "\" stroke-width=\"1.3\"");
-          }
-          points += PathEl("data point", MarkerPath(it.marker, x, y, it.size),
-                      " fill=\"" + Escape(it.color) + "\" stroke=\"#fff\" stroke-width=\"0.8\"",
-                      k < it.tooltips.size() ? it.tooltips[k] : "");
-        }
-        break;
-      }
-      case Item::Kind::kRect: {
-        const double x0 = sx(it.xs[0]), x1 = sx(it.xs[1]), y0 = sy(it.ys[0]), y1 = sy(it.ys[1]);
-        if (!Finite(x0) || !Finite(x1) || !Finite(y0) || !Finite(y1)) break;
-        std::string attrs = " fill=\"" + Escape(it.color) + "\"";
-        if (it.opacity < 1) attrs += " fill-opacity=\"" + Fixed(it.opacity, 2) + "\"";
-        attrs += it.stroke.color.empty() ? " stroke=\"none\""
-                                         : " stroke=\"" + Escape(it.stroke.color) + "\" stroke-width=\"1\"";
-        o += PathEl("data rect",
-                    "M" + Px(std::min(x0, x1)) + " " + Px(std::min(y0, y1)) + "H" + Px(std::max(x0, x1)) + "V" +
-                        Px(std::max(y0, y1)) + "H" + Px(std::min(x0, x1)) + "Z",
-                    attrs, it.tooltips.empty() ? "" : it.tooltips[0]);
-        break;
-      }
-      case Item::Kind::kVLine: {
-        if (!Finite(it.xs[0])) break;
-        const double x = sx(it.xs[0]);
-        o += PathEl("marker vline", "M" + Px(x) + " " + Px(area_top) + "V" + Px(area_bottom),
-                    " fill=\"none\"" + StrokeAttrs(it.stroke));
-        if (!it.text.empty()) {
-          const double y = title_h + kLabelRow * (vline_row++) + 11;
-          const bool to_left = x + 4 + TextWidth(it.text, kFont) > width_ - 2;
-          labels += PathEl("marker tick", "M" + Px(x) + " " + Px(y + 2) + "V" + Px(area_top),
-                           " fill=\"none\"" + StrokeAttrs(Stroke{it.stroke.color, 1, "2 2", 0.6}));
-          labels += TextEl(to_left ? x - 4 : x + 4, y, it.text, to_left ? "end" : "start", kFont,
-                           " fill=\"" + Escape(it.stroke.color) + "\"");
-        }
-        break;
-      }
-      case Item::Kind::kHLine: {
-        if (!Finite(it.ys[0])) break;
-        const double y = sy(it.ys[0]);
-        o += PathEl("marker hline", "M" + Px(px0) + " " + Px(y) + "H" + Px(px1),
-                    " fill=\"none\"" + StrokeAttrs(it.stroke));
-        if (!it.text.empty()) {
-          o += TextEl(px1 - 4, y - 4, it.text, "end", kFont, " fill=\"" + Escape(it.stroke.color) + "\"");
-        }
-        break;
-      }
-      case Item::Kind::kText: {
-        if (!Finite(it.xs[0]) || !Finite(it.ys[0])) break;
-        o += TextEl(sx(it.xs[0]), sy(it.ys[0]), it.text, it.anchor, kFont, " fill=\"" + Escape(it.color) + "\"");
-        break;
-      }
-    }
-  }
+  for (const Item& it : items_) DrawItem(it, l, &vline_row, &o, &points, &labels);
   o += "</g>";
   if (!points.empty()) o += "<g clip-path=\"url(#" + Escape(id_) + "-clip-points)\">" + points + "</g>";
   o += labels;
 
   // Legend.
-  if (!placed.empty()) {
+  if (!l.placed.empty()) {
     o += "<g class=\"legend\">";
-    for (const Placed& p : placed) {
-      const LegendItem& l = *p.item;
+    for (const Layout::Placed& p : l.placed) {
+      const LegendItem& entry = *p.item;
       const double cy = p.y - 4;
-      if (l.filled) {
+      if (entry.filled) {
         o += PathEl("legend-key", "M" + Px(p.x) + " " + Px(cy - 6) + "h22v12h-22Z",
-                    " fill=\"" + Escape(l.color) + "\" fill-opacity=\"0.45\" stroke=\"" + Escape(l.color) + "\"");
-      } else if (l.line) {
+                    " fill=\"" + Escape(entry.color) + "\" fill-opacity=\"0.45\" stroke=\"" + Escape(entry.color) +
+                        "\"");
+      } else if (entry.line) {
         o += PathEl("legend-key", "M" + Px(p.x) + " " + Px(cy) + "h22",
-                    " fill=\"none\"" + StrokeAttrs(Stroke{l.color, 2, l.dash, 1}));
+                    " fill=\"none\"" + StrokeAttrs(Stroke{entry.color, 2, entry.dash, 1}));
       }
-      o += PathEl("legend-key", MarkerPath(l.marker, p.x + 11, cy, 3.5),
-                  " fill=\"" + Escape(l.color) + "\" stroke=\"none\"");
-      o += TextEl(p.x + 28, p.y, l.name, "start", kFont, " fill=\"#222\"");
+      o += PathEl("legend-key", MarkerPath(entry.marker, p.x + 11, cy, 3.5),
+                  " fill=\"" + Escape(entry.color) + "\" stroke=\"none\"");
+      o += TextEl(p.x + 28, p.y, entry.name, "start", kFont, " fill=\"#222\"");
     }
     o += "</g>";
   }

@@ -108,6 +108,12 @@ class Plot {
     Marker marker = Marker::kNone;
     bool line = true, filled = false;
   };
+  // Render's steps (svg_plot.cc): where everything goes, then each drawn element.
+  struct Layout;
+  Layout Arrange() const;
+  void DrawItem(const Item& it, const Layout& l, int* vline_row, std::string* o, std::string* points,
+                std::string* labels) const;
+
   std::string id_, title_, caption_;
   int width_, height_;
   double min_left_ = 0;

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <regex>
@@ -394,6 +395,39 @@ TEST_F(CampaignReportTest, ListsEveryWrongRunWithItsReasonAndTheNotExcitedApart)
 }
 
 TEST_F(CampaignReportTest, IsDeterministic) { EXPECT_EQ(RenderReportHtml(*data_), *html_); }
+
+// The ids of the <section>s of a page, and the targets of its nav links, in page order.
+std::vector<std::string> Matches(const std::string& html, const std::regex& re) {
+  std::vector<std::string> out;
+  for (auto it = std::sregex_iterator(html.begin(), html.end(), re); it != std::sregex_iterator(); ++it) {
+    out.push_back((*it)[1].str());
+  }
+  return out;
+}
+
+TEST_F(CampaignReportTest, NavLinksEverySectionOnceAndTheBoundaryOnlyWithBoundaryJson) {
+  static const std::regex section("<section id=\"([^\"]+)\">");
+  static const std::regex link("<a href=\"#([^\"]+)\">");
+  const std::string nav = html_->substr(html_->find("<nav>"), html_->find("</nav>") - html_->find("<nav>"));
+  const std::vector<std::string> ids = Matches(*html_, section);
+  EXPECT_EQ(Matches(nav, link), ids);
+  EXPECT_THAT(ids, Not(testing::Contains("boundary")));
+
+  ReportData with_boundary = *data_;
+  with_boundary.boundary = json{{"cells", json::array()}};
+  const std::string html = RenderReportHtml(with_boundary);
+  const std::string nav_b = html.substr(html.find("<nav>"), html.find("</nav>") - html.find("<nav>"));
+  std::vector<std::string> sections = Matches(html, section);
+  std::vector<std::string> links = Matches(nav_b, link);
+  // The boundary section follows detection probability; its link comes last.
+  EXPECT_EQ(sections, (std::vector<std::string>{"summary", "operating-point", "roc", "pod", "boundary",
+                                                "latency-threshold", "confusion", "why", "latency", "thesis", "run"}));
+  ASSERT_FALSE(links.empty());
+  EXPECT_EQ(links.back(), "boundary");
+  std::sort(sections.begin(), sections.end());
+  std::sort(links.begin(), links.end());
+  EXPECT_EQ(links, sections);
+}
 
 TEST_F(CampaignReportTest, PlotsTheFirstMissedFaultyRunElseTheFirstDetected) {
   std::string expected;

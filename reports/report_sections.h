@@ -1,0 +1,37 @@
+// The sections of the campaign report page (reports/campaign_report): each a function of the
+// gathered ReportData that returns one <section id="..."> of HTML, plots inline. Which sections
+// the page shows, in which order, is the table in campaign_report.cc. Internal to reports/.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "reports/campaign_report.h"
+
+namespace armfault::report {
+
+// summary.json and results.jsonl (report_sections_results.cc).
+std::string SummarySection(const ReportData& d);  // rates, floors, metric definitions
+std::string ConfusionSection(const ReportData& d);
+// The runs scored wrong with why, and the runs that could not be seen, as two tables.
+std::string WhySection(const ReportData& d);
+std::string LatencyDistributionSection(const ReportData& d);
+
+// tuning.json (report_sections_tuning.cc); each says what to run when there is none.
+std::string OperatingPointSection(const ReportData& d);
+std::string RocSection(const ReportData& d);
+std::string LatencyThresholdSection(const ReportData& d);
+
+// Detection against fault magnitude (report_sections_pod.cc).
+std::string PodSection(const ReportData& d);
+// Only with DIR/boundary.json (`armfault boundary`): each cell's runs, fit and boundary.
+std::string BoundarySection(const ReportData& d);
+// One row per family: family, magnitude, a90 and a90/95 as run, and at the tuned operating
+// point (tuning.json's fit); text cells, for the page and report.md.
+std::vector<std::vector<std::string>> A90Rows(const ReportData& d);
+
+// Simulated runs (report_sections_run.cc).
+std::string ThesisSection(const ReportData& d);
+std::string RunSection(const ReportData& d);
+
+}  // namespace armfault::report

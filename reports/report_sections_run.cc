@@ -1,0 +1,190 @@
+// The sections of simulated runs: the thesis table 5-3 and one run over time.
+#include "reports/report_sections.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "reports/report_common.h"
+#include "reports/svg_plot.h"
+
+namespace armfault::report {
+
+using svg::Escape;
+using svg::Fixed;
+
+std::string ThesisSection(const ReportData& d) {
+  std::string o = "<section id=\"thesis\"><h2>Efficiency against K_T factor (thesis table 5-3)</h2>";
+  if (d.table_5_3.empty()) {
+    return o + "<p class=\"missing\">No thesis results: " + Escape(d.thesis_source) + " holds no table_5_3 rows.</p></section>";
+  }
+  svg::Plot plot("thesis-table-5-3", "Top-joint efficiency (eq 5-5) as the torque constant degrades", kHalfWidth, 340);
+  plot.set_caption("armfault: " + d.thesis_source + ". Degradation grows to the right.");
+  plot.x().label = "K_T factor n (torque constant / nominal)";
+  plot.x().reversed = true;
+  plot.y().label = "efficiency η (%)";
+  plot.y().min = 0;
+  plot.y().max = 100;
+  std::vector<double> xs, thesis, ours;
+  std::vector<std::string> ttips, otips;
+  std::vector<std::vector<std::string>> rows;
+  for (const ThesisRow& r : d.table_5_3) {
+    xs.push_back(r.factor);
+    thesis.push_back(r.thesis_pct);
+    ours.push_back(r.ok ? r.armfault_pct : std::nan(""));
+    ttips.push_back("n = " + Fixed(r.factor, 2) + ": thesis " + Fixed(r.thesis_pct, 2) + " %");
+    otips.push_back("n = " + Fixed(r.factor, 2) + ": armfault " + Fixed(r.armfault_pct, 2) + " % (" +
+                    std::to_string(r.windows) + " windows)");
+    rows.push_back({Fixed(r.factor, 2), Fixed(r.thesis_pct, 2), r.ok ? Fixed(r.armfault_pct, 2) : "failed",
+                    Fixed(r.thesis_ratio, 3), Fixed(r.armfault_ratio, 3), std::to_string(r.windows)});
+  }
+  plot.Line("thesis (published)", xs, thesis, svg::Stroke{"#444", 2, "6 3", 1}, svg::Marker::kSquare);
+  plot.Points("", xs, thesis, {}, {}, "#444", svg::Marker::kSquare, ttips, 3.5);
+  plot.Line("armfault (simulated)", xs, ours, svg::Stroke{"#1f77b4", 2.2, "", 1}, svg::Marker::kCircle);
+  plot.Points("", xs, ours, {}, {}, "#1f77b4", svg::Marker::kCircle, otips, 3.5);
+  o += "<div class=\"plots\">" + plot.Render() + "<div class=\"side\">" +
+       HtmlTable({"K_T factor", "thesis η (%)", "armfault η (%)", "thesis ratio", "armfault ratio", "windows"}, rows) +
+       "<p>Ratio: relative to n = 1. Efficiency: Σ E_out / Σ E_mesh_in over the top joint's forward-flow windows "
+       "(docs/monitor.md).</p></div></div>";
+  return o + "</section>";
+}
+
+namespace {
+
+// Keeps at most about `max_points` of a dense series by taking each bucket's minimum and
+// maximum in time order, so spikes survive the thinning.
+void Thin(const std::vector<double>& t, const std::vector<double>& y, size_t max_points, std::vector<double>* xs,
+          std::vector<double>* ys) {
+  const size_t n = std::min(t.size(), y.size());
+  const size_t bucket = std::max<size_t>(1, (2 * n + max_points - 1) / std::max<size_t>(2, max_points));
+  for (size_t b = 0; b < n; b += bucket) {
+    const size_t e = std::min(n, b + bucket);
+    size_t lo = b, hi = b;
+    for (size_t k = b; k < e; ++k) {
+      if (y[k] < y[lo]) lo = k;
+      if (y[k] > y[hi]) hi = k;
+    }
+    xs->push_back(t[std::min(lo, hi)]);
+    ys->push_back(y[std::min(lo, hi)]);
+    if (lo != hi) {
+      xs->push_back(t[std::max(lo, hi)]);
+      ys->push_back(y[std::max(lo, hi)]);
+    }
+  }
+}
+
+// A run record's outcome in words, for the page.
+std::string RecordText(const RunRecord& r) {
+  if (!r.ok) return "failed: " + r.failure_reason;
+  if (!r.detected) return "not detected";
+  std::string s = "detected at " + Fixed(r.detection_time_s.value_or(0), 3) + " s";
+  if (!r.isolated_family.empty()) s += ", isolated " + r.isolated_family + " on joint " + std::to_string(r.isolated_joint);
+  if (r.magnitude_estimate) s += ", " + r.magnitude_name + " ≈ " + Fixed(*r.magnitude_estimate, 3);
+  return s;
+}
+
+}  // namespace
+
+std::string RunSection(const ReportData& d) {
+  const RunSeries& s = d.run;
+  std::string o = "<section id=\"run\"><h2>One run over time</h2>";
+  if (!s.error.empty()) {
+    return o + "<p class=\"missing\">Could not re-simulate " + Escape(s.run_id.empty() ? "a run" : s.run_id) + ": " +
+           Escape(s.error) + "</p></section>";
+  }
+  const RunRecord& r = s.record;
+  o += "<p>Run <code>" + Escape(s.run_id) + "</code> (" + Escape(s.why) + "; choose another with <code>--run "
+       "RUN_ID</code>), re-simulated with a second monitor on the same signals.</p>";
+  std::vector<std::vector<std::string>> rows = {
+      {"fault", r.fault.is_null() ? "none (healthy run)" : "<code>" + Escape(r.fault.dump()) + "</code>"},
+      {"re-simulated", Escape(RecordText(r))}};
+  if (s.stored) {
+    const bool same = s.stored->detected == r.detected && s.stored->detection_time_s == r.detection_time_s &&
+                      s.stored->isolated_family == r.isolated_family && s.stored->isolated_joint == r.isolated_joint;
+    rows.push_back({"results.jsonl", Escape(RecordText(*s.stored)) +
+                                         (same ? " <span class=\"met\">(same)</span>"
+                                               : " <span class=\"missed\">(differs: the build or the files changed)</span>")});
+  }
+  o += HtmlTable({"", ""}, rows, "kv");
+  const double t_end = s.t_s.empty() ? 1 : s.t_s.back();
+  for (size_t k = 0; k < s.joints.size(); ++k) {
+    const int j = s.joints[k];
+    const std::string jt = "joint " + std::to_string(j);
+    auto marks = [&](svg::Plot* p) {
+      p->set_min_left(72);  // the three panels share their time axis: line them up
+      p->x().label = "time (s)";
+      p->x().min = 0;
+      p->x().max = t_end;
+      if (!r.family.empty()) {
+        p->VLine(r.onset_s, "fault onset " + Fixed(r.onset_s, 2) + " s (" + r.family + ")",
+                 svg::Stroke{"#d62728", 1.6, "6 3", 1});
+      }
+      if (s.first_alarm_s) {
+        p->VLine(*s.first_alarm_s,
+                 "first alarm " + Fixed(*s.first_alarm_s, 2) + " s" +
+                     (s.first_alarm_family.empty() ? "" : " (" + s.first_alarm_family + ")"),
+                 svg::Stroke{"#000", 1.6, "", 1});
+      }
+    };
+    // Efficiencies per judged window of this joint.
+    svg::Plot eff("run-j" + std::to_string(j) + "-efficiency", "Efficiencies of " + jt + " per window", kFullWidth, 320);
+    const bool judged = std::any_of(s.monitor.windows.begin(), s.monitor.windows.end(),
+                                    [&](const EfficiencyWindow& w) { return w.joint == j && w.used; });
+    eff.set_caption(judged ? std::string("Judged windows; bar: the window's span; dashed: what a healthy joint would show "
+                                         "for the same motion.") + (s.first_alarm_s ? "" : " No alarm in this run.")
+                           : std::string("Empty: the monitor judged no window of this joint (it did not move or carry "
+                                         "load enough)."));
+    eff.y().label = "efficiency (fraction)";
+    struct Series {
+      const char* name;
+      const char* color;
+      double EfficiencyWindow::*measured;
+      double EfficiencyWindow::*expected;
+    };
+    const Series series[] = {{"η = E_out / E_supply", "#1f77b4", &EfficiencyWindow::eta, &EfficiencyWindow::eta_expected},
+                             {"η_m (mechanical)", "#ff7f0e", &EfficiencyWindow::eta_m, &EfficiencyWindow::eta_m_expected},
+                             {"η_e (electrical)", "#2ca02c", &EfficiencyWindow::eta_e, &EfficiencyWindow::eta_e_expected}};
+    double ymin = 0, ymax = 1;
+    for (const Series& se : series) {
+      std::vector<double> x0, x1, m, e;
+      for (const EfficiencyWindow& w : s.monitor.windows) {
+        if (w.joint != j || !w.used) continue;
+        x0.push_back(w.t_start_s);
+        x1.push_back(w.t_end_s);
+        m.push_back(w.*se.measured);
+        e.push_back(w.*se.expected);
+        for (double v : {w.*se.measured, w.*se.expected}) {
+          if (std::isfinite(v)) ymin = std::min(ymin, v), ymax = std::max(ymax, v);
+        }
+      }
+      eff.Segments(std::string(se.name) + " measured", x0, x1, m, svg::Stroke{se.color, 2.4, "", 1},
+                   svg::Marker::kCircle);
+      eff.Segments(std::string(se.name) + " healthy", x0, x1, e, svg::Stroke{se.color, 1.6, "5 3", 1},
+                   svg::Marker::kNone);
+    }
+    // Wild ratios (a window right at a fault's onset) are clipped rather than squashing the rest.
+    eff.y().min = std::max(-0.5, ymin);
+    eff.y().max = std::min(1.5, ymax);
+    marks(&eff);
+
+    std::vector<double> tx, ty;
+    svg::Plot cur("run-j" + std::to_string(j) + "-current", "Currents of " + jt, kFullWidth, 280);
+    cur.y().label = "current (A)";
+    Thin(s.t_s, s.i_cmd_A[k], 1400, &tx, &ty);
+    cur.Line("commanded current i (after the DAC)", tx, ty, svg::Stroke{"#1f77b4", 1.3, "", 1});
+    tx.clear(), ty.clear();
+    Thin(s.t_s, s.i_supply_A[k], 1400, &tx, &ty);
+    cur.Line("supply current I_d (measured, period mean)", tx, ty, svg::Stroke{"#d62728", 1.1, "", 0.85});
+    marks(&cur);
+
+    svg::Plot tor("run-j" + std::to_string(j) + "-torque", "Torque sensor of " + jt, kFullWidth, 260);
+    tor.y().label = "torque (N m)";
+    tx.clear(), ty.clear();
+    Thin(s.t_s, s.tau_sensor_Nm[k], 1400, &tx, &ty);
+    tor.Line("torque-sensor reading τ_s", tx, ty, svg::Stroke{"#2ca02c", 1.3, "", 1});
+    marks(&tor);
+    o += "<div class=\"plots\">" + eff.Render() + cur.Render() + tor.Render() + "</div>";
+  }
+  return o + "</section>";
+}
+
+}  // namespace armfault::report
