@@ -126,7 +126,7 @@ void PrintWarnings(const std::string& campaign_file, const Campaign& campaign) {
 
 }  // namespace
 
-int FinishCampaignOutputs(const std::string& dir_name, const Campaign& campaign, bool write_csv) {
+int FinishCampaignOutputs(const std::string& dir_name, const CampaignSpec& campaign, bool write_csv) {
   const fs::path dir(dir_name);
   SummaryBuilder builder(campaign.include_not_excited);
   {

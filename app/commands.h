@@ -94,8 +94,8 @@ int ScoreCommand(const ScoreCommandOptions& options);
 
 // Writes summary.json, junit.xml and (with `csv`) results.csv from DIR/results.jsonl; prints
 // the floors; exit status.
-struct Campaign;
-int FinishCampaignOutputs(const std::string& dir, const Campaign& campaign, bool csv = true);
+struct CampaignSpec;
+int FinishCampaignOutputs(const std::string& dir, const CampaignSpec& campaign, bool csv = true);
 int ValidateCommand(const std::string& campaign_file);
 
 struct MergeOptions {

@@ -226,7 +226,7 @@ void WriteAtomically(const fs::path& path, const std::string& text) {
   fs::rename(tmp, path);
 }
 
-nlohmann::json CampaignFileJson(const Campaign& campaign, const ShardSpec& shard) {
+nlohmann::json CampaignFileJson(const CampaignSpec& campaign, const ShardSpec& shard) {
   return {{"armfault_version", ARMFAULT_VERSION},
           {"shard", {{"index", shard.index}, {"count", shard.count}}},
           {"cases", CaseCount(campaign)},
@@ -300,7 +300,7 @@ RunSpec CaseRunSpec(const Campaign& campaign, const CaseSpec& cs, const ArmModel
   spec.seed = cs.seed;
   spec.ambient_C = cs.ambient_C;
   spec.joints.resize(static_cast<size_t>(model.joint_count()));
-  for (const auto& [joint, trajectory] : campaign.trajectories[cs.trajectory].parsed) {
+  for (const auto& [joint, trajectory] : campaign.loaded_trajectories[cs.trajectory]) {
     spec.joints[joint - 1].trajectory = trajectory;
   }
   return spec;

@@ -101,7 +101,7 @@ RunRecord RunCase(const Campaign& campaign, const CaseSpec& spec, const TickObse
 
 // The JSON written to campaign.json (the summary embeds `resolved` only, so shards merge to
 // the same bytes).
-nlohmann::json CampaignFileJson(const Campaign& campaign, const ShardSpec& shard);
+nlohmann::json CampaignFileJson(const CampaignSpec& campaign, const ShardSpec& shard);
 
 // One writer per output directory: holds an exclusive lock (flock) on DIR/.armfault.lock, which
 // names the holder (pid, host, command, start time). A second writer gets an InputError naming

@@ -10,9 +10,11 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <optional>
 #include <tuple>
 
-#include "campaigns/campaign.h"
+#include "campaigns/campaign_spec.h"
+#include "campaigns/cases.h"
 #include "campaigns/campaign_summary.h"
 #include "campaigns/provenance.h"
 #include "campaigns/run_record.h"
@@ -928,8 +930,8 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
   const nlohmann::json monitor_json = campaign_json.is_object() ? campaign_json.value("monitor", nlohmann::json()) : nlohmann::json();
   const bool python_monitor = monitor_json.is_object() && monitor_json.value("type", "") == "python";
   if (python_monitor) campaign_json.erase("monitor");
-  const Campaign campaign = CampaignFromJson(campaign_json, campaign_path.string(), dir.string());
-  const std::string monitor_type = python_monitor ? "python" : campaign.monitor_model->type();
+  const CampaignSpec campaign = CampaignSpecFromJson(campaign_json, campaign_path.string(), dir.string());
+  const std::string monitor_type = python_monitor ? "python" : campaign.monitor.type;
   // Nothing of another campaign is tuned on: summary.json, when there, must be of this
   // campaign.json, and every line of results.jsonl one of its cases (same run_id and seed).
   const std::string campaign_hash = CampaignHash(campaign_file["campaign"]);
@@ -942,15 +944,20 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
   // Only a monitor that publishes the statistics behind its alarms can be re-scored: the
   // power-efficiency monitor (DecisionStats), or any type whose runs stored published statistics
   // (ThresholdStats). Another is scored at its own operating point.
-  const auto* power = python_monitor ? nullptr : dynamic_cast<const PowerEfficiencyModel*>(campaign.monitor_model.get());
+  const bool power = !python_monitor && campaign.monitor.type == "power_efficiency";
   const std::string cannot_sweep = "monitor type \"" + monitor_type +
                                    "\" publishes no statistics tune can re-score: its runs are scored at its own "
                                    "operating point (see summary.json); a monitor that declares statistics "
                                    "(docs/monitor-api.md, \"Statistics for tune\") can be swept";
   TuneSpace space;
   std::vector<StatisticInfo> declared;  // published statistics: what the first run declared
-  const MonitorConfig* base = power ? &power->model().config : nullptr;
+  // The power-efficiency monitor's settings as its runs used them (widened, unless commissioned).
+  const std::optional<MonitorConfig> base =
+      power ? std::optional<MonitorConfig>(PowerEfficiencyConfig(
+                  MonitorConfigFromJson(campaign.monitor.settings, "/monitor", campaign.source), MonitorContextOf(campaign)))
+            : std::nullopt;
   if (power) space = PowerSpace(MakeSweepGrid(*base, options.sweep), *base);
+  const DetectorThresholds thresholds = power ? ThresholdsOf(*base) : DetectorThresholds{};
 
   // Load the runs: per run, the first alarm of each axis at each of its values.
   FamilyTable families;
@@ -1047,7 +1054,7 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
         } catch (const std::exception& e) {
           throw InputError(decision_file, "", where() + e.what());
         }
-        const DecisionOutcome check = Decide(stats, power->model().thresholds, base->significance);
+        const DecisionOutcome check = Decide(stats, thresholds, base->significance);
         reproduces(check.alarm_before_onset, check.detected, check.detection_time_s, check.family, check.joint);
         r.event = EventHit(stats, &families);
         for (size_t d = 0; d < space.axes.size(); ++d) {

@@ -1343,7 +1343,7 @@ RunSeries SimulateRunSeries(const Campaign& campaign, const CaseSpec& spec) {
   if (!spec.fault.is_null() && spec.fault.contains("joint") && spec.fault["joint"].is_number_integer()) {
     s.joints.push_back(spec.fault["joint"].get<int>());
   } else {
-    for (const auto& [joint, trajectory] : campaign.trajectories[spec.trajectory].parsed) s.joints.push_back(joint);
+    for (const auto& [joint, trajectory] : campaign.loaded_trajectories[spec.trajectory]) s.joints.push_back(joint);
   }
   s.joints.erase(std::remove_if(s.joints.begin(), s.joints.end(), [&](int j) { return j < 1 || j > joints; }),
                  s.joints.end());
