@@ -10,6 +10,7 @@
 #include "campaigns/provenance.h"
 #include "campaigns/runner.h"
 #include "core/base/json_input.h"
+#include "faults/fault.h"
 
 namespace armfault {
 
@@ -84,13 +85,13 @@ std::optional<double> FirstAt(double lo, double hi, double target, F&& value) {
 }
 
 std::pair<double, double> SeverityRange(const SearchEntryRange& r) {
-  const double a = PodSeverity(r.key, r.low), b = PodSeverity(r.key, r.high);
+  const double a = FaultSeverity(r.key, r.low), b = FaultSeverity(r.key, r.high);
   return {std::min(a, b), std::max(a, b)};
 }
 
 // The range's end of largest (top) or smallest severity, on the lattice.
 double EndMagnitude(const SearchEntryRange& r, bool top) {
-  const bool low_is_top = PodSeverity(r.key, r.low) > PodSeverity(r.key, r.high);
+  const bool low_is_top = FaultSeverity(r.key, r.low) > FaultSeverity(r.key, r.high);
   return SearchLatticeValue(r, (low_is_top == top) ? r.low : r.high);
 }
 
@@ -113,7 +114,7 @@ CellEstimate EstimateCell(const SearchSpec& spec, const SearchEntryRange& range,
   CellEstimate est;
   if (data.magnitudes.empty()) return est;
   std::vector<double> severity;
-  for (double m : data.magnitudes) severity.push_back(PodSeverity(range.key, m));
+  for (double m : data.magnitudes) severity.push_back(FaultSeverity(range.key, m));
   est.fit = FitPod(severity, data.detected);
   est.has_fit = est.fit.ok && est.fit.slope > 0;
   if (!est.has_fit) return est;
@@ -122,7 +123,7 @@ CellEstimate EstimateCell(const SearchSpec& spec, const SearchEntryRange& range,
   const double z = OneSidedZ(spec.confidence);
   auto magnitude = [&](std::optional<double> s) -> std::optional<double> {
     if (!s) return std::nullopt;
-    return PodMagnitude(range.key, *s);
+    return FaultMagnitudeOfSeverity(range.key, *s);
   };
   est.a90 = magnitude(FirstAt(lo, hi, spec.target, [&](double s) { return est.fit.Probability(s); }));
   est.a90_95 = magnitude(FirstAt(lo, hi, spec.target, [&](double s) { return est.fit.Bound(s, -z); }));
@@ -146,7 +147,7 @@ CellStep PlanCell(const SearchSpec& spec, const SearchEntryRange& range, const C
   auto spread = [&](double lo, double hi) {
     for (int i = 0; i < size; ++i) {
       const double x = size == 1 ? 0.5 * (lo + hi) : lo + (hi - lo) * i / (size - 1);
-      step.magnitudes.push_back(SearchLatticeValue(range, PodMagnitude(range.key, std::exp(x))));
+      step.magnitudes.push_back(SearchLatticeValue(range, FaultMagnitudeOfSeverity(range.key, std::exp(x))));
     }
   };
   if (data.runs == 0) {  // the first batch spans the range
@@ -177,7 +178,7 @@ CellStep PlanCell(const SearchSpec& spec, const SearchEntryRange& range, const C
   // the whole batch inside the gap between them.
   double max_miss = xa, min_hit = xb;
   for (size_t i = 0; i < data.magnitudes.size(); ++i) {
-    const double x = std::log(PodSeverity(range.key, data.magnitudes[i]));
+    const double x = std::log(FaultSeverity(range.key, data.magnitudes[i]));
     if (data.detected[i]) min_hit = std::min(min_hit, x);
     else max_miss = std::max(max_miss, x);
   }
@@ -185,7 +186,7 @@ CellStep PlanCell(const SearchSpec& spec, const SearchEntryRange& range, const C
   if (max_miss < min_hit) {
     for (int i = 0; i < size; ++i) {
       const double x = max_miss + (min_hit - max_miss) * (i + 1) / (size + 1);
-      step.magnitudes.push_back(SearchLatticeValue(range, PodMagnitude(range.key, std::exp(x))));
+      step.magnitudes.push_back(SearchLatticeValue(range, FaultMagnitudeOfSeverity(range.key, std::exp(x))));
     }
     return step;
   }
@@ -253,12 +254,12 @@ nlohmann::json BoundaryReport(const Campaign& c, const std::vector<RunRecord>& r
     nlohmann::json fit = {{"ok", est.has_fit}};
     if (est.has_fit) {
       std::vector<double> sev;
-      for (double m : d.magnitudes) sev.push_back(PodSeverity(range.key, m));
+      for (double m : d.magnitudes) sev.push_back(FaultSeverity(range.key, m));
       const double lo = *std::min_element(sev.begin(), sev.end()), hi = *std::max_element(sev.begin(), sev.end());
       nlohmann::json curve = nlohmann::json::array();
       for (int i = 0; i <= 60; ++i) {
         const double s = std::exp(std::log(lo) + (std::log(hi) - std::log(lo)) * i / 60);
-        curve.push_back({{"magnitude", PodMagnitude(range.key, s)}, {"pod", est.fit.Probability(s)},
+        curve.push_back({{"magnitude", FaultMagnitudeOfSeverity(range.key, s)}, {"pod", est.fit.Probability(s)},
                          {"low", est.fit.Bound(s, -z)}, {"high", est.fit.Bound(s, z)}});
       }
       fit["intercept"] = est.fit.intercept;

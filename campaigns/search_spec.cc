@@ -4,7 +4,6 @@
 #include <tuple>
 
 #include "campaigns/spec_parse.h"
-#include "campaigns/tuning.h"
 #include "faults/fault.h"
 
 namespace armfault {
@@ -30,10 +29,13 @@ SearchEntryRange EntryRange(const FaultEntry& e, const GivenRange& given, double
   }
   range.key = FaultMagnitudeKey(e.family);
   if (range.key.empty()) {
+    std::string sized;  // the families sized by a number, in the registry's order
+    for (const std::string& family : FaultFamilyNames()) {
+      if (!FaultMagnitudeKey(family).empty()) sized += (sized.empty() ? "" : ", ") + family;
+    }
     throw InputError("", PointerJoin(e.pointer, "family"),
-                     "\"" + e.family + "\" has no magnitude to search (the search needs a family sized by a number: "
-                     "kt_degradation, friction_increase, brake_lock, inverter_short, winding_resistance, "
-                     "torque_sensor_drift); leave this entry out of a campaign with \"search\"");
+                     "\"" + e.family + "\" has no magnitude to search (the search needs a family sized by a number: " +
+                         sized + "); leave this entry out of a campaign with \"search\"");
   }
   ErrorList entry_errors;
   const Sweep* magnitude = nullptr;
@@ -88,7 +90,7 @@ SearchEntryRange EntryRange(const FaultEntry& e, const GivenRange& given, double
       at = PointerJoin(range_pointer, index);
     }
     entry_errors.Try([&] {
-      if (!(PodSeverity(range.key, m) > 0) || !std::isfinite(PodSeverity(range.key, m))) {
+      if (!(FaultSeverity(range.key, m) > 0) || !std::isfinite(FaultSeverity(range.key, m))) {
         throw InputError("", at, e.family + ": " + range.key + " " + FormatNumber(m) +
                                      " is no fault (severity 0): a search range must exclude the healthy value");
       }

@@ -20,6 +20,7 @@
 #include "campaigns/run_record.h"
 #include "core/base/json_input.h"
 #include "core/monitors/threshold_statistics.h"
+#include "faults/fault.h"
 
 namespace armfault {
 
@@ -289,20 +290,6 @@ nlohmann::json RocCurve(const nlohmann::json& parameter, bool own_threshold, con
 
 }  // namespace
 
-double PodSeverity(const std::string& key, double m) {
-  if (key == "kt_factor") return 1 - m;
-  if (key == "friction_factor" || key == "resistance_factor") return m - 1;
-  if (key == "resistance_ohm") return 1 / m;  // a short's conductance
-  return m;                                   // drag_fraction, drift_Nm_per_s
-}
-
-double PodMagnitude(const std::string& key, double s) {
-  if (key == "kt_factor") return 1 - s;
-  if (key == "friction_factor" || key == "resistance_factor") return 1 + s;
-  if (key == "resistance_ohm") return 1 / s;
-  return s;
-}
-
 std::string PodCategory(const nlohmann::json& fault) {
   for (const char* key : {"lead", "kind"}) {
     if (fault.is_object() && fault.contains(key) && fault[key].is_string()) return fault[key].get<std::string>();
@@ -323,7 +310,7 @@ nlohmann::json PodFitJson(const std::string& key, const std::vector<double>& sev
   const int n = 60;
   for (int i = 0; i <= n; ++i) {
     const double s = std::exp(std::log(lo) + (std::log(hi) - std::log(lo)) * i / n);
-    curve.push_back({{"severity", s}, {"magnitude", PodMagnitude(key, s)}, {"pod", pf.Probability(s)},
+    curve.push_back({{"severity", s}, {"magnitude", FaultMagnitudeOfSeverity(key, s)}, {"pod", pf.Probability(s)},
                      {"low", pf.Bound(s, -kZ95Two)}, {"high", pf.Bound(s, kZ95Two)}});
   }
   fit["intercept"] = pf.intercept;
@@ -335,7 +322,7 @@ nlohmann::json PodFitJson(const std::string& key, const std::vector<double>& sev
     const int m = 2000;
     for (int i = 0; i <= m; ++i) {
       const double s = std::exp(std::log(lo) + (std::log(hi) - std::log(lo)) * i / m);
-      if (value(s) >= 0.9) return {{"severity", s}, {"magnitude", PodMagnitude(key, s)}};
+      if (value(s) >= 0.9) return {{"severity", s}, {"magnitude", FaultMagnitudeOfSeverity(key, s)}};
     }
     return nullptr;
   };
@@ -755,7 +742,7 @@ Scored ScoreRuns(const TuneSpace& space, const std::vector<RunTable>& runs, cons
         auto& c = by_magnitude[r.magnitude];
         ++c.first;
         c.second += hit;
-        const double s = PodSeverity(r.magnitude_key, r.magnitude);
+        const double s = FaultSeverity(r.magnitude_key, r.magnitude);
         if (s > 0) {
           severities.push_back(s);
           hits.push_back(hit);
@@ -776,7 +763,7 @@ Scored ScoreRuns(const TuneSpace& space, const std::vector<RunTable>& runs, cons
     if (!key.empty()) {
       for (const auto& [m, c] : by_magnitude) {
         nlohmann::json p = point(m, c.first, c.second);
-        p["severity"] = PodSeverity(key, m);
+        p["severity"] = FaultSeverity(key, m);
         points.push_back(p);
       }
       std::sort(points.begin(), points.end(),

@@ -93,11 +93,6 @@ struct PodFit {
 };
 PodFit FitPod(const std::vector<double>& severity, const std::vector<bool>& detected);
 
-// Severity of a magnitude, the distance from healthy (> 0) in which detection should rise:
-// 1 - kt_factor, friction_factor - 1, resistance_factor - 1, 1 / resistance_ohm (a short's
-// conductance), drag_fraction, drift_Nm_per_s; and back.
-double PodSeverity(const std::string& magnitude_key, double magnitude);
-double PodMagnitude(const std::string& magnitude_key, double severity);
 // The named magnitude of a fault without a numeric one (a stuck sensor's "lead", a short's
 // "kind"); "" if none.
 std::string PodCategory(const nlohmann::json& fault);

@@ -14,6 +14,7 @@
 #include "campaigns/tuning.h"
 #include "core/base/json_input.h"
 #include "core/monitors/power_monitor.h"
+#include "faults/fault.h"
 #include "reports/svg_plot.h"
 
 namespace armfault {
@@ -104,11 +105,10 @@ std::string RateText(const Rate& r) {
 std::string SecondsText(std::optional<double> s) { return s ? Fixed(*s, 3) + " s" : "–"; }
 
 // Fixed colours per family, so a family looks the same in every plot.
+// A fault family's is in its registry row (faults/registry.cc).
 std::string FamilyColor(const std::string& family) {
-  static const std::map<std::string, std::string> colors = {
-      {"kt_degradation", "#1f77b4"},      {"friction_increase", "#ff7f0e"}, {"brake_lock", "#2ca02c"},
-      {"torque_sensor_stuck", "#d62728"}, {"inverter_short", "#9467bd"},    {"winding_resistance", "#8c564b"},
-      {"torque_sensor_drift", "#e377c2"}, {"overall", "#222222"},          {"healthy", "#7f7f7f"}};
+  if (const std::string color = FaultFamilyColor(family); !color.empty()) return color;
+  static const std::map<std::string, std::string> colors = {{"overall", "#222222"}, {"healthy", "#7f7f7f"}};
   auto it = colors.find(family);
   if (it != colors.end()) return it->second;
   static const char* const spare[] = {"#bcbd22", "#17becf", "#7f7f7f", "#393b79", "#637939"};
@@ -218,13 +218,9 @@ std::string UnitOf(std::string key) {
   if (key.size() > worn.size() && key.compare(key.size() - worn.size(), worn.size(), worn) == 0) {
     key.resize(key.size() - worn.size());
   }
+  // A fault family's magnitude: its registry row (faults/registry.cc).
+  if (const std::string unit = FaultMagnitudeUnit(key); !unit.empty()) return unit;
   static const std::map<std::string, std::string> units = {
-      {"kt_factor", "× nominal K_T"},
-      {"friction_factor", "× nominal friction"},
-      {"resistance_factor", "× nominal winding resistance"},
-      {"drag_fraction", "× brake holding torque"},
-      {"resistance_ohm", "Ω"},
-      {"drift_Nm_per_s", "N m/s"},
       {"sensor_drift_Nm", "N m"},
       {"significance", "standard errors"},
       {"lead", "named"},
@@ -272,7 +268,7 @@ void AddPodRun(const RunRecord& r, PodAsRun* p) {
   if (!r.magnitude_key.empty()) {
     p->magnitude_key = r.magnitude_key;
     cell = &p->by_magnitude[r.magnitude];
-    const double severity = PodSeverity(r.magnitude_key, r.magnitude);
+    const double severity = FaultSeverity(r.magnitude_key, r.magnitude);
     if (severity > 0 && std::isfinite(severity)) {
       p->severities.push_back(severity);
       p->hits.push_back(r.detected);
@@ -790,7 +786,7 @@ std::string PodSection(const ReportData& d) {
     if (numeric) {
       for (const auto& [m, c] : p.by_magnitude) add_cell(m, FormatNumber(m), c);
       // Severity grows to the right: a falling parameter (kt_factor, resistance_ohm) gets a reversed axis.
-      plot.x().reversed = PodSeverity(key, 2.0) < PodSeverity(key, 1.0);
+      plot.x().reversed = FaultSeverity(key, 2.0) < FaultSeverity(key, 1.0);
     } else {
       for (const auto& [name, c] : p.by_name) {
         add_cell(static_cast<double>(categories.size()), name.empty() ? "–" : name, c);
@@ -893,7 +889,7 @@ std::string BoundarySection(const ReportData& d) {
     plot.y().min = 0;
     plot.y().max = 1;
     plot.x().label = WithUnit(key) + ", fault magnitude";
-    plot.x().reversed = PodSeverity(key, 2.0) < PodSeverity(key, 1.0);
+    plot.x().reversed = FaultSeverity(key, 2.0) < FaultSeverity(key, 1.0);
     std::vector<double> hx, hy, mx, my;
     std::map<double, int> stack;
     if (const json* points = Field(c, "points"); points != nullptr && points->is_array()) {
