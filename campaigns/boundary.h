@@ -21,7 +21,7 @@
 
 #include "campaigns/campaign.h"
 #include "campaigns/run_record.h"
-#include "campaigns/tuning.h"
+#include "campaigns/pod.h"
 
 namespace armfault {
 

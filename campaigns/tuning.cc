@@ -28,8 +28,6 @@ namespace {
 
 namespace fs = std::filesystem;
 constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kZ95Two = 1.959963984540054;
-constexpr double kZ95One = 1.6448536269514722;
 
 // Default axes: from the healthy value (where false alarms start) out to clearly worn.
 struct DefaultAxis {
@@ -290,115 +288,6 @@ nlohmann::json RocCurve(const nlohmann::json& parameter, bool own_threshold, con
 
 }  // namespace
 
-std::string PodCategory(const nlohmann::json& fault) {
-  for (const char* key : {"lead", "kind"}) {
-    if (fault.is_object() && fault.contains(key) && fault[key].is_string()) return fault[key].get<std::string>();
-  }
-  return "";
-}
-
-nlohmann::json PodFitJson(const std::string& key, const std::vector<double>& severities, const std::vector<bool>& hits) {
-  const PodFit pf = FitPod(severities, hits);
-  nlohmann::json fit = {{"model", "logistic in log(severity), Firth"}, {"ok", pf.ok}};
-  if (!pf.ok) {
-    fit["reason"] = pf.reason;
-    return fit;
-  }
-  const double lo = *std::min_element(severities.begin(), severities.end());
-  const double hi = *std::max_element(severities.begin(), severities.end());
-  nlohmann::json curve = nlohmann::json::array();
-  const int n = 60;
-  for (int i = 0; i <= n; ++i) {
-    const double s = std::exp(std::log(lo) + (std::log(hi) - std::log(lo)) * i / n);
-    curve.push_back({{"severity", s}, {"magnitude", FaultMagnitudeOfSeverity(key, s)}, {"pod", pf.Probability(s)},
-                     {"low", pf.Bound(s, -kZ95Two)}, {"high", pf.Bound(s, kZ95Two)}});
-  }
-  fit["intercept"] = pf.intercept;
-  fit["slope_per_log_severity"] = pf.slope;
-  fit["curve"] = curve;
-  // a90: where the fit reaches 0.9; a90/95: where its one-sided 95 % lower bound does.
-  // Only within the tested severities: no extrapolation.
-  auto first_at = [&](auto&& value) -> nlohmann::json {
-    const int m = 2000;
-    for (int i = 0; i <= m; ++i) {
-      const double s = std::exp(std::log(lo) + (std::log(hi) - std::log(lo)) * i / m);
-      if (value(s) >= 0.9) return {{"severity", s}, {"magnitude", FaultMagnitudeOfSeverity(key, s)}};
-    }
-    return nullptr;
-  };
-  fit["a90"] = pf.slope > 0 ? first_at([&](double s) { return pf.Probability(s); }) : nlohmann::json(nullptr);
-  fit["a90_95"] = pf.slope > 0 ? first_at([&](double s) { return pf.Bound(s, -kZ95One); }) : nlohmann::json(nullptr);
-  return fit;
-}
-
-double PodFit::Probability(double severity) const {
-  return 1 / (1 + std::exp(-(intercept + slope * std::log(severity))));
-}
-
-double PodFit::Bound(double severity, double z) const {
-  const double x = std::log(severity);
-  const double eta = intercept + slope * x;
-  const double var = cov[0][0] + 2 * x * cov[0][1] + x * x * cov[1][1];
-  return 1 / (1 + std::exp(-(eta + z * std::sqrt(std::max(0.0, var)))));
-}
-
-PodFit FitPod(const std::vector<double>& severity, const std::vector<bool>& detected) {
-  PodFit f;
-  std::vector<double> x;
-  for (double s : severity) x.push_back(std::log(s));
-  const size_t n = x.size();
-  if (n < 4 || *std::min_element(x.begin(), x.end()) == *std::max_element(x.begin(), x.end())) {
-    f.reason = "needs at least 4 runs at 2 or more magnitudes";
-    return f;
-  }
-  // Firth-penalised Newton iterations: score U_j = sum (y - p + h (1/2 - p)) x_j.
-  double a = 0, b = 0;
-  double inv[2][2] = {{0, 0}, {0, 0}};
-  for (int iter = 0; iter < 200; ++iter) {
-    double i00 = 0, i01 = 0, i11 = 0;
-    std::vector<double> p(n), w(n);
-    for (size_t i = 0; i < n; ++i) {
-      p[i] = 1 / (1 + std::exp(-(a + b * x[i])));
-      w[i] = std::max(1e-12, p[i] * (1 - p[i]));
-      i00 += w[i];
-      i01 += w[i] * x[i];
-      i11 += w[i] * x[i] * x[i];
-    }
-    const double det = i00 * i11 - i01 * i01;
-    if (!(det > 1e-300)) {
-      f.reason = "singular information matrix";
-      return f;
-    }
-    inv[0][0] = i11 / det, inv[0][1] = inv[1][0] = -i01 / det, inv[1][1] = i00 / det;
-    double u0 = 0, u1 = 0;
-    for (size_t i = 0; i < n; ++i) {
-      const double h = w[i] * (inv[0][0] + 2 * x[i] * inv[0][1] + x[i] * x[i] * inv[1][1]);
-      const double r = (detected[i] ? 1.0 : 0.0) - p[i] + h * (0.5 - p[i]);
-      u0 += r;
-      u1 += r * x[i];
-    }
-    double da = inv[0][0] * u0 + inv[0][1] * u1, db = inv[1][0] * u0 + inv[1][1] * u1;
-    const double step = std::max(std::fabs(da), std::fabs(db));
-    if (step > 5) da *= 5 / step, db *= 5 / step;  // damped: separation pushes far
-    a += da;
-    b += db;
-    if (step < 1e-9) {
-      f.ok = true;
-      break;
-    }
-  }
-  if (!f.ok) {
-    f.reason = "did not converge";
-    return f;
-  }
-  f.intercept = a;
-  f.slope = b;
-  for (int i = 0; i < 2; ++i) {
-    for (int j = 0; j < 2; ++j) f.cov[i][j] = inv[i][j];
-  }
-  return f;
-}
-
 OperatingRule::Kind OperatingRuleKind(const std::string& name) {
   if (name == "max_detection") return OperatingRule::Kind::kMaxDetection;
   if (name == "youden") return OperatingRule::Kind::kYouden;
@@ -470,56 +359,35 @@ struct Scored {
   long settings = 0;
 };
 
-// Scores every setting of `space` on the runs, picks the operating point by the rule and writes
-// the report (docs/tuning.md): the same for the power monitor's detectors and for published
-// statistics.
-Scored ScoreRuns(const TuneSpace& space, const std::vector<RunTable>& runs, const FamilyTable& families, long failed,
-                 const std::string& campaign_name, const std::string& campaign_hash, const TuneOptions& options,
-                 const std::vector<std::string>& extra_warnings) {
-  // Every run; the half with even seeds, on which the operating point is chosen; the other
-  // half, on which its rates are reported without having chosen it (honest rates).
-  Scorer scorer{runs, space, 0, 0, {}, -1}, chooser{runs, space, 0, 0, {}, 1}, held_out{runs, space, 0, 0, {}, 0};
-  scorer.CountRuns(families.names.size());
-  chooser.CountRuns(families.names.size());
-  held_out.CountRuns(families.names.size());
-  // Too few runs in a half (a tiny campaign): choose on every run and say so.
-  const bool split = chooser.faulty > 0 && held_out.faulty > 0 && chooser.healthy > 0 && held_out.healthy > 0;
-  const Scorer& choose_on = split ? chooser : scorer;
-
-  // Score every setting (mixed radix over the axes), in parallel: each setting is independent.
-  const int axes = static_cast<int>(space.axes.size());
+// The number of settings of a space: every axis's values times the significances.
+long SettingsOf(const TuneSpace& space) {
   long settings = static_cast<long>(space.SignificanceCount());
   for (const TuneAxis& a : space.axes) settings *= static_cast<long>(a.values.size());
-  auto indices = [&](long s) {
-    Setting k(static_cast<size_t>(axes) + 1, 0);
-    const long z = static_cast<long>(space.SignificanceCount());
-    k[axes] = static_cast<int>(s % z);
-    s /= z;
-    for (int d = axes - 1; d >= 0; --d) {
-      const long size = static_cast<long>(space.axes[d].values.size());
-      k[d] = static_cast<int>(s % size);
-      s /= size;
-    }
-    return k;
-  };
-  std::vector<Score> scores(static_cast<size_t>(settings)), chosen_scores(static_cast<size_t>(settings));
-  const int threads = options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency();
-  tbb::task_arena arena(threads);
-  arena.execute([&] {
-    tbb::parallel_for(tbb::blocked_range<long>(0, settings), [&](const tbb::blocked_range<long>& range) {
-      for (long s = range.begin(); s != range.end(); ++s) {
-        scores[s] = scorer.Evaluate(indices(s));
-        chosen_scores[s] = split ? choose_on.Evaluate(indices(s)) : scores[s];
-      }
-    });
-  });
+  return settings;
+}
 
-  auto dr = [&](const Score& s) { return Ratio(s.detected, scorer.faulty); };
-  auto fa = [&](const Score& s) { return Ratio(s.false_alarms, scorer.healthy); };
-  // Ties: fewer false alarms, better isolation, then the larger thresholds (more margin on
-  // healthy joints the campaign did not cover), each normalised by its axis.
+// Setting number `s` of the space (mixed radix over the axes, the significance fastest).
+Setting SettingAt(const TuneSpace& space, long s) {
+  const int axes = static_cast<int>(space.axes.size());
+  Setting k(static_cast<size_t>(axes) + 1, 0);
+  const long z = static_cast<long>(space.SignificanceCount());
+  k[axes] = static_cast<int>(s % z);
+  s /= z;
+  for (int d = axes - 1; d >= 0; --d) {
+    const long size = static_cast<long>(space.axes[d].values.size());
+    k[d] = static_cast<int>(s % size);
+    s /= size;
+  }
+  return k;
+}
+
+// Ties: fewer false alarms, better isolation, then the larger thresholds (more margin on
+// healthy joints the campaign did not cover), each normalised by its axis. True if setting `a`
+// is the better tie in the scores `sc`.
+bool PreferIn(const TuneSpace& space, const std::vector<Score>& sc, long a, long b) {
+  const int axes = static_cast<int>(space.axes.size());
   auto margin = [&](long s) {
-    const auto k = indices(s);
+    const auto k = SettingAt(space, s);
     double sum = space.significance.empty() ? 0.0 : space.significance[k[axes]] / space.significance.back();
     for (int d = 0; d < axes; ++d) {
       const auto& h = space.axes[d].thresholds;
@@ -527,23 +395,25 @@ Scored ScoreRuns(const TuneSpace& space, const std::vector<RunTable>& runs, cons
     }
     return sum;
   };
-  auto prefer_in = [&](const std::vector<Score>& sc, long a, long b) {  // true if a is the better tie
-    const Score &x = sc[a], &y = sc[b];
-    if (x.false_alarms != y.false_alarms) return x.false_alarms < y.false_alarms;
-    if (x.isolated != y.isolated) return x.isolated > y.isolated;
-    const double ma = margin(a), mb = margin(b);
-    if (ma != mb) return ma > mb;
-    return a < b;
-  };
-  auto prefer = [&](long a, long b) { return prefer_in(scores, a, b); };
+  const Score &x = sc[a], &y = sc[b];
+  if (x.false_alarms != y.false_alarms) return x.false_alarms < y.false_alarms;
+  if (x.isolated != y.isolated) return x.isolated > y.isolated;
+  const double ma = margin(a), mb = margin(b);
+  if (ma != mb) return ma > mb;
+  return a < b;
+}
+
+// The operating point: the setting the rule prefers on the scores `chosen` (of the runs
+// `choose_on` counts). Throws InputError when no setting meets the false-alarm ceiling.
+long ChooseSetting(const TuneSpace& space, const std::vector<Score>& chosen, const Scorer& choose_on,
+                   const OperatingRule& rule) {
   auto cdr = [&](const Score& s) { return Ratio(s.detected, choose_on.faulty); };
   auto cfa = [&](const Score& s) { return Ratio(s.false_alarms, choose_on.healthy); };
-  const OperatingRule& rule = options.rule;
   long best = -1;
   double best_value = 0;
-  for (long s = 0; s < settings; ++s) {
+  for (long s = 0; s < static_cast<long>(chosen.size()); ++s) {
     double value = 0;
-    const Score& sc = chosen_scores[s];
+    const Score& sc = chosen[s];
     switch (rule.kind) {
       case OperatingRule::Kind::kMaxDetection:
         if (cfa(sc) > rule.false_alarm_ceiling) continue;
@@ -554,7 +424,7 @@ Scored ScoreRuns(const TuneSpace& space, const std::vector<RunTable>& runs, cons
         value = -(rule.miss_cost * (1 - cdr(sc)) + rule.false_alarm_cost * cfa(sc));
         break;
     }
-    if (best < 0 || value > best_value || (value == best_value && prefer_in(chosen_scores, s, best))) {
+    if (best < 0 || value > best_value || (value == best_value && PreferIn(space, chosen, s, best))) {
       best = s;
       best_value = value;
     }
@@ -564,7 +434,12 @@ Scored ScoreRuns(const TuneSpace& space, const std::vector<RunTable>& runs, cons
                      "no setting keeps the false-alarm rate at or below " + std::to_string(rule.false_alarm_ceiling) +
                          "; raise the ceiling or widen the sweep");
   }
-  const Setting op = indices(best);
+  return best;
+}
+
+// The setting the runs ran with (every axis and the significance at its default).
+Setting AsRunSetting(const TuneSpace& space) {
+  const int axes = static_cast<int>(space.axes.size());
   Setting as_run_k(static_cast<size_t>(axes) + 1, 0);
   for (int d = 0; d < axes; ++d) {
     const auto& v = space.axes[d].values;
@@ -575,45 +450,48 @@ Scored ScoreRuns(const TuneSpace& space, const std::vector<RunTable>& runs, cons
                                                 space.default_significance) -
                                       space.significance.begin());
   }
+  return as_run_k;
+}
 
-  auto setting_json = [&](const Setting& k) {
-    nlohmann::json j = nlohmann::json::object();
-    for (int d = 0; d < axes; ++d) j[space.axes[d].name] = space.axes[d].values[k[d]];
-    if (!space.significance.empty()) j["significance"] = space.significance[k[axes]];
-    return j;
-  };
-  auto point_json = [&](const Setting& k, const Scorer& scorer) {
-    std::vector<double> all;
-    const Score s = scorer.Evaluate(k, &all, -1);
-    nlohmann::json j;
-    j["setting"] = setting_json(k);
-    j["detection_rate"] = Rate(s.detected, scorer.faulty);
-    j["false_alarm_rate"] = Rate(s.false_alarms, scorer.healthy);
-    j["alarm_before_onset_rate"] = Rate(s.before_onset, scorer.faulty);
-    j["isolation_accuracy"] = Rate(s.isolated, s.detected);
-    const auto [median, p95] = MedianP95(all);
-    j["latency_median_s"] = median;
-    j["latency_p95_s"] = p95;
-    nlohmann::json per = nlohmann::json::object();
-    for (size_t f = 0; f < families.names.size(); ++f) {
-      if (scorer.family_runs[f] == 0) continue;
-      std::vector<double> lat;
-      scorer.Evaluate(k, &lat, static_cast<int>(f));
-      const auto [fm, fp] = MedianP95(lat);
-      per[families.names[f]] = {{"detection_rate", Rate(s.family_detected[f], scorer.family_runs[f])},
-                                {"isolation_accuracy", Rate(s.family_isolated[f], s.family_detected[f])},
-                                {"latency_median_s", fm},
-                                {"latency_p95_s", fp}};
-    }
-    j["per_family"] = per;
-    return j;
-  };
+nlohmann::json SettingJson(const TuneSpace& space, const Setting& k) {
+  const int axes = static_cast<int>(space.axes.size());
+  nlohmann::json j = nlohmann::json::object();
+  for (int d = 0; d < axes; ++d) j[space.axes[d].name] = space.axes[d].values[k[d]];
+  if (!space.significance.empty()) j["significance"] = space.significance[k[axes]];
+  return j;
+}
 
-  nlohmann::json report;
-  report["armfault_version"] = ARMFAULT_VERSION;
-  report["campaign"] = campaign_name;
-  report["campaign_hash"] = campaign_hash;
-  report["runs"] = {{"faulty", scorer.faulty}, {"healthy", scorer.healthy}, {"failed", failed}};
+// A point of tuning.json (operating, default, chosen_on, held_out): the setting k's rates on
+// the runs `scorer` counts, overall and per family.
+nlohmann::json PointJson(const TuneSpace& space, const FamilyTable& families, const Setting& k, const Scorer& scorer) {
+  std::vector<double> all;
+  const Score s = scorer.Evaluate(k, &all, -1);
+  nlohmann::json j;
+  j["setting"] = SettingJson(space, k);
+  j["detection_rate"] = Rate(s.detected, scorer.faulty);
+  j["false_alarm_rate"] = Rate(s.false_alarms, scorer.healthy);
+  j["alarm_before_onset_rate"] = Rate(s.before_onset, scorer.faulty);
+  j["isolation_accuracy"] = Rate(s.isolated, s.detected);
+  const auto [median, p95] = MedianP95(all);
+  j["latency_median_s"] = median;
+  j["latency_p95_s"] = p95;
+  nlohmann::json per = nlohmann::json::object();
+  for (size_t f = 0; f < families.names.size(); ++f) {
+    if (scorer.family_runs[f] == 0) continue;
+    std::vector<double> lat;
+    scorer.Evaluate(k, &lat, static_cast<int>(f));
+    const auto [fm, fp] = MedianP95(lat);
+    per[families.names[f]] = {{"detection_rate", Rate(s.family_detected[f], scorer.family_runs[f])},
+                              {"isolation_accuracy", Rate(s.family_isolated[f], s.family_detected[f])},
+                              {"latency_median_s", fm},
+                              {"latency_p95_s", fp}};
+  }
+  j["per_family"] = per;
+  return j;
+}
+
+// The report's "parameters": each axis with its default and values, then the significance.
+nlohmann::json ParametersJson(const TuneSpace& space) {
   nlohmann::json parameters = nlohmann::json::array();
   for (const TuneAxis& a : space.axes) {
     parameters.push_back({{"name", a.name}, {"default", a.default_value}, {"values", a.values}});
@@ -621,31 +499,26 @@ Scored ScoreRuns(const TuneSpace& space, const std::vector<RunTable>& runs, cons
   if (!space.significance.empty()) {
     parameters.push_back({{"name", "significance"}, {"default", space.default_significance}, {"values", space.significance}});
   }
-  report["parameters"] = parameters;
-  report["settings"] = settings;
+  return parameters;
+}
+
+nlohmann::json RuleJson(const OperatingRule& rule) {
   switch (rule.kind) {
     case OperatingRule::Kind::kMaxDetection:
-      report["rule"] = {{"name", "max_detection"}, {"false_alarm_ceiling", rule.false_alarm_ceiling}};
-      break;
-    case OperatingRule::Kind::kYouden: report["rule"] = {{"name", "youden"}}; break;
+      return {{"name", "max_detection"}, {"false_alarm_ceiling", rule.false_alarm_ceiling}};
+    case OperatingRule::Kind::kYouden: return {{"name", "youden"}};
     case OperatingRule::Kind::kMinCost:
-      report["rule"] = {{"name", "min_cost"}, {"miss_cost", rule.miss_cost}, {"false_alarm_cost", rule.false_alarm_cost}};
-      break;
+      return {{"name", "min_cost"}, {"miss_cost", rule.miss_cost}, {"false_alarm_cost", rule.false_alarm_cost}};
   }
-  report["operating_point"] = point_json(op, scorer);
-  report["default_point"] = point_json(as_run_k, scorer);
-  // Honest rates: the point was chosen on one half of the runs (even seeds) and is scored on
-  // the other; the chosen half's own rates show how much choosing flatters them.
-  nlohmann::json selection = {{"split", split ? "seed parity: chosen on even seeds, scored on odd seeds"
-                                              : "none: a half would have no faulty or no healthy runs"}};
-  if (split) {
-    selection["chosen_on"] = point_json(op, chooser);
-    selection["held_out"] = point_json(op, held_out);
-  }
-  report["selection"] = selection;
-  // A point on the edge of the grid may lie beyond it: widen the sweep to see.
+  return nullptr;
+}
+
+// `extra` then, for a point on the edge of the grid (it may lie beyond it), a warning to widen
+// the sweep.
+nlohmann::json EdgeWarnings(const TuneSpace& space, const Setting& op, const std::vector<std::string>& extra) {
+  const int axes = static_cast<int>(space.axes.size());
   nlohmann::json warnings = nlohmann::json::array();
-  for (const std::string& w : extra_warnings) warnings.push_back(w);
+  for (const std::string& w : extra) warnings.push_back(w);
   for (int d = 0; d < axes; ++d) {
     const auto& v = space.axes[d].values;
     if (v.size() > 1 && (op[d] == 0 || op[d] + 1 == static_cast<int>(v.size()))) {
@@ -659,14 +532,17 @@ Scored ScoreRuns(const TuneSpace& space, const std::vector<RunTable>& runs, cons
                        " is at the edge of the swept range [" + FormatNumber(space.significance.front()) + ", " +
                        FormatNumber(space.significance.back()) + "]: widen the sweep to see beyond it");
   }
-  report["warnings"] = warnings;
+  return warnings;
+}
 
-  // ROC frontier: per false-alarm count, the best setting; kept where detection rises.
+// The ROC frontier of every setting's scores: per false-alarm count, the best setting; kept
+// where detection rises.
+std::vector<long> RocFrontier(const TuneSpace& space, const std::vector<Score>& scores) {
   std::map<long, long> by_fa;
-  for (long s = 0; s < settings; ++s) {
+  for (long s = 0; s < static_cast<long>(scores.size()); ++s) {
     auto it = by_fa.find(scores[s].false_alarms);
     if (it == by_fa.end() || scores[s].detected > scores[it->second].detected ||
-        (scores[s].detected == scores[it->second].detected && prefer(s, it->second))) {
+        (scores[s].detected == scores[it->second].detected && PreferIn(space, scores, s, it->second))) {
       by_fa[scores[s].false_alarms] = s;
     }
   }
@@ -674,13 +550,26 @@ Scored ScoreRuns(const TuneSpace& space, const std::vector<RunTable>& runs, cons
   for (const auto& [count, s] : by_fa) {
     if (frontier.empty() || scores[s].detected > scores[frontier.back()].detected) frontier.push_back(s);
   }
+  return frontier;
+}
+
+// The report's "roc" (overall along the frontier; per family its own detector's limit swept
+// with the others at the operating point, or, without a swept detector, its rates along the
+// overall frontier) and "latency" (against each swept family's own threshold).
+void RocAndLatency(const TuneSpace& space, const FamilyTable& families, const Scorer& scorer,
+                   const std::vector<Score>& scores, const Setting& op, nlohmann::json* roc_out,
+                   nlohmann::json* latency_out) {
+  const int axes = static_cast<int>(space.axes.size());
+  auto dr = [&](const Score& s) { return Ratio(s.detected, scorer.faulty); };
+  auto fa = [&](const Score& s) { return Ratio(s.false_alarms, scorer.healthy); };
+  const std::vector<long> frontier = RocFrontier(space, scores);
   nlohmann::json roc;
   {
     nlohmann::json points = nlohmann::json::array();
     std::vector<std::pair<double, double>> pts;
     for (long s : frontier) {
       pts.emplace_back(fa(scores[s]), dr(scores[s]));
-      points.push_back({{"false_alarm_rate", fa(scores[s])}, {"detection_rate", dr(scores[s])}, {"setting", setting_json(indices(s))}});
+      points.push_back({{"false_alarm_rate", fa(scores[s])}, {"detection_rate", dr(scores[s])}, {"setting", SettingJson(space, SettingAt(space, s))}});
     }
     roc["overall"] = RocCurve(nullptr, true, points, pts);
   }
@@ -723,9 +612,14 @@ Scored ScoreRuns(const TuneSpace& space, const std::vector<RunTable>& runs, cons
     roc[name] = RocCurve(own >= 0 ? nlohmann::json(space.axes[own].name) : nlohmann::json(nullptr),
                          own >= 0, points, pts);
   }
-  report["roc"] = roc;
+  *roc_out = std::move(roc);
+  *latency_out = std::move(latency);
+}
 
-  // Detection probability against magnitude at the operating point.
+// The report's "detection_probability": per family, its detection against magnitude (or the
+// named category) at the operating point, with the PoD fit (campaigns/pod.h).
+nlohmann::json DetectionProbability(const TuneSpace& space, const std::vector<RunTable>& runs,
+                                    const FamilyTable& families, const Scorer& scorer, const Setting& op) {
   nlohmann::json pod = nlohmann::json::object();
   for (size_t f = 0; f < families.names.size(); ++f) {
     if (scorer.family_runs[f] == 0) continue;
@@ -775,7 +669,67 @@ Scored ScoreRuns(const TuneSpace& space, const std::vector<RunTable>& runs, cons
     }
     pod[families.names[f]] = {{"magnitude_key", key}, {"points", points}, {"fit", fit}};
   }
-  report["detection_probability"] = pod;
+  return pod;
+}
+
+// Scores every setting of `space` on the runs, picks the operating point by the rule and writes
+// the report (docs/tuning.md): the same for the power monitor's detectors and for published
+// statistics.
+Scored ScoreRuns(const TuneSpace& space, const std::vector<RunTable>& runs, const FamilyTable& families, long failed,
+                 const std::string& campaign_name, const std::string& campaign_hash, const TuneOptions& options,
+                 const std::vector<std::string>& extra_warnings) {
+  // Every run; the half with even seeds, on which the operating point is chosen; the other
+  // half, on which its rates are reported without having chosen it (honest rates).
+  Scorer scorer{runs, space, 0, 0, {}, -1}, chooser{runs, space, 0, 0, {}, 1}, held_out{runs, space, 0, 0, {}, 0};
+  scorer.CountRuns(families.names.size());
+  chooser.CountRuns(families.names.size());
+  held_out.CountRuns(families.names.size());
+  // Too few runs in a half (a tiny campaign): choose on every run and say so.
+  const bool split = chooser.faulty > 0 && held_out.faulty > 0 && chooser.healthy > 0 && held_out.healthy > 0;
+  const Scorer& choose_on = split ? chooser : scorer;
+
+  // Score every setting (mixed radix over the axes), in parallel: each setting is independent.
+  const long settings = SettingsOf(space);
+  std::vector<Score> scores(static_cast<size_t>(settings)), chosen_scores(static_cast<size_t>(settings));
+  const int threads = options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency();
+  tbb::task_arena arena(threads);
+  arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<long>(0, settings), [&](const tbb::blocked_range<long>& range) {
+      for (long s = range.begin(); s != range.end(); ++s) {
+        scores[s] = scorer.Evaluate(SettingAt(space, s));
+        chosen_scores[s] = split ? choose_on.Evaluate(SettingAt(space, s)) : scores[s];
+      }
+    });
+  });
+
+  const Setting op = SettingAt(space, ChooseSetting(space, chosen_scores, choose_on, options.rule));
+
+  nlohmann::json report;
+  report["armfault_version"] = ARMFAULT_VERSION;
+  report["campaign"] = campaign_name;
+  report["campaign_hash"] = campaign_hash;
+  report["runs"] = {{"faulty", scorer.faulty}, {"healthy", scorer.healthy}, {"failed", failed}};
+  report["parameters"] = ParametersJson(space);
+  report["settings"] = settings;
+  report["rule"] = RuleJson(options.rule);
+  report["operating_point"] = PointJson(space, families, op, scorer);
+  report["default_point"] = PointJson(space, families, AsRunSetting(space), scorer);
+  // Honest rates: the point was chosen on one half of the runs (even seeds) and is scored on
+  // the other; the chosen half's own rates show how much choosing flatters them.
+  nlohmann::json selection = {{"split", split ? "seed parity: chosen on even seeds, scored on odd seeds"
+                                              : "none: a half would have no faulty or no healthy runs"}};
+  if (split) {
+    selection["chosen_on"] = PointJson(space, families, op, chooser);
+    selection["held_out"] = PointJson(space, families, op, held_out);
+  }
+  report["selection"] = selection;
+  // A point on the edge of the grid may lie beyond it: widen the sweep to see.
+  report["warnings"] = EdgeWarnings(space, op, extra_warnings);
+  nlohmann::json roc, latency;
+  RocAndLatency(space, families, scorer, scores, op, &roc, &latency);
+  report["roc"] = roc;
+  // Detection probability against magnitude at the operating point.
+  report["detection_probability"] = DetectionProbability(space, runs, families, scorer, op);
   report["latency"] = latency;
 
   return {std::move(report), op, settings};
