@@ -255,12 +255,200 @@ bool SameDeclarations(const std::vector<StatisticInfo>& a, const std::vector<Sta
   return true;
 }
 
+// A run directory being tuned: its files, its monitor, and what reading its runs builds.
+struct TuneDir {
+  std::string dir_name;
+  fs::path campaign_path, results_path, decisions_path;
+  bool power = false;                 // the power-efficiency monitor: its detectors are swept
+  std::optional<MonitorConfig> base;  // power: its settings as its runs used them (widened, unless commissioned)
+  DetectorThresholds thresholds{};    // power: the thresholds of those settings
+  std::string cannot_sweep;           // why a monitor that publishes no statistics is not swept
+  // Filled by ReadRunTables: the space (published statistics: from the first run's), the
+  // families as they come, each completed run's table of first alarms, the failed runs.
+  TuneSpace space;
+  std::vector<StatisticInfo> declared;  // published statistics: what the first run declared
+  FamilyTable families;
+  std::vector<RunTable> runs;
+  long failed = 0;
+};
+
+// One completed run's table of first alarms under every setting, from its stored statistics
+// (`decision`), which must reproduce its recorded outcome; appended to td->runs. `where`
+// ("line N: ") and `separate` (decisions.jsonl exists) are for messages.
+void AddRunTable(const RunRecord& rec, const nlohmann::json& decision, bool separate, const std::string& where,
+                 const std::string& sweep, TuneDir* td) {
+  const std::string decision_file = separate ? td->decisions_path.string() : td->results_path.string();
+  if (!td->power && decision.is_null()) throw InputError(td->campaign_path.string(), "/campaign/monitor/type", td->cannot_sweep);
+  RunTable r;
+  r.select = rec.seed % 2 == 0;
+  r.family = rec.family.empty() ? -1 : td->families.Id(rec.family);
+  r.joint = rec.joint;
+  r.magnitude_key = rec.magnitude_key;
+  r.magnitude = rec.magnitude;
+  r.category = PodCategory(rec.fault);
+  r.onset_s = rec.onset_s;
+  // The stored statistics must give the recorded outcome under the thresholds the run used.
+  auto reproduces = [&](bool alarm_before_onset, bool detected, double time_s, const std::string& family, int joint) {
+    if (detected != rec.detected || alarm_before_onset != rec.alarm_before_onset ||
+        (detected && (time_s != *rec.detection_time_s || family != rec.isolated_family || joint != rec.isolated_joint))) {
+      throw InputError(td->results_path.string(), "",
+                       where + "run " + rec.run_id + ": its decision statistics do not reproduce its result" +
+                           (td->power ? "" : " (the monitor's alarms are not the threshold test on the statistics it "
+                                         "publishes: docs/monitor-api.md, \"Statistics for tune\")"));
+    }
+  };
+  if (td->power) {
+    DecisionStats stats;
+    try {
+      if (decision.is_null()) {
+        throw std::runtime_error(separate ? "run \"" + rec.run_id + "\" has no decision statistics (null)"
+                                          : "no decision statistics: " + td->decisions_path.string() +
+                                                " does not exist and this line carries no inline \"decision\" (was "
+                                                "the campaign run with --summary-only? run it again without)");
+      }
+      stats = DecisionStatsFromJson(decision);
+    } catch (const std::exception& e) {
+      throw InputError(decision_file, "", where + e.what());
+    }
+    const DecisionOutcome check = Decide(stats, td->thresholds, td->base->significance);
+    reproduces(check.alarm_before_onset, check.detected, check.detection_time_s, check.family, check.joint);
+    r.event = EventHit(stats, &td->families);
+    for (size_t d = 0; d < td->space.axes.size(); ++d) {
+      const DetectorInfo& info = Detectors()[d];
+      auto& hits = r.hits.emplace_back();
+      for (double z : td->space.significance) {
+        hits.emplace_back();
+        for (double worn : td->space.axes[d].values) {
+          hits.back().push_back(DetectorHit(stats, info.detector, ThresholdFor(info, worn), z, &td->families));
+        }
+      }
+    }
+  } else {
+    ThresholdStats stats;
+    try {
+      stats = ThresholdStatsFromJson(decision);
+      if (td->declared.empty()) {
+        td->declared = stats.statistics;
+        td->space = StatisticSpace(td->declared, sweep);
+      } else if (!SameDeclarations(td->declared, stats.statistics)) {
+        throw std::runtime_error("run \"" + rec.run_id + "\" declares other statistics than the first run");
+      }
+    } catch (const std::exception& e) {
+      if (dynamic_cast<const InputError*>(&e)) throw;
+      throw InputError(decision_file, "", where + e.what());
+    }
+    std::vector<double> thresholds;
+    for (const StatisticInfo& info : td->declared) thresholds.push_back(info.threshold);
+    const ThresholdOutcome check = DecideThresholds(stats, thresholds);
+    reproduces(check.alarm_before_onset, check.detected, check.detection_time_s, check.family, check.joint);
+    StatisticHits(stats, td->space, &td->families, &r);
+  }
+  td->runs.push_back(std::move(r));
+}
+
+// Reads results.jsonl and decisions.jsonl line for line (without the latter, results.jsonl's
+// inline "decision"), each line a case of the campaign (`matcher`), into td.
+void ReadRunTables(const CaseMatcher& matcher, const std::string& sweep, TuneDir* td) {
+  std::ifstream in(td->results_path, std::ios::binary);
+  if (!in) throw InputError(td->results_path.string(), "", "cannot read (run the campaign first)");
+  // Each run's statistics are the same line of decisions.jsonl, of the same run; in an older
+  // armfault's directory, without that file, the results line's own "decision".
+  const bool separate = fs::exists(td->decisions_path);
+  std::ifstream decisions_in;
+  if (separate) {
+    decisions_in.open(td->decisions_path, std::ios::binary);
+    if (!decisions_in) throw InputError(td->decisions_path.string(), "", "cannot read the file");
+  }
+  std::string line, decision_line;
+  long n = 0;
+  while (std::getline(in, line)) {
+    ++n;
+    auto where = [&] { return "line " + std::to_string(n) + ": "; };
+    RunRecord rec;
+    try {
+      rec = RunRecordFromJson(nlohmann::json::parse(line));
+      if (const std::string why = matcher.Mismatch(rec); !why.empty()) {
+        throw std::runtime_error(why + ": this results.jsonl is not a run of " + td->campaign_path.string() +
+                                 " (files of different campaigns are not read together); run the campaign into " +
+                                 td->dir_name + " again");
+      }
+    } catch (const std::exception& e) {
+      throw InputError(td->results_path.string(), "", where() + e.what());
+    }
+    nlohmann::json decision = std::move(rec.decision);
+    if (separate) {
+      try {
+        if (!std::getline(decisions_in, decision_line)) {
+          throw std::runtime_error("missing: the file ends after " + std::to_string(n - 1) + " lines, but " +
+                                   td->results_path.string() + " has more");
+        }
+        if (decisions_in.eof()) {
+          throw std::runtime_error("cut: the line has no newline (a killed run? finish it with `armfault run ... --resume`)");
+        }
+        DecisionLine d = DecisionLineFromJson(nlohmann::json::parse(decision_line));
+        if (d.case_index != rec.case_index || d.run_id != rec.run_id) {
+          throw std::runtime_error("case " + std::to_string(d.case_index) + " \"" + d.run_id + "\", but line " +
+                                   std::to_string(n) + " of " + td->results_path.string() + " is case " +
+                                   std::to_string(rec.case_index) + " \"" + rec.run_id +
+                                   "\": decisions.jsonl does not go with results.jsonl");
+        }
+        decision = std::move(d.decision);
+      } catch (const std::exception& e) {
+        throw InputError(td->decisions_path.string(), "", where() + e.what());
+      }
+    }
+    if (!rec.ok) {
+      ++td->failed;
+      continue;
+    }
+    if (!rec.injected()) continue;  // its onset condition never fired: no fault to detect
+    if (rec.is_compound()) continue;  // several faults at once: no family or magnitude to fit
+    AddRunTable(rec, decision, separate, where(), sweep, td);
+  }
+  if (separate && std::getline(decisions_in, decision_line)) {
+    throw InputError(td->decisions_path.string(), "",
+                     "line " + std::to_string(n + 1) + ": more lines than the " + std::to_string(n) + " runs of " +
+                         td->results_path.string() + ": decisions.jsonl does not go with results.jsonl");
+  }
+}
+
+// The tuned monitor at the operating point `op`: the power monitor's config with its limits;
+// another type's "monitor" value (`monitor_json`, else the campaign's) with each statistic's
+// threshold written where it declared it lives (not for a Python monitor).
+void SetTunedMonitor(const TuneDir& td, const Setting& op, const nlohmann::json& monitor_json, const CampaignSpec& campaign,
+                     bool python_monitor, TuningResult* result) {
+  if (td.power) {
+    result->tuned = *td.base;
+    for (size_t d = 0; d < td.space.axes.size(); ++d) {
+      StateLimits& l = result->tuned.*LimitsOf(Detectors()[d].detector);
+      l.worn = td.space.axes[d].values[op[d]];
+      // Keep the defective limit beyond the worn one.
+      l.defective =
+          Detectors()[d].detector == Detector::kKtFactor ? std::min(l.defective, l.worn) : std::max(l.defective, l.worn);
+    }
+    result->tuned.significance = td.space.significance[op[td.space.axes.size()]];
+    Validate(result->tuned, "", "<tuned monitor>");
+    result->tuned_monitor = MonitorConfigToJson(result->tuned);
+  } else {
+    result->tuned_monitor = monitor_json.is_null() ? campaign.monitor.ToJson() : monitor_json;
+    for (size_t s = 0; s < td.declared.size(); ++s) {
+      if (td.declared[s].setting.empty() || python_monitor) continue;
+      const nlohmann::json::json_pointer at("/settings" + td.declared[s].setting);
+      result->tuned_monitor[at] = td.space.axes[s].values[op[s]];
+    }
+  }
+}
+
 }  // namespace
 
 TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& options) {
   const fs::path dir(dir_name);
-  const fs::path campaign_path = dir / "campaign.json", results_path = dir / "results.jsonl";
-  const fs::path decisions_path = dir / "decisions.jsonl";
+  TuneDir td;
+  td.dir_name = dir_name;
+  td.campaign_path = dir / "campaign.json";
+  td.results_path = dir / "results.jsonl";
+  td.decisions_path = dir / "decisions.jsonl";
+  const fs::path& campaign_path = td.campaign_path;
   const nlohmann::json campaign_file = ReadJsonFile(campaign_path.string());
   if (!campaign_file.is_object() || !campaign_file.contains("campaign")) {
     throw InputError(campaign_path.string(), "/campaign", "missing: not a campaign output directory");
@@ -285,164 +473,32 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
   // Only a monitor that publishes the statistics behind its alarms can be re-scored: the
   // power-efficiency monitor (DecisionStats), or any type whose runs stored published statistics
   // (ThresholdStats). Another is scored at its own operating point.
-  const bool power = !python_monitor && campaign.monitor.type == "power_efficiency";
-  const std::string cannot_sweep = "monitor type \"" + monitor_type +
-                                   "\" publishes no statistics tune can re-score: its runs are scored at its own "
-                                   "operating point (see summary.json); a monitor that declares statistics "
-                                   "(docs/monitor-api.md, \"Statistics for tune\") can be swept";
-  TuneSpace space;
-  std::vector<StatisticInfo> declared;  // published statistics: what the first run declared
+  td.power = !python_monitor && campaign.monitor.type == "power_efficiency";
+  td.cannot_sweep = "monitor type \"" + monitor_type +
+                    "\" publishes no statistics tune can re-score: its runs are scored at its own "
+                    "operating point (see summary.json); a monitor that declares statistics "
+                    "(docs/monitor-api.md, \"Statistics for tune\") can be swept";
   // The power-efficiency monitor's settings as its runs used them (widened, unless commissioned).
-  const std::optional<MonitorConfig> base =
-      power ? std::optional<MonitorConfig>(PowerEfficiencyConfig(
-                  MonitorConfigFromJson(campaign.monitor.settings, "/monitor", campaign.source), MonitorContextOf(campaign)))
-            : std::nullopt;
-  if (power) space = PowerSpace(MakeSweepGrid(*base, options.sweep), *base);
-  const DetectorThresholds thresholds = power ? ThresholdsOf(*base) : DetectorThresholds{};
+  if (td.power) {
+    td.base = PowerEfficiencyConfig(MonitorConfigFromJson(campaign.monitor.settings, "/monitor", campaign.source),
+                                    MonitorContextOf(campaign));
+    td.space = PowerSpace(MakeSweepGrid(*td.base, options.sweep), *td.base);
+    td.thresholds = ThresholdsOf(*td.base);
+  }
 
   // Load the runs: per run, the first alarm of each axis at each of its values.
-  FamilyTable families;
-  if (power) {
-    for (const DetectorInfo& d : Detectors()) families.Id(d.family);
+  if (td.power) {
+    for (const DetectorInfo& d : Detectors()) td.families.Id(d.family);
   }
-  std::vector<RunTable> runs;
-  long failed = 0;
-  {
-    std::ifstream in(results_path, std::ios::binary);
-    if (!in) throw InputError(results_path.string(), "", "cannot read (run the campaign first)");
-    // Each run's statistics are the same line of decisions.jsonl, of the same run; in an older
-    // armfault's directory, without that file, the results line's own "decision".
-    const bool separate = fs::exists(decisions_path);
-    std::ifstream decisions_in;
-    if (separate) {
-      decisions_in.open(decisions_path, std::ios::binary);
-      if (!decisions_in) throw InputError(decisions_path.string(), "", "cannot read the file");
-    }
-    std::string line, decision_line;
-    long n = 0;
-    while (std::getline(in, line)) {
-      ++n;
-      auto where = [&] { return "line " + std::to_string(n) + ": "; };
-      RunRecord rec;
-      try {
-        rec = RunRecordFromJson(nlohmann::json::parse(line));
-        if (const std::string why = matcher.Mismatch(rec); !why.empty()) {
-          throw std::runtime_error(why + ": this results.jsonl is not a run of " + campaign_path.string() +
-                                   " (files of different campaigns are not read together); run the campaign into " +
-                                   dir_name + " again");
-        }
-      } catch (const std::exception& e) {
-        throw InputError(results_path.string(), "", where() + e.what());
-      }
-      nlohmann::json decision = std::move(rec.decision);
-      if (separate) {
-        try {
-          if (!std::getline(decisions_in, decision_line)) {
-            throw std::runtime_error("missing: the file ends after " + std::to_string(n - 1) + " lines, but " +
-                                     results_path.string() + " has more");
-          }
-          if (decisions_in.eof()) {
-            throw std::runtime_error("cut: the line has no newline (a killed run? finish it with `armfault run ... --resume`)");
-          }
-          DecisionLine d = DecisionLineFromJson(nlohmann::json::parse(decision_line));
-          if (d.case_index != rec.case_index || d.run_id != rec.run_id) {
-            throw std::runtime_error("case " + std::to_string(d.case_index) + " \"" + d.run_id + "\", but line " +
-                                     std::to_string(n) + " of " + results_path.string() + " is case " +
-                                     std::to_string(rec.case_index) + " \"" + rec.run_id +
-                                     "\": decisions.jsonl does not go with results.jsonl");
-          }
-          decision = std::move(d.decision);
-        } catch (const std::exception& e) {
-          throw InputError(decisions_path.string(), "", where() + e.what());
-        }
-      }
-      if (!rec.ok) {
-        ++failed;
-        continue;
-      }
-      if (!rec.injected()) continue;  // its onset condition never fired: no fault to detect
-      if (rec.is_compound()) continue;  // several faults at once: no family or magnitude to fit
-      const std::string decision_file = separate ? decisions_path.string() : results_path.string();
-      if (!power && decision.is_null()) throw InputError(campaign_path.string(), "/campaign/monitor/type", cannot_sweep);
-      RunTable r;
-      r.select = rec.seed % 2 == 0;
-      r.family = rec.family.empty() ? -1 : families.Id(rec.family);
-      r.joint = rec.joint;
-      r.magnitude_key = rec.magnitude_key;
-      r.magnitude = rec.magnitude;
-      r.category = PodCategory(rec.fault);
-      r.onset_s = rec.onset_s;
-      // The stored statistics must give the recorded outcome under the thresholds the run used.
-      auto reproduces = [&](bool alarm_before_onset, bool detected, double time_s, const std::string& family, int joint) {
-        if (detected != rec.detected || alarm_before_onset != rec.alarm_before_onset ||
-            (detected && (time_s != *rec.detection_time_s || family != rec.isolated_family || joint != rec.isolated_joint))) {
-          throw InputError(results_path.string(), "",
-                           where() + "run " + rec.run_id + ": its decision statistics do not reproduce its result" +
-                               (power ? "" : " (the monitor's alarms are not the threshold test on the statistics it "
-                                             "publishes: docs/monitor-api.md, \"Statistics for tune\")"));
-        }
-      };
-      if (power) {
-        DecisionStats stats;
-        try {
-          if (decision.is_null()) {
-            throw std::runtime_error(separate ? "run \"" + rec.run_id + "\" has no decision statistics (null)"
-                                              : "no decision statistics: " + decisions_path.string() +
-                                                    " does not exist and this line carries no inline \"decision\" (was "
-                                                    "the campaign run with --summary-only? run it again without)");
-          }
-          stats = DecisionStatsFromJson(decision);
-        } catch (const std::exception& e) {
-          throw InputError(decision_file, "", where() + e.what());
-        }
-        const DecisionOutcome check = Decide(stats, thresholds, base->significance);
-        reproduces(check.alarm_before_onset, check.detected, check.detection_time_s, check.family, check.joint);
-        r.event = EventHit(stats, &families);
-        for (size_t d = 0; d < space.axes.size(); ++d) {
-          const DetectorInfo& info = Detectors()[d];
-          auto& hits = r.hits.emplace_back();
-          for (double z : space.significance) {
-            hits.emplace_back();
-            for (double worn : space.axes[d].values) {
-              hits.back().push_back(DetectorHit(stats, info.detector, ThresholdFor(info, worn), z, &families));
-            }
-          }
-        }
-      } else {
-        ThresholdStats stats;
-        try {
-          stats = ThresholdStatsFromJson(decision);
-          if (declared.empty()) {
-            declared = stats.statistics;
-            space = StatisticSpace(declared, options.sweep);
-          } else if (!SameDeclarations(declared, stats.statistics)) {
-            throw std::runtime_error("run \"" + rec.run_id + "\" declares other statistics than the first run");
-          }
-        } catch (const std::exception& e) {
-          if (dynamic_cast<const InputError*>(&e)) throw;
-          throw InputError(decision_file, "", where() + e.what());
-        }
-        std::vector<double> thresholds;
-        for (const StatisticInfo& info : declared) thresholds.push_back(info.threshold);
-        const ThresholdOutcome check = DecideThresholds(stats, thresholds);
-        reproduces(check.alarm_before_onset, check.detected, check.detection_time_s, check.family, check.joint);
-        StatisticHits(stats, space, &families, &r);
-      }
-      runs.push_back(std::move(r));
-    }
-    if (separate && std::getline(decisions_in, decision_line)) {
-      throw InputError(decisions_path.string(), "",
-                       "line " + std::to_string(n + 1) + ": more lines than the " + std::to_string(n) + " runs of " +
-                           results_path.string() + ": decisions.jsonl does not go with results.jsonl");
-    }
-  }
-  if (runs.empty()) throw InputError(results_path.string(), "", "no completed runs to tune on");
+  ReadRunTables(matcher, options.sweep, &td);
+
+  if (td.runs.empty()) throw InputError(td.results_path.string(), "", "no completed runs to tune on");
 
   // The tuned monitor: the power monitor's config with the operating point's limits; another
   // type's "monitor" value with each statistic's threshold written where it declared it lives.
   std::vector<std::string> warnings;
-  if (!power) {
-    for (const StatisticInfo& info : declared) {
+  if (!td.power) {
+    for (const StatisticInfo& info : td.declared) {
       if (info.setting.empty() || python_monitor) {
         warnings.push_back("statistic " + info.name +
                            " names no setting that holds its threshold: set it in the monitor yourself (tuned-monitor.json "
@@ -450,33 +506,14 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
       }
     }
   }
-  Scored scored = ScoreRuns(space, runs, families, failed, campaign.name, campaign_hash, options, warnings);
+  Scored scored = ScoreRuns(td.space, td.runs, td.families, td.failed, campaign.name, campaign_hash, options, warnings);
   const Setting& op = scored.op;
 
   TuningResult result;
-  if (power) {
-    result.tuned = *base;
-    for (size_t d = 0; d < space.axes.size(); ++d) {
-      StateLimits& l = result.tuned.*LimitsOf(Detectors()[d].detector);
-      l.worn = space.axes[d].values[op[d]];
-      // Keep the defective limit beyond the worn one.
-      l.defective =
-          Detectors()[d].detector == Detector::kKtFactor ? std::min(l.defective, l.worn) : std::max(l.defective, l.worn);
-    }
-    result.tuned.significance = space.significance[op[space.axes.size()]];
-    Validate(result.tuned, "", "<tuned monitor>");
-    result.tuned_monitor = MonitorConfigToJson(result.tuned);
-  } else {
-    result.tuned_monitor = monitor_json.is_null() ? campaign.monitor.ToJson() : monitor_json;
-    for (size_t s = 0; s < declared.size(); ++s) {
-      if (declared[s].setting.empty() || python_monitor) continue;
-      const nlohmann::json::json_pointer at("/settings" + declared[s].setting);
-      result.tuned_monitor[at] = space.axes[s].values[op[s]];
-    }
-  }
+  SetTunedMonitor(td, op, monitor_json, campaign, python_monitor, &result);
   result.report = std::move(scored.report);
   result.settings = scored.settings;
-  result.runs = static_cast<long>(runs.size());
+  result.runs = static_cast<long>(td.runs.size());
   return result;
 }
 
