@@ -36,13 +36,15 @@ std::string Quote(const std::string& s) {
   return out + "'";
 }
 
-Campaign DirCampaign(const fs::path& dir) {
+// The spec of an output directory's campaign.json: estimating and writing outputs need only
+// that (no trajectory file is read, no monitor built).
+CampaignSpec DirCampaign(const fs::path& dir) {
   const fs::path path = dir / "campaign.json";
   const nlohmann::json file = ReadJsonFile(path.string());
   if (!file.is_object() || !file.contains("campaign")) {
     throw InputError(path.string(), "/campaign", "missing: not the campaign.json of an armfault output directory");
   }
-  return CampaignFromJson(file["campaign"], path.string(), dir.string());
+  return CampaignSpecFromJson(file["campaign"], path.string(), dir.string());
 }
 
 }  // namespace
@@ -51,7 +53,7 @@ int BoundaryCommand(const BoundaryCommandOptions& o) {
   if (!o.from_dir.empty()) {
     if (!o.campaign_file.empty()) throw InputError("--from", "", "give a campaign or --from DIR, not both");
     const fs::path dir(o.from_dir);
-    const Campaign campaign = DirCampaign(dir);
+    const CampaignSpec campaign = DirCampaign(dir);
     if (!campaign.search.present) {
       throw InputError((dir / "campaign.json").string(), "/campaign/search",
                        "missing: the campaign has no \"search\" block saying what to estimate");

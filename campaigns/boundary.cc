@@ -27,7 +27,7 @@ struct CellKey {
   int joint = 0;
 };
 
-std::vector<CellKey> Cells(const Campaign& c) {
+std::vector<CellKey> Cells(const CampaignSpec& c) {
   std::vector<CellKey> cells;
   for (size_t t = 0; t < c.trajectories.size(); ++t) {
     for (size_t e = 0; e < c.faults.size(); ++e) {
@@ -38,7 +38,7 @@ std::vector<CellKey> Cells(const Campaign& c) {
 }
 
 // The cell of a record (-1: none): from its trajectory, its run_id's "<family>#<entry>/" and its joint.
-long CellOf(const Campaign& c, const std::vector<CellKey>& cells, const RunRecord& r) {
+long CellOf(const CampaignSpec& c, const std::vector<CellKey>& cells, const RunRecord& r) {
   if (r.family.empty()) return -1;
   const std::string head = r.trajectory + "/" + r.family + "#";
   if (r.run_id.compare(0, head.size(), head) != 0) return -1;
@@ -54,7 +54,7 @@ long CellOf(const Campaign& c, const std::vector<CellKey>& cells, const RunRecor
   return -1;
 }
 
-bool Scored(const Campaign& c, const SearchEntryRange& range, const RunRecord& r) {
+bool Scored(const CampaignSpec& c, const SearchEntryRange& range, const RunRecord& r) {
   return r.ok && r.injected() && (r.excited() || c.include_not_excited) && r.magnitude_key == range.key;
 }
 
@@ -211,7 +211,7 @@ CellStep PlanCell(const SearchSpec& spec, const SearchEntryRange& range, const C
   return step;
 }
 
-nlohmann::json BoundaryReport(const Campaign& c, const std::vector<RunRecord>& records,
+nlohmann::json BoundaryReport(const CampaignSpec& c, const std::vector<RunRecord>& records,
                               const std::vector<std::string>& statuses, int batches) {
   const std::vector<CellKey> cells = Cells(c);
   std::vector<CellData> data(cells.size());
