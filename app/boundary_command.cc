@@ -42,7 +42,7 @@ int BoundaryCommand(const BoundaryCommandOptions& o) {
   if (!o.from_dir.empty()) {
     if (!o.campaign_file.empty()) throw InputError("--from", "", "give a campaign or --from DIR, not both");
     const fs::path dir(o.from_dir);
-    const Campaign campaign = ReadRunDirCampaign(dir);
+    const CampaignSpec campaign = ReadRunDirCampaign(dir);
     if (!campaign.search.present) {
       throw InputError((dir / run_dir::kCampaign).string(), "/campaign/search",
                        "missing: the campaign has no \"search\" block saying what to estimate");

@@ -126,7 +126,7 @@ void PrintWarnings(const std::string& campaign_file, const Campaign& campaign) {
 
 }  // namespace
 
-int FinishCampaignOutputs(const std::string& dir_name, const Campaign& campaign, bool summary_only) {
+int FinishCampaignOutputs(const std::string& dir_name, const CampaignSpec& campaign, bool summary_only) {
   const fs::path dir(dir_name);
   const RecordOutputsResult written = WriteRecordOutputs(dir, campaign, summary_only);
   const SummaryBuilder& builder = written.summary;

@@ -95,8 +95,8 @@ int ScoreCommand(const ScoreCommandOptions& options);
 // Writes the outputs of DIR/results.jsonl (campaigns/run_dir.h, WriteRecordOutputs: results.csv,
 // summary.json, junit.xml; with `summary_only` the ones --summary-only keeps); prints the floors;
 // exit status.
-struct Campaign;
-int FinishCampaignOutputs(const std::string& dir, const Campaign& campaign, bool summary_only = false);
+struct CampaignSpec;
+int FinishCampaignOutputs(const std::string& dir, const CampaignSpec& campaign, bool summary_only = false);
 int ValidateCommand(const std::string& campaign_file);
 
 struct MergeOptions {

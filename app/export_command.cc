@@ -45,7 +45,7 @@ int ExportCommand(const ExportCommandOptions& o) {
 
 int ScoreCommand(const ScoreCommandOptions& o) {
   namespace fs = std::filesystem;
-  const Campaign campaign = ReadRunDirCampaign(o.dir);
+  const CampaignSpec campaign = ReadRunDirCampaign(o.dir);
   const std::string out = o.output_dir.empty() ? (fs::path(o.dir) / "scored").string() : o.output_dir;
   const OutputLock lock(out, "armfault score " + o.dir + " " + o.verdicts_file);
   const ScoreResult r = ScoreExternalVerdicts(campaign, o.dir, o.verdicts_file, out);

@@ -10,6 +10,7 @@
 #include "campaigns/provenance.h"
 #include "campaigns/runner.h"
 #include "core/base/json_input.h"
+#include "faults/fault.h"
 
 namespace armfault {
 
@@ -26,7 +27,7 @@ struct CellKey {
   int joint = 0;
 };
 
-std::vector<CellKey> Cells(const Campaign& c) {
+std::vector<CellKey> Cells(const CampaignSpec& c) {
   std::vector<CellKey> cells;
   for (size_t t = 0; t < c.trajectories.size(); ++t) {
     for (size_t e = 0; e < c.faults.size(); ++e) {
@@ -37,7 +38,7 @@ std::vector<CellKey> Cells(const Campaign& c) {
 }
 
 // The cell of a record (-1: none): from its trajectory, its run_id's "<family>#<entry>/" and its joint.
-long CellOf(const Campaign& c, const std::vector<CellKey>& cells, const RunRecord& r) {
+long CellOf(const CampaignSpec& c, const std::vector<CellKey>& cells, const RunRecord& r) {
   if (r.family.empty()) return -1;
   const std::string head = r.trajectory + "/" + r.family + "#";
   if (r.run_id.compare(0, head.size(), head) != 0) return -1;
@@ -53,7 +54,7 @@ long CellOf(const Campaign& c, const std::vector<CellKey>& cells, const RunRecor
   return -1;
 }
 
-bool Scored(const Campaign& c, const SearchEntryRange& range, const RunRecord& r) {
+bool Scored(const CampaignSpec& c, const SearchEntryRange& range, const RunRecord& r) {
   return r.ok && r.injected() && (r.excited() || c.include_not_excited) && r.magnitude_key == range.key;
 }
 
@@ -68,13 +69,13 @@ std::optional<double> FirstAt(double lo, double hi, double target, F&& value) {
 }
 
 std::pair<double, double> SeverityRange(const SearchEntryRange& r) {
-  const double a = PodSeverity(r.key, r.low), b = PodSeverity(r.key, r.high);
+  const double a = FaultSeverity(r.key, r.low), b = FaultSeverity(r.key, r.high);
   return {std::min(a, b), std::max(a, b)};
 }
 
 // The range's end of largest (top) or smallest severity, on the lattice.
 double EndMagnitude(const SearchEntryRange& r, bool top) {
-  const bool low_is_top = PodSeverity(r.key, r.low) > PodSeverity(r.key, r.high);
+  const bool low_is_top = FaultSeverity(r.key, r.low) > FaultSeverity(r.key, r.high);
   return SearchLatticeValue(r, (low_is_top == top) ? r.low : r.high);
 }
 
@@ -97,7 +98,7 @@ CellEstimate EstimateCell(const SearchSpec& spec, const SearchEntryRange& range,
   CellEstimate est;
   if (data.magnitudes.empty()) return est;
   std::vector<double> severity;
-  for (double m : data.magnitudes) severity.push_back(PodSeverity(range.key, m));
+  for (double m : data.magnitudes) severity.push_back(FaultSeverity(range.key, m));
   est.fit = FitPod(severity, data.detected);
   est.has_fit = est.fit.ok && est.fit.slope > 0;
   if (!est.has_fit) return est;
@@ -106,7 +107,7 @@ CellEstimate EstimateCell(const SearchSpec& spec, const SearchEntryRange& range,
   const double z = OneSidedZ(spec.confidence);
   auto magnitude = [&](std::optional<double> s) -> std::optional<double> {
     if (!s) return std::nullopt;
-    return PodMagnitude(range.key, *s);
+    return FaultMagnitudeOfSeverity(range.key, *s);
   };
   est.a90 = magnitude(FirstAt(lo, hi, spec.target, [&](double s) { return est.fit.Probability(s); }));
   est.a90_95 = magnitude(FirstAt(lo, hi, spec.target, [&](double s) { return est.fit.Bound(s, -z); }));
@@ -130,7 +131,7 @@ CellStep PlanCell(const SearchSpec& spec, const SearchEntryRange& range, const C
   auto spread = [&](double lo, double hi) {
     for (int i = 0; i < size; ++i) {
       const double x = size == 1 ? 0.5 * (lo + hi) : lo + (hi - lo) * i / (size - 1);
-      step.magnitudes.push_back(SearchLatticeValue(range, PodMagnitude(range.key, std::exp(x))));
+      step.magnitudes.push_back(SearchLatticeValue(range, FaultMagnitudeOfSeverity(range.key, std::exp(x))));
     }
   };
   if (data.runs == 0) {  // the first batch spans the range
@@ -161,7 +162,7 @@ CellStep PlanCell(const SearchSpec& spec, const SearchEntryRange& range, const C
   // the whole batch inside the gap between them.
   double max_miss = xa, min_hit = xb;
   for (size_t i = 0; i < data.magnitudes.size(); ++i) {
-    const double x = std::log(PodSeverity(range.key, data.magnitudes[i]));
+    const double x = std::log(FaultSeverity(range.key, data.magnitudes[i]));
     if (data.detected[i]) min_hit = std::min(min_hit, x);
     else max_miss = std::max(max_miss, x);
   }
@@ -169,7 +170,7 @@ CellStep PlanCell(const SearchSpec& spec, const SearchEntryRange& range, const C
   if (max_miss < min_hit) {
     for (int i = 0; i < size; ++i) {
       const double x = max_miss + (min_hit - max_miss) * (i + 1) / (size + 1);
-      step.magnitudes.push_back(SearchLatticeValue(range, PodMagnitude(range.key, std::exp(x))));
+      step.magnitudes.push_back(SearchLatticeValue(range, FaultMagnitudeOfSeverity(range.key, std::exp(x))));
     }
     return step;
   }
@@ -194,7 +195,7 @@ CellStep PlanCell(const SearchSpec& spec, const SearchEntryRange& range, const C
   return step;
 }
 
-nlohmann::json BoundaryReport(const Campaign& c, const std::vector<RunRecord>& records,
+nlohmann::json BoundaryReport(const CampaignSpec& c, const std::vector<RunRecord>& records,
                               const std::vector<std::string>& statuses, int batches) {
   const std::vector<CellKey> cells = Cells(c);
   std::vector<CellData> data(cells.size());
@@ -237,12 +238,12 @@ nlohmann::json BoundaryReport(const Campaign& c, const std::vector<RunRecord>& r
     nlohmann::json fit = {{"ok", est.has_fit}};
     if (est.has_fit) {
       std::vector<double> sev;
-      for (double m : d.magnitudes) sev.push_back(PodSeverity(range.key, m));
+      for (double m : d.magnitudes) sev.push_back(FaultSeverity(range.key, m));
       const double lo = *std::min_element(sev.begin(), sev.end()), hi = *std::max_element(sev.begin(), sev.end());
       nlohmann::json curve = nlohmann::json::array();
       for (int i = 0; i <= 60; ++i) {
         const double s = std::exp(std::log(lo) + (std::log(hi) - std::log(lo)) * i / 60);
-        curve.push_back({{"magnitude", PodMagnitude(range.key, s)}, {"pod", est.fit.Probability(s)},
+        curve.push_back({{"magnitude", FaultMagnitudeOfSeverity(range.key, s)}, {"pod", est.fit.Probability(s)},
                          {"low", est.fit.Bound(s, -z)}, {"high", est.fit.Bound(s, z)}});
       }
       fit["intercept"] = est.fit.intercept;

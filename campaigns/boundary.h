@@ -21,7 +21,7 @@
 
 #include "campaigns/campaign.h"
 #include "campaigns/run_record.h"
-#include "campaigns/tuning.h"
+#include "campaigns/pod.h"
 
 namespace armfault {
 
@@ -83,7 +83,7 @@ BoundaryResult RunBoundary(const Campaign& campaign, const BoundaryOptions& opti
 
 // boundary.json's cells estimated from records already run (a grid run of a campaign with a
 // "search" block, or a boundary directory), grouped by cell.
-nlohmann::json BoundaryReport(const Campaign& campaign, const std::vector<RunRecord>& records,
+nlohmann::json BoundaryReport(const CampaignSpec& campaign, const std::vector<RunRecord>& records,
                               const std::vector<std::string>& statuses, int batches);
 
 // The boundary table printed by `armfault boundary` (one line per cell).

@@ -66,26 +66,10 @@
 #include <utility>
 #include <vector>
 
+#include "campaigns/campaign_spec.h"  // Floors
 #include "campaigns/run_record.h"
 
 namespace armfault {
-
-// Bounds a campaign must meet; each is optional, rates in [0, 1].
-struct FloorSet {
-  std::optional<double> detection_rate;      // minimum
-  std::optional<double> false_alarm_rate;    // maximum
-  std::optional<double> isolation_accuracy;  // minimum
-};
-
-// Per-family floors are measured on that family's faulty runs; their false_alarm_rate is the
-// family's alarm_before_onset_rate (its runs have no healthy part).
-struct Floors {
-  FloorSet overall;
-  std::map<std::string, FloorSet> per_family;  // key: fault family name
-  // The monitor's mean time per tick [us] at most (campaigns/monitor_cost.h): checked by `run`
-  // from monitor_cost.jsonl, outside summary.json (a measurement, not a result).
-  std::optional<double> monitor_us_per_tick;
-};
 
 struct FloorVerdict {
   std::string name;  // "detection_rate", "per_family/torque_sensor_stuck/detection_rate"

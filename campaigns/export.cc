@@ -313,7 +313,7 @@ Verdict VerdictFromJson(const nlohmann::json& j, std::string* run_id) {
 
 }  // namespace
 
-ScoreResult ScoreExternalVerdicts(const Campaign& campaign, const std::string& dir_name, const std::string& verdicts_path,
+ScoreResult ScoreExternalVerdicts(const CampaignSpec& campaign, const std::string& dir_name, const std::string& verdicts_path,
                                   const std::string& output_dir) {
   const fs::path dir(dir_name);
   // The truth: an export's manifest, or the records of a run.

@@ -66,7 +66,7 @@ struct ScoreResult {
   long verdicts = 0;
   long runs_without_verdicts = 0;
 };
-ScoreResult ScoreExternalVerdicts(const Campaign& campaign, const std::string& dir, const std::string& verdicts_path,
+ScoreResult ScoreExternalVerdicts(const CampaignSpec& campaign, const std::string& dir, const std::string& verdicts_path,
                                   const std::string& output_dir);
 
 }  // namespace armfault

@@ -140,30 +140,20 @@ std::string DecisionsProblem(ShardInput& s, long lines) {
   return "";
 }
 
-// The parsed campaign for scoring (name, floors). Trajectory CSV files are not read again: a
-// merge runs where the shard directories are, not necessarily beside the campaign file, and
-// the trajectories play no part in scoring. The written JSON stays the resolved one.
-Campaign CampaignForScoring(const ShardInput& first) {
-  const nlohmann::json& resolved = first.file["campaign"];
-  nlohmann::json copy = resolved;
-  if (copy.contains("trajectories") && copy["trajectories"].is_array()) {
-    for (nlohmann::json& t : copy["trajectories"]) {
-      if (!t.is_object() || !t.contains("joints") || !t["joints"].is_object()) continue;
-      for (auto& [joint, spec] : t["joints"].items()) {
-        if (spec.is_object() && spec.value("type", "") == "csv") spec = {{"type", "hold"}};
-      }
-    }
-  }
-  Campaign c;
+// The campaign's spec for scoring (name, floors, the case count). Only the spec is read: no
+// trajectory CSV file (a merge runs where the shard directories are, not necessarily beside
+// the campaign file) and no monitor, which play no part in scoring.
+CampaignSpec CampaignForScoring(const ShardInput& first) {
+  CampaignSpec c;
   try {
-    c = CampaignFromJson(copy, first.campaign_path, first.dir.string());
+    c = CampaignSpecFromJson(first.file["campaign"], first.campaign_path, first.dir.string());
   } catch (const InputError& e) {
     throw e.Edited([&](std::string* source, std::string* pointer, std::string*) {
       *source = first.campaign_path;
       *pointer = "/campaign" + *pointer;
     });
   }
-  c.resolved = resolved;
+  c.resolved = first.file["campaign"];  // the written JSON stays the one the shards hold
   if (CaseCount(c) != first.cases) {
     throw InputError(first.campaign_path, "/cases",
                      std::to_string(first.cases) + " cases, but the campaign has " + std::to_string(CaseCount(c)));

@@ -25,12 +25,12 @@
 #include <string>
 #include <vector>
 
-#include "campaigns/campaign.h"
+#include "campaigns/campaign_spec.h"
 
 namespace armfault {
 
 struct MergeResult {
-  Campaign campaign;  // for scoring: name, floors and the resolved campaign (see merge.cc)
+  CampaignSpec campaign;  // for scoring: name, floors and the resolved campaign (see merge.cc)
   int shards = 0;     // N
   long runs = 0;      // lines written to results.jsonl and decisions.jsonl (= the campaign's case count)
 };

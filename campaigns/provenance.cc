@@ -7,6 +7,7 @@
 #include <openssl/sha.h>
 
 #include "core/base/json_input.h"
+#include "campaigns/cases.h"
 
 namespace armfault {
 
@@ -59,7 +60,7 @@ void RequireOneCampaign(const std::vector<CampaignClaim>& claims) {
   }
 }
 
-CaseMatcher::CaseMatcher(const Campaign& campaign) : campaign_(campaign), count_(CaseCount(campaign)) {}
+CaseMatcher::CaseMatcher(const CampaignSpec& campaign) : campaign_(campaign), count_(CaseCount(campaign)) {}
 
 std::string CaseMatcher::Mismatch(const RunRecord& r) const {
   if (r.case_index < 0 || r.case_index >= count_) {

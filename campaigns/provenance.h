@@ -15,7 +15,7 @@
 #include <utility>
 #include <vector>
 
-#include "campaigns/campaign.h"
+#include "campaigns/campaign_spec.h"
 #include "campaigns/run_record.h"
 
 namespace armfault {
@@ -55,12 +55,12 @@ void RequireOneCampaign(const std::vector<CampaignClaim>& claims);
 class CaseMatcher {
  public:
   // Keeps a reference to `campaign`: computes each case from its index (CaseAt), holding none.
-  explicit CaseMatcher(const Campaign& campaign);
+  explicit CaseMatcher(const CampaignSpec& campaign);
   // Empty when `r` is case r.case_index of the campaign, else why not (for a message).
   std::string Mismatch(const RunRecord& r) const;
 
  private:
-  const Campaign& campaign_;
+  const CampaignSpec& campaign_;
   long count_;
 };
 

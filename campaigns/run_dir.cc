@@ -78,7 +78,7 @@ class ResultsCsvOutput : public RecordOutput {
 // summary.json, with an early-stopped run's decisions (early_stop.json) beside the rates.
 class SummaryJsonOutput : public RecordOutput {
  public:
-  SummaryJsonOutput(const fs::path& dir, const Campaign& campaign) : dir_(dir), campaign_(campaign) {}
+  SummaryJsonOutput(const fs::path& dir, const CampaignSpec& campaign) : dir_(dir), campaign_(campaign) {}
   void Finish(const SummaryBuilder& all) override {
     nlohmann::json summary = all.Build(campaign_.floors, campaign_.resolved, ARMFAULT_VERSION);
     if (const fs::path early_path = dir_ / run_dir::kEarlyStop; fs::exists(early_path)) {
@@ -89,19 +89,19 @@ class SummaryJsonOutput : public RecordOutput {
 
  private:
   fs::path dir_;
-  const Campaign& campaign_;
+  const CampaignSpec& campaign_;
 };
 
 class JunitXmlOutput : public RecordOutput {
  public:
-  JunitXmlOutput(const fs::path& dir, const Campaign& campaign) : dir_(dir), campaign_(campaign) {}
+  JunitXmlOutput(const fs::path& dir, const CampaignSpec& campaign) : dir_(dir), campaign_(campaign) {}
   void Finish(const SummaryBuilder& all) override {
     WriteAtomically(dir_ / run_dir::kJunit, JUnitXml(campaign_.name, all, campaign_.floors, run_dir::kCampaign));
   }
 
  private:
   fs::path dir_;
-  const Campaign& campaign_;
+  const CampaignSpec& campaign_;
 };
 
 }  // namespace
@@ -109,20 +109,20 @@ class JunitXmlOutput : public RecordOutput {
 const std::vector<RecordOutputRow>& RecordOutputs() {
   static const std::vector<RecordOutputRow> rows = {
       {run_dir::kResultsCsv,
-       [](const fs::path& dir, const Campaign&) -> std::unique_ptr<RecordOutput> { return std::make_unique<ResultsCsvOutput>(dir); }},
+       [](const fs::path& dir, const CampaignSpec&) -> std::unique_ptr<RecordOutput> { return std::make_unique<ResultsCsvOutput>(dir); }},
       {run_dir::kSummary,
-       [](const fs::path& dir, const Campaign& c) -> std::unique_ptr<RecordOutput> {
+       [](const fs::path& dir, const CampaignSpec& c) -> std::unique_ptr<RecordOutput> {
          return std::make_unique<SummaryJsonOutput>(dir, c);
        }},
       {run_dir::kJunit,
-       [](const fs::path& dir, const Campaign& c) -> std::unique_ptr<RecordOutput> {
+       [](const fs::path& dir, const CampaignSpec& c) -> std::unique_ptr<RecordOutput> {
          return std::make_unique<JunitXmlOutput>(dir, c);
        }},
   };
   return rows;
 }
 
-RecordOutputsResult WriteRecordOutputs(const fs::path& dir, const Campaign& campaign, bool summary_only) {
+RecordOutputsResult WriteRecordOutputs(const fs::path& dir, const CampaignSpec& campaign, bool summary_only) {
   RecordOutputsResult out{SummaryBuilder(campaign.include_not_excited), {}, {}};
   std::vector<std::unique_ptr<RecordOutput>> outputs;
   for (const RecordOutputRow& row : RecordOutputs()) {
@@ -166,11 +166,11 @@ nlohmann::json ReadCampaignFileJson(const fs::path& dir) {
   return file;
 }
 
-Campaign ReadRunDirCampaign(const fs::path& dir) {
-  return CampaignFromJson(ReadCampaignFileJson(dir)["campaign"], (dir / run_dir::kCampaign).string(), dir.string());
+CampaignSpec ReadRunDirCampaign(const fs::path& dir) {
+  return CampaignSpecFromJson(ReadCampaignFileJson(dir)["campaign"], (dir / run_dir::kCampaign).string(), dir.string());
 }
 
-nlohmann::json CampaignFileJson(const Campaign& campaign, const ShardSpec& shard) {
+nlohmann::json CampaignFileJson(const CampaignSpec& campaign, const ShardSpec& shard) {
   return {{"armfault_version", ARMFAULT_VERSION},
           {"shard", {{"index", shard.index}, {"count", shard.count}}},
           {"cases", CaseCount(campaign)},

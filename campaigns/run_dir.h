@@ -25,7 +25,7 @@
 #include <string>
 #include <vector>
 
-#include "campaigns/campaign.h"
+#include "campaigns/campaign_spec.h"
 #include "campaigns/campaign_summary.h"
 #include "campaigns/run_record.h"
 
@@ -84,7 +84,7 @@ class RecordOutput {
 };
 struct RecordOutputRow {
   const char* file;  // a RunDirFiles() name: --summary-only writes the rows it keeps
-  std::unique_ptr<RecordOutput> (*make)(const std::filesystem::path& dir, const Campaign& campaign);
+  std::unique_ptr<RecordOutput> (*make)(const std::filesystem::path& dir, const CampaignSpec& campaign);
 };
 const std::vector<RecordOutputRow>& RecordOutputs();
 
@@ -99,17 +99,17 @@ struct RecordOutputsResult {
 // --summary-only keeps when `summary_only`). The runner and merge write each case once, in case
 // order: a case again, or out of order, is an InputError naming the line (two writers shared the
 // directory; counting it twice would lie).
-RecordOutputsResult WriteRecordOutputs(const std::filesystem::path& dir, const Campaign& campaign, bool summary_only);
+RecordOutputsResult WriteRecordOutputs(const std::filesystem::path& dir, const CampaignSpec& campaign, bool summary_only);
 
 // DIR/campaign.json as armfault wrote it (CampaignFileJson), checked to hold a "campaign"
 // object: the one reader of it for every command that reads a run directory.
 nlohmann::json ReadCampaignFileJson(const std::filesystem::path& dir);
 // The campaign of DIR/campaign.json (relative file names resolve against DIR).
-Campaign ReadRunDirCampaign(const std::filesystem::path& dir);
+CampaignSpec ReadRunDirCampaign(const std::filesystem::path& dir);
 
 // The JSON written to campaign.json (the summary embeds `resolved` only, so shards merge to
 // the same bytes).
-nlohmann::json CampaignFileJson(const Campaign& campaign, const ShardSpec& shard);
+nlohmann::json CampaignFileJson(const CampaignSpec& campaign, const ShardSpec& shard);
 
 // One writer per output directory: holds an exclusive lock (flock) on DIR/.armfault.lock, which
 // names the holder (pid, host, command, start time). A second writer gets an InputError naming

@@ -132,7 +132,7 @@ RunSpec CaseRunSpec(const Campaign& campaign, const CaseSpec& cs, const ArmModel
   spec.seed = cs.seed;
   spec.ambient_C = cs.ambient_C;
   spec.joints.resize(static_cast<size_t>(model.joint_count()));
-  for (const auto& [joint, trajectory] : campaign.trajectories[cs.trajectory].parsed) {
+  for (const auto& [joint, trajectory] : campaign.loaded_trajectories[cs.trajectory]) {
     spec.joints[joint - 1].trajectory = trajectory;
   }
   return spec;

@@ -1,21 +1,16 @@
 #include "campaigns/tuning.h"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
-
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <limits>
-#include <map>
-#include <tuple>
+#include <optional>
 
-#include "campaigns/campaign.h"
-#include "campaigns/campaign_summary.h"
+#include "campaigns/campaign_spec.h"
+#include "campaigns/cases.h"
 #include "campaigns/provenance.h"
 #include "campaigns/run_record.h"
+#include "campaigns/tune_scoring.h"
 #include "core/base/json_input.h"
 #include "core/monitors/threshold_statistics.h"
 
@@ -24,9 +19,6 @@ namespace armfault {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kZ95Two = 1.959963984540054;
-constexpr double kZ95One = 1.6448536269514722;
 
 // Default axes: from the healthy value (where false alarms start) out to clearly worn.
 struct DefaultAxis {
@@ -89,326 +81,7 @@ std::vector<std::string> SplitSpec(const std::string& spec) {
   return items;
 }
 
-// Outcome of one detector (over all joints) or of the tick-level events, for one threshold.
-struct Hit {
-  double t = kInf;
-  int joint = 0;
-  int family = -1;  // index into the family table
-  bool pre = false;  // alarm before the onset
-};
-
-struct FamilyTable {
-  std::vector<std::string> names;
-  int Id(const std::string& name) {
-    for (size_t i = 0; i < names.size(); ++i) {
-      if (names[i] == name) return static_cast<int>(i);
-    }
-    names.push_back(name);
-    return static_cast<int>(names.size()) - 1;
-  }
-};
-
-// What tune sweeps: one axis per threshold (a power-monitor detector's worn limit, or a published
-// statistic's threshold), and the significance the power monitor's detectors share.
-struct TuneAxis {
-  std::string name;     // "kt_factor.worn", or the statistic's name
-  std::string family;   // the family its alarms name
-  double default_value = 0;
-  std::vector<double> values;
-  std::vector<double> thresholds;  // the threshold each value sets (tie margins compare these)
-};
-struct TuneSpace {
-  std::vector<TuneAxis> axes;
-  std::vector<double> significance;  // empty: none (published statistics)
-  double default_significance = 0;
-  bool joint_first = false;  // ties at one instant: the lower joint first, else the axis order
-  size_t SignificanceCount() const { return std::max<size_t>(1, significance.size()); }
-};
-// One index per axis, then the significance's (0 when there is none).
-using Setting = std::vector<int>;
-
-struct RunTable {
-  bool select = true;  // in the half the operating point is chosen on (even seed)
-  int family = -1;  // true family id, -1 healthy
-  int joint = 0;
-  std::string magnitude_key;
-  double magnitude = 0;
-  std::string category;  // magnitude of a family without a numeric one (the stuck lead...)
-  double onset_s = 0;
-  Hit event;
-  std::vector<std::vector<std::vector<Hit>>> hits;  // [axis][significance][value]
-};
-
-// The first alarm of a run under the setting k: the same order as Decide() (power monitor) or
-// DecideThresholds() (published statistics).
-Hit Combine(const RunTable& r, const Setting& k, const TuneSpace& space) {
-  Hit best = r.event;
-  int best_priority = -1;
-  bool pre = r.event.pre;
-  const int axes = static_cast<int>(space.axes.size());
-  for (int d = 0; d < axes; ++d) {
-    const Hit& h = r.hits[d][k[axes]][k[d]];
-    pre = pre || h.pre;
-    if (h.t == kInf) continue;
-    const bool better = space.joint_first ? std::tie(h.t, h.joint, d) < std::tie(best.t, best.joint, best_priority)
-                                          : std::tie(h.t, d, h.joint) < std::tie(best.t, best_priority, best.joint);
-    if (best.t == kInf || better) {
-      best = h;
-      best_priority = d;
-    }
-  }
-  best.pre = pre;
-  return best;
-}
-
-Hit DetectorHit(const DecisionStats& s, Detector d, double threshold, double significance, FamilyTable* families) {
-  Hit out;
-  for (const DecisionStats::Trace& t : s.traces) {
-    if (t.detector != d) continue;
-    if (AlarmedBefore(t, threshold, significance)) out.pre = true;
-    const DecisionStats::Rise* it = FirstAlarm(t, threshold, significance);
-    if (!it) continue;
-    if (out.t == kInf || std::tie(it->t_s, t.joint) < std::tie(out.t, out.joint)) {
-      out.t = it->t_s;
-      out.joint = t.joint;
-      out.family = families->Id(it->family.empty() ? Detectors()[static_cast<int>(d)].family : it->family);
-    }
-  }
-  return out;
-}
-
-Hit EventHit(const DecisionStats& s, FamilyTable* families) {
-  Hit out;
-  for (const DecisionStats::Event& e : s.events) {
-    if (e.t_s < s.onset_s) out.pre = true;
-    if (s.first_tick_s < 0) continue;
-    const double t = std::max(e.t_s, s.first_tick_s);
-    if (out.t == kInf || std::tie(t, e.joint) < std::tie(out.t, out.joint)) {
-      out.t = t;
-      out.joint = e.joint;
-      out.family = families->Id(e.family);
-    }
-  }
-  return out;
-}
-
-// Counts of one setting.
-struct Score {
-  long detected = 0, isolated = 0, false_alarms = 0, before_onset = 0;
-  std::vector<long> family_detected, family_isolated;
-};
-
-struct Scorer {
-  const std::vector<RunTable>& runs;
-  const TuneSpace& space;
-  long faulty = 0, healthy = 0;
-  std::vector<long> family_runs;
-  int part = -1;  // -1: every run; 1: the selection half; 0: the held-out half
-
-  bool Counts(const RunTable& r) const { return part < 0 || r.select == (part == 1); }
-  // Fills the run counts of this part.
-  void CountRuns(size_t families) {
-    faulty = healthy = 0;
-    family_runs.assign(families, 0);
-    for (const RunTable& r : runs) {
-      if (!Counts(r)) continue;
-      if (r.family < 0) {
-        ++healthy;
-      } else {
-        ++faulty;
-        ++family_runs[r.family];
-      }
-    }
-  }
-
-  Score Evaluate(const Setting& k, std::vector<double>* latencies = nullptr,
-                 int latency_family = -2) const {
-    Score s;
-    s.family_detected.assign(family_runs.size(), 0);
-    s.family_isolated.assign(family_runs.size(), 0);
-    for (const RunTable& r : runs) {
-      if (!Counts(r)) continue;
-      const Hit h = Combine(r, k, space);
-      const bool detected = h.t != kInf;
-      if (r.family < 0) {
-        if (detected) ++s.false_alarms;
-        continue;
-      }
-      if (h.pre) ++s.before_onset;
-      if (!detected) continue;
-      ++s.detected;
-      ++s.family_detected[r.family];
-      if (h.family == r.family && h.joint == r.joint) {
-        ++s.isolated;
-        ++s.family_isolated[r.family];
-      }
-      if (latencies && (latency_family == -1 || latency_family == r.family)) latencies->push_back(h.t - r.onset_s);
-    }
-    return s;
-  }
-};
-
-nlohmann::json Rate(long k, long n) {
-  if (n == 0) return {{"value", nullptr}, {"low", nullptr}, {"high", nullptr}, {"count", 0}, {"runs", 0}};
-  const RateInterval w = Wilson(k, n);
-  return {{"value", w.rate}, {"low", w.low}, {"high", w.high}, {"count", k}, {"runs", n}};
-}
-double Ratio(long k, long n) { return n > 0 ? static_cast<double>(k) / n : 0.0; }
-
-// Median and nearest-rank 95th percentile, as summary.json computes them.
-std::pair<nlohmann::json, nlohmann::json> MedianP95(std::vector<double> v) {
-  if (v.empty()) return {nullptr, nullptr};
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return {n % 2 == 1 ? v[n / 2] : (v[n / 2 - 1] + v[n / 2]) / 2, v[(95 * n + 99) / 100 - 1]};
-}
-
-// A ROC curve of tuning.json: its points, whether it was swept, and its AUC over the measured
-// points only, by trapezoids from the smallest to the largest false-alarm rate reached. Nothing
-// is extrapolated to (0, 0) or (1, 1): the rates there were not measured. A curve without a
-// threshold of its own, or with fewer than two distinct points, is not swept and has no AUC;
-// nor has one whose points all share one false-alarm rate (no range to integrate over).
-nlohmann::json RocCurve(const nlohmann::json& parameter, bool own_threshold, const nlohmann::json& points,
-                        std::vector<std::pair<double, double>> pts) {
-  std::sort(pts.begin(), pts.end());
-  pts.erase(std::unique(pts.begin(), pts.end()), pts.end());
-  const bool swept = own_threshold && pts.size() >= 2;
-  nlohmann::json auc = nullptr, range = nullptr;
-  if (swept && pts.back().first > pts.front().first) {
-    double area = 0;
-    for (size_t i = 1; i < pts.size(); ++i) {
-      area += (pts[i].first - pts[i - 1].first) * (pts[i].second + pts[i - 1].second) / 2;
-    }
-    auc = area;
-    range = {pts.front().first, pts.back().first};
-  }
-  return {{"parameter", parameter}, {"swept", swept}, {"auc", auc}, {"auc_false_alarm_range", range}, {"points", points}};
-}
-
 }  // namespace
-
-double PodSeverity(const std::string& key, double m) {
-  if (key == "kt_factor") return 1 - m;
-  if (key == "friction_factor" || key == "resistance_factor") return m - 1;
-  if (key == "resistance_ohm") return 1 / m;  // a short's conductance
-  return m;                                   // drag_fraction, drift_Nm_per_s
-}
-
-double PodMagnitude(const std::string& key, double s) {
-  if (key == "kt_factor") return 1 - s;
-  if (key == "friction_factor" || key == "resistance_factor") return 1 + s;
-  if (key == "resistance_ohm") return 1 / s;
-  return s;
-}
-
-std::string PodCategory(const nlohmann::json& fault) {
-  for (const char* key : {"lead", "kind"}) {
-    if (fault.is_object() && fault.contains(key) && fault[key].is_string()) return fault[key].get<std::string>();
-  }
-  return "";
-}
-
-nlohmann::json PodFitJson(const std::string& key, const std::vector<double>& severities, const std::vector<bool>& hits) {
-  const PodFit pf = FitPod(severities, hits);
-  nlohmann::json fit = {{"model", "logistic in log(severity), Firth"}, {"ok", pf.ok}};
-  if (!pf.ok) {
-    fit["reason"] = pf.reason;
-    return fit;
-  }
-  const double lo = *std::min_element(severities.begin(), severities.end());
-  const double hi = *std::max_element(severities.begin(), severities.end());
-  nlohmann::json curve = nlohmann::json::array();
-  const int n = 60;
-  for (int i = 0; i <= n; ++i) {
-    const double s = std::exp(std::log(lo) + (std::log(hi) - std::log(lo)) * i / n);
-    curve.push_back({{"severity", s}, {"magnitude", PodMagnitude(key, s)}, {"pod", pf.Probability(s)},
-                     {"low", pf.Bound(s, -kZ95Two)}, {"high", pf.Bound(s, kZ95Two)}});
-  }
-  fit["intercept"] = pf.intercept;
-  fit["slope_per_log_severity"] = pf.slope;
-  fit["curve"] = curve;
-  // a90: where the fit reaches 0.9; a90/95: where its one-sided 95 % lower bound does.
-  // Only within the tested severities: no extrapolation.
-  auto first_at = [&](auto&& value) -> nlohmann::json {
-    const int m = 2000;
-    for (int i = 0; i <= m; ++i) {
-      const double s = std::exp(std::log(lo) + (std::log(hi) - std::log(lo)) * i / m);
-      if (value(s) >= 0.9) return {{"severity", s}, {"magnitude", PodMagnitude(key, s)}};
-    }
-    return nullptr;
-  };
-  fit["a90"] = pf.slope > 0 ? first_at([&](double s) { return pf.Probability(s); }) : nlohmann::json(nullptr);
-  fit["a90_95"] = pf.slope > 0 ? first_at([&](double s) { return pf.Bound(s, -kZ95One); }) : nlohmann::json(nullptr);
-  return fit;
-}
-
-double PodFit::Probability(double severity) const {
-  return 1 / (1 + std::exp(-(intercept + slope * std::log(severity))));
-}
-
-double PodFit::Bound(double severity, double z) const {
-  const double x = std::log(severity);
-  const double eta = intercept + slope * x;
-  const double var = cov[0][0] + 2 * x * cov[0][1] + x * x * cov[1][1];
-  return 1 / (1 + std::exp(-(eta + z * std::sqrt(std::max(0.0, var)))));
-}
-
-PodFit FitPod(const std::vector<double>& severity, const std::vector<bool>& detected) {
-  PodFit f;
-  std::vector<double> x;
-  for (double s : severity) x.push_back(std::log(s));
-  const size_t n = x.size();
-  if (n < 4 || *std::min_element(x.begin(), x.end()) == *std::max_element(x.begin(), x.end())) {
-    f.reason = "needs at least 4 runs at 2 or more magnitudes";
-    return f;
-  }
-  // Firth-penalised Newton iterations: score U_j = sum (y - p + h (1/2 - p)) x_j.
-  double a = 0, b = 0;
-  double inv[2][2] = {{0, 0}, {0, 0}};
-  for (int iter = 0; iter < 200; ++iter) {
-    double i00 = 0, i01 = 0, i11 = 0;
-    std::vector<double> p(n), w(n);
-    for (size_t i = 0; i < n; ++i) {
-      p[i] = 1 / (1 + std::exp(-(a + b * x[i])));
-      w[i] = std::max(1e-12, p[i] * (1 - p[i]));
-      i00 += w[i];
-      i01 += w[i] * x[i];
-      i11 += w[i] * x[i] * x[i];
-    }
-    const double det = i00 * i11 - i01 * i01;
-    if (!(det > 1e-300)) {
-      f.reason = "singular information matrix";
-      return f;
-    }
-    inv[0][0] = i11 / det, inv[0][1] = inv[1][0] = -i01 / det, inv[1][1] = i00 / det;
-    double u0 = 0, u1 = 0;
-    for (size_t i = 0; i < n; ++i) {
-      const double h = w[i] * (inv[0][0] + 2 * x[i] * inv[0][1] + x[i] * x[i] * inv[1][1]);
-      const double r = (detected[i] ? 1.0 : 0.0) - p[i] + h * (0.5 - p[i]);
-      u0 += r;
-      u1 += r * x[i];
-    }
-    double da = inv[0][0] * u0 + inv[0][1] * u1, db = inv[1][0] * u0 + inv[1][1] * u1;
-    const double step = std::max(std::fabs(da), std::fabs(db));
-    if (step > 5) da *= 5 / step, db *= 5 / step;  // damped: separation pushes far
-    a += da;
-    b += db;
-    if (step < 1e-9) {
-      f.ok = true;
-      break;
-    }
-  }
-  if (!f.ok) {
-    f.reason = "did not converge";
-    return f;
-  }
-  f.intercept = a;
-  f.slope = b;
-  for (int i = 0; i < 2; ++i) {
-    for (int j = 0; j < 2; ++j) f.cov[i][j] = inv[i][j];
-  }
-  return f;
-}
 
 OperatingRule::Kind OperatingRuleKind(const std::string& name) {
   if (name == "max_detection") return OperatingRule::Kind::kMaxDetection;
@@ -475,322 +148,16 @@ long SettingCount(const SweepGrid& grid) {
 
 namespace {
 
-struct Scored {
-  nlohmann::json report;
-  Setting op;
-  long settings = 0;
-};
-
-// Scores every setting of `space` on the runs, picks the operating point by the rule and writes
-// the report (docs/tuning.md): the same for the power monitor's detectors and for published
-// statistics.
-Scored ScoreRuns(const TuneSpace& space, const std::vector<RunTable>& runs, const FamilyTable& families, long failed,
-                 const std::string& campaign_name, const std::string& campaign_hash, const TuneOptions& options,
-                 const std::vector<std::string>& extra_warnings) {
-  // Every run; the half with even seeds, on which the operating point is chosen; the other
-  // half, on which its rates are reported without having chosen it (honest rates).
-  Scorer scorer{runs, space, 0, 0, {}, -1}, chooser{runs, space, 0, 0, {}, 1}, held_out{runs, space, 0, 0, {}, 0};
-  scorer.CountRuns(families.names.size());
-  chooser.CountRuns(families.names.size());
-  held_out.CountRuns(families.names.size());
-  // Too few runs in a half (a tiny campaign): choose on every run and say so.
-  const bool split = chooser.faulty > 0 && held_out.faulty > 0 && chooser.healthy > 0 && held_out.healthy > 0;
-  const Scorer& choose_on = split ? chooser : scorer;
-
-  // Score every setting (mixed radix over the axes), in parallel: each setting is independent.
-  const int axes = static_cast<int>(space.axes.size());
-  long settings = static_cast<long>(space.SignificanceCount());
-  for (const TuneAxis& a : space.axes) settings *= static_cast<long>(a.values.size());
-  auto indices = [&](long s) {
-    Setting k(static_cast<size_t>(axes) + 1, 0);
-    const long z = static_cast<long>(space.SignificanceCount());
-    k[axes] = static_cast<int>(s % z);
-    s /= z;
-    for (int d = axes - 1; d >= 0; --d) {
-      const long size = static_cast<long>(space.axes[d].values.size());
-      k[d] = static_cast<int>(s % size);
-      s /= size;
-    }
-    return k;
-  };
-  std::vector<Score> scores(static_cast<size_t>(settings)), chosen_scores(static_cast<size_t>(settings));
-  const int threads = options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency();
-  tbb::task_arena arena(threads);
-  arena.execute([&] {
-    tbb::parallel_for(tbb::blocked_range<long>(0, settings), [&](const tbb::blocked_range<long>& range) {
-      for (long s = range.begin(); s != range.end(); ++s) {
-        scores[s] = scorer.Evaluate(indices(s));
-        chosen_scores[s] = split ? choose_on.Evaluate(indices(s)) : scores[s];
-      }
-    });
-  });
-
-  auto dr = [&](const Score& s) { return Ratio(s.detected, scorer.faulty); };
-  auto fa = [&](const Score& s) { return Ratio(s.false_alarms, scorer.healthy); };
-  // Ties: fewer false alarms, better isolation, then the larger thresholds (more margin on
-  // healthy joints the campaign did not cover), each normalised by its axis.
-  auto margin = [&](long s) {
-    const auto k = indices(s);
-    double sum = space.significance.empty() ? 0.0 : space.significance[k[axes]] / space.significance.back();
-    for (int d = 0; d < axes; ++d) {
-      const auto& h = space.axes[d].thresholds;
-      sum += h[k[d]] / std::max(1e-12, h.back() + h.front());
-    }
-    return sum;
-  };
-  auto prefer_in = [&](const std::vector<Score>& sc, long a, long b) {  // true if a is the better tie
-    const Score &x = sc[a], &y = sc[b];
-    if (x.false_alarms != y.false_alarms) return x.false_alarms < y.false_alarms;
-    if (x.isolated != y.isolated) return x.isolated > y.isolated;
-    const double ma = margin(a), mb = margin(b);
-    if (ma != mb) return ma > mb;
-    return a < b;
-  };
-  auto prefer = [&](long a, long b) { return prefer_in(scores, a, b); };
-  auto cdr = [&](const Score& s) { return Ratio(s.detected, choose_on.faulty); };
-  auto cfa = [&](const Score& s) { return Ratio(s.false_alarms, choose_on.healthy); };
-  const OperatingRule& rule = options.rule;
-  long best = -1;
-  double best_value = 0;
-  for (long s = 0; s < settings; ++s) {
-    double value = 0;
-    const Score& sc = chosen_scores[s];
-    switch (rule.kind) {
-      case OperatingRule::Kind::kMaxDetection:
-        if (cfa(sc) > rule.false_alarm_ceiling) continue;
-        value = cdr(sc);
-        break;
-      case OperatingRule::Kind::kYouden: value = cdr(sc) - cfa(sc); break;
-      case OperatingRule::Kind::kMinCost:
-        value = -(rule.miss_cost * (1 - cdr(sc)) + rule.false_alarm_cost * cfa(sc));
-        break;
-    }
-    if (best < 0 || value > best_value || (value == best_value && prefer_in(chosen_scores, s, best))) {
-      best = s;
-      best_value = value;
-    }
-  }
-  if (best < 0) {
-    throw InputError("--false-alarm-ceiling", "",
-                     "no setting keeps the false-alarm rate at or below " + std::to_string(rule.false_alarm_ceiling) +
-                         "; raise the ceiling or widen the sweep");
-  }
-  const Setting op = indices(best);
-  Setting as_run_k(static_cast<size_t>(axes) + 1, 0);
-  for (int d = 0; d < axes; ++d) {
-    const auto& v = space.axes[d].values;
-    as_run_k[d] = static_cast<int>(std::find(v.begin(), v.end(), space.axes[d].default_value) - v.begin());
-  }
-  if (!space.significance.empty()) {
-    as_run_k[axes] = static_cast<int>(std::find(space.significance.begin(), space.significance.end(),
-                                                space.default_significance) -
-                                      space.significance.begin());
-  }
-
-  auto setting_json = [&](const Setting& k) {
-    nlohmann::json j = nlohmann::json::object();
-    for (int d = 0; d < axes; ++d) j[space.axes[d].name] = space.axes[d].values[k[d]];
-    if (!space.significance.empty()) j["significance"] = space.significance[k[axes]];
-    return j;
-  };
-  auto point_json = [&](const Setting& k, const Scorer& scorer) {
-    std::vector<double> all;
-    const Score s = scorer.Evaluate(k, &all, -1);
-    nlohmann::json j;
-    j["setting"] = setting_json(k);
-    j["detection_rate"] = Rate(s.detected, scorer.faulty);
-    j["false_alarm_rate"] = Rate(s.false_alarms, scorer.healthy);
-    j["alarm_before_onset_rate"] = Rate(s.before_onset, scorer.faulty);
-    j["isolation_accuracy"] = Rate(s.isolated, s.detected);
-    const auto [median, p95] = MedianP95(all);
-    j["latency_median_s"] = median;
-    j["latency_p95_s"] = p95;
-    nlohmann::json per = nlohmann::json::object();
-    for (size_t f = 0; f < families.names.size(); ++f) {
-      if (scorer.family_runs[f] == 0) continue;
-      std::vector<double> lat;
-      scorer.Evaluate(k, &lat, static_cast<int>(f));
-      const auto [fm, fp] = MedianP95(lat);
-      per[families.names[f]] = {{"detection_rate", Rate(s.family_detected[f], scorer.family_runs[f])},
-                                {"isolation_accuracy", Rate(s.family_isolated[f], s.family_detected[f])},
-                                {"latency_median_s", fm},
-                                {"latency_p95_s", fp}};
-    }
-    j["per_family"] = per;
-    return j;
-  };
-
-  nlohmann::json report;
-  report["armfault_version"] = ARMFAULT_VERSION;
-  report["campaign"] = campaign_name;
-  report["campaign_hash"] = campaign_hash;
-  report["runs"] = {{"faulty", scorer.faulty}, {"healthy", scorer.healthy}, {"failed", failed}};
-  nlohmann::json parameters = nlohmann::json::array();
-  for (const TuneAxis& a : space.axes) {
-    parameters.push_back({{"name", a.name}, {"default", a.default_value}, {"values", a.values}});
-  }
-  if (!space.significance.empty()) {
-    parameters.push_back({{"name", "significance"}, {"default", space.default_significance}, {"values", space.significance}});
-  }
-  report["parameters"] = parameters;
-  report["settings"] = settings;
-  switch (rule.kind) {
-    case OperatingRule::Kind::kMaxDetection:
-      report["rule"] = {{"name", "max_detection"}, {"false_alarm_ceiling", rule.false_alarm_ceiling}};
-      break;
-    case OperatingRule::Kind::kYouden: report["rule"] = {{"name", "youden"}}; break;
-    case OperatingRule::Kind::kMinCost:
-      report["rule"] = {{"name", "min_cost"}, {"miss_cost", rule.miss_cost}, {"false_alarm_cost", rule.false_alarm_cost}};
-      break;
-  }
-  report["operating_point"] = point_json(op, scorer);
-  report["default_point"] = point_json(as_run_k, scorer);
-  // Honest rates: the point was chosen on one half of the runs (even seeds) and is scored on
-  // the other; the chosen half's own rates show how much choosing flatters them.
-  nlohmann::json selection = {{"split", split ? "seed parity: chosen on even seeds, scored on odd seeds"
-                                              : "none: a half would have no faulty or no healthy runs"}};
-  if (split) {
-    selection["chosen_on"] = point_json(op, chooser);
-    selection["held_out"] = point_json(op, held_out);
-  }
-  report["selection"] = selection;
-  // A point on the edge of the grid may lie beyond it: widen the sweep to see.
-  nlohmann::json warnings = nlohmann::json::array();
-  for (const std::string& w : extra_warnings) warnings.push_back(w);
-  for (int d = 0; d < axes; ++d) {
-    const auto& v = space.axes[d].values;
-    if (v.size() > 1 && (op[d] == 0 || op[d] + 1 == static_cast<int>(v.size()))) {
-      warnings.push_back(space.axes[d].name + " = " + FormatNumber(v[op[d]]) +
-                         " is at the edge of the swept range [" + FormatNumber(v.front()) + ", " + FormatNumber(v.back()) +
-                         "]: widen the sweep to see beyond it");
-    }
-  }
-  if (space.significance.size() > 1 && (op[axes] == 0 || op[axes] + 1 == static_cast<int>(space.significance.size()))) {
-    warnings.push_back("significance = " + FormatNumber(space.significance[op[axes]]) +
-                       " is at the edge of the swept range [" + FormatNumber(space.significance.front()) + ", " +
-                       FormatNumber(space.significance.back()) + "]: widen the sweep to see beyond it");
-  }
-  report["warnings"] = warnings;
-
-  // ROC frontier: per false-alarm count, the best setting; kept where detection rises.
-  std::map<long, long> by_fa;
-  for (long s = 0; s < settings; ++s) {
-    auto it = by_fa.find(scores[s].false_alarms);
-    if (it == by_fa.end() || scores[s].detected > scores[it->second].detected ||
-        (scores[s].detected == scores[it->second].detected && prefer(s, it->second))) {
-      by_fa[scores[s].false_alarms] = s;
-    }
-  }
-  std::vector<long> frontier;
-  for (const auto& [count, s] : by_fa) {
-    if (frontier.empty() || scores[s].detected > scores[frontier.back()].detected) frontier.push_back(s);
-  }
-  nlohmann::json roc;
-  {
-    nlohmann::json points = nlohmann::json::array();
-    std::vector<std::pair<double, double>> pts;
-    for (long s : frontier) {
-      pts.emplace_back(fa(scores[s]), dr(scores[s]));
-      points.push_back({{"false_alarm_rate", fa(scores[s])}, {"detection_rate", dr(scores[s])}, {"setting", setting_json(indices(s))}});
-    }
-    roc["overall"] = RocCurve(nullptr, true, points, pts);
-  }
-  // Per family: its own detector's limit swept with the others at the operating point;
-  // families without a swept detector: their rates along the overall frontier.
-  nlohmann::json latency = nlohmann::json::object();
-  for (size_t f = 0; f < families.names.size(); ++f) {
-    if (scorer.family_runs[f] == 0) continue;
-    const std::string& name = families.names[f];
-    int own = -1;
-    for (int d = axes - 1; d >= 0; --d) {
-      if (name == space.axes[d].family) own = d;
-    }
-    nlohmann::json points = nlohmann::json::array(), lat_points = nlohmann::json::array();
-    std::vector<std::pair<double, double>> pts;
-    if (own >= 0) {
-      Setting k = op;
-      for (size_t i = 0; i < space.axes[own].values.size(); ++i) {
-        k[own] = static_cast<int>(i);
-        std::vector<double> lat;
-        const Score s = scorer.Evaluate(k, &lat, static_cast<int>(f));
-        const double worn = space.axes[own].values[i];
-        const double x = fa(s), y = Ratio(s.family_detected[f], scorer.family_runs[f]);
-        points.push_back({{"threshold", worn}, {"false_alarm_rate", x}, {"detection_rate", y}});
-        pts.emplace_back(x, y);
-        const auto [m, p] = MedianP95(lat);
-        lat_points.push_back({{"threshold", worn}, {"median_s", m}, {"p95_s", p}, {"detected", s.family_detected[f]},
-                              {"detection_rate", y}});
-      }
-      latency[name] = {{"parameter", space.axes[own].name}, {"points", lat_points}};
-    } else {
-      for (long s : frontier) {
-        const double x = fa(scores[s]), y = Ratio(scores[s].family_detected[f], scorer.family_runs[f]);
-        points.push_back({{"false_alarm_rate", x}, {"detection_rate", y}});
-        pts.emplace_back(x, y);
-      }
-    }
-    // A family without a threshold of its own (tick-level detectors) is not swept: its points
-    // only show where the overall frontier leaves it.
-    roc[name] = RocCurve(own >= 0 ? nlohmann::json(space.axes[own].name) : nlohmann::json(nullptr),
-                         own >= 0, points, pts);
-  }
-  report["roc"] = roc;
-
-  // Detection probability against magnitude at the operating point.
-  nlohmann::json pod = nlohmann::json::object();
-  for (size_t f = 0; f < families.names.size(); ++f) {
-    if (scorer.family_runs[f] == 0) continue;
-    std::map<std::string, std::pair<long, long>> by_category;
-    std::map<double, std::pair<long, long>> by_magnitude;
-    std::vector<double> severities;
-    std::vector<bool> hits;
-    std::string key;
-    for (const RunTable& r : runs) {
-      if (r.family != static_cast<int>(f)) continue;
-      const bool hit = Combine(r, op, space).t != kInf;
-      if (!r.magnitude_key.empty()) {
-        key = r.magnitude_key;
-        auto& c = by_magnitude[r.magnitude];
-        ++c.first;
-        c.second += hit;
-        const double s = PodSeverity(r.magnitude_key, r.magnitude);
-        if (s > 0) {
-          severities.push_back(s);
-          hits.push_back(hit);
-        }
-      } else {
-        auto& c = by_category[r.category];
-        ++c.first;
-        c.second += hit;
-      }
-    }
-    nlohmann::json points = nlohmann::json::array();
-    auto point = [](const nlohmann::json& magnitude, long runs, long detected) {
-      const RateInterval w = Wilson(detected, runs);
-      return nlohmann::json{{"magnitude", magnitude}, {"runs", runs}, {"detected", detected},
-                            {"rate", w.rate}, {"low", w.low}, {"high", w.high}};
-    };
-    nlohmann::json fit = nullptr;
-    if (!key.empty()) {
-      for (const auto& [m, c] : by_magnitude) {
-        nlohmann::json p = point(m, c.first, c.second);
-        p["severity"] = PodSeverity(key, m);
-        points.push_back(p);
-      }
-      std::sort(points.begin(), points.end(),
-                [](const nlohmann::json& a, const nlohmann::json& b) { return a["severity"].get<double>() < b["severity"].get<double>(); });
-      fit = PodFitJson(key, severities, hits);
-    } else {
-      for (const auto& [category, c] : by_category) points.push_back(point(category, c.first, c.second));
-      key = runs.empty() ? "" : "category";
-    }
-    pod[families.names[f]] = {{"magnitude_key", key}, {"points", points}, {"fit", fit}};
-  }
-  report["detection_probability"] = pod;
-  report["latency"] = latency;
-
-  return {std::move(report), op, settings};
-}
+using tune::DetectorHit;
+using tune::EventHit;
+using tune::FamilyTable;
+using tune::RunTable;
+using tune::Scored;
+using tune::ScoreRuns;
+using tune::Setting;
+using tune::StatisticHits;
+using tune::TuneAxis;
+using tune::TuneSpace;
 
 // The levels a published statistic's threshold may be re-scored at (threshold_statistics.h).
 std::vector<double> Levels(double threshold, int from, int to, int step) {
@@ -877,30 +244,6 @@ TuneSpace PowerSpace(const SweepGrid& grid, const MonitorConfig& base) {
   return space;
 }
 
-// A run's hits under every setting of a published-statistics space.
-void StatisticHits(const ThresholdStats& stats, const TuneSpace& space, FamilyTable* families, RunTable* r) {
-  for (size_t s = 0; s < space.axes.size(); ++s) {
-    const int family = families->Id(stats.statistics[s].family);
-    std::vector<Hit> hits;
-    for (double h : space.axes[s].values) {
-      Hit out;
-      for (const ThresholdStats::Trace& t : stats.traces) {
-        if (t.statistic != static_cast<int>(s)) continue;
-        if (t.pre_max > h) out.pre = true;
-        const ThresholdStats::Rise* it = FirstAlarm(t, h);
-        if (!it) continue;
-        if (out.t == kInf || std::tie(it->t_s, t.joint) < std::tie(out.t, out.joint)) {
-          out.t = it->t_s;
-          out.joint = t.joint;
-          out.family = family;
-        }
-      }
-      hits.push_back(out);
-    }
-    r->hits.push_back({std::move(hits)});
-  }
-}
-
 bool SameDeclarations(const std::vector<StatisticInfo>& a, const std::vector<StatisticInfo>& b) {
   if (a.size() != b.size()) return false;
   for (size_t k = 0; k < a.size(); ++k) {
@@ -912,12 +255,200 @@ bool SameDeclarations(const std::vector<StatisticInfo>& a, const std::vector<Sta
   return true;
 }
 
+// A run directory being tuned: its files, its monitor, and what reading its runs builds.
+struct TuneDir {
+  std::string dir_name;
+  fs::path campaign_path, results_path, decisions_path;
+  bool power = false;                 // the power-efficiency monitor: its detectors are swept
+  std::optional<MonitorConfig> base;  // power: its settings as its runs used them (widened, unless commissioned)
+  DetectorThresholds thresholds{};    // power: the thresholds of those settings
+  std::string cannot_sweep;           // why a monitor that publishes no statistics is not swept
+  // Filled by ReadRunTables: the space (published statistics: from the first run's), the
+  // families as they come, each completed run's table of first alarms, the failed runs.
+  TuneSpace space;
+  std::vector<StatisticInfo> declared;  // published statistics: what the first run declared
+  FamilyTable families;
+  std::vector<RunTable> runs;
+  long failed = 0;
+};
+
+// One completed run's table of first alarms under every setting, from its stored statistics
+// (`decision`), which must reproduce its recorded outcome; appended to td->runs. `where`
+// ("line N: ") and `separate` (decisions.jsonl exists) are for messages.
+void AddRunTable(const RunRecord& rec, const nlohmann::json& decision, bool separate, const std::string& where,
+                 const std::string& sweep, TuneDir* td) {
+  const std::string decision_file = separate ? td->decisions_path.string() : td->results_path.string();
+  if (!td->power && decision.is_null()) throw InputError(td->campaign_path.string(), "/campaign/monitor/type", td->cannot_sweep);
+  RunTable r;
+  r.select = rec.seed % 2 == 0;
+  r.family = rec.family.empty() ? -1 : td->families.Id(rec.family);
+  r.joint = rec.joint;
+  r.magnitude_key = rec.magnitude_key;
+  r.magnitude = rec.magnitude;
+  r.category = PodCategory(rec.fault);
+  r.onset_s = rec.onset_s;
+  // The stored statistics must give the recorded outcome under the thresholds the run used.
+  auto reproduces = [&](bool alarm_before_onset, bool detected, double time_s, const std::string& family, int joint) {
+    if (detected != rec.detected || alarm_before_onset != rec.alarm_before_onset ||
+        (detected && (time_s != *rec.detection_time_s || family != rec.isolated_family || joint != rec.isolated_joint))) {
+      throw InputError(td->results_path.string(), "",
+                       where + "run " + rec.run_id + ": its decision statistics do not reproduce its result" +
+                           (td->power ? "" : " (the monitor's alarms are not the threshold test on the statistics it "
+                                         "publishes: docs/monitor-api.md, \"Statistics for tune\")"));
+    }
+  };
+  if (td->power) {
+    DecisionStats stats;
+    try {
+      if (decision.is_null()) {
+        throw std::runtime_error(separate ? "run \"" + rec.run_id + "\" has no decision statistics (null)"
+                                          : "no decision statistics: " + td->decisions_path.string() +
+                                                " does not exist and this line carries no inline \"decision\" (was "
+                                                "the campaign run with --summary-only? run it again without)");
+      }
+      stats = DecisionStatsFromJson(decision);
+    } catch (const std::exception& e) {
+      throw InputError(decision_file, "", where + e.what());
+    }
+    const DecisionOutcome check = Decide(stats, td->thresholds, td->base->significance);
+    reproduces(check.alarm_before_onset, check.detected, check.detection_time_s, check.family, check.joint);
+    r.event = EventHit(stats, &td->families);
+    for (size_t d = 0; d < td->space.axes.size(); ++d) {
+      const DetectorInfo& info = Detectors()[d];
+      auto& hits = r.hits.emplace_back();
+      for (double z : td->space.significance) {
+        hits.emplace_back();
+        for (double worn : td->space.axes[d].values) {
+          hits.back().push_back(DetectorHit(stats, info.detector, ThresholdFor(info, worn), z, &td->families));
+        }
+      }
+    }
+  } else {
+    ThresholdStats stats;
+    try {
+      stats = ThresholdStatsFromJson(decision);
+      if (td->declared.empty()) {
+        td->declared = stats.statistics;
+        td->space = StatisticSpace(td->declared, sweep);
+      } else if (!SameDeclarations(td->declared, stats.statistics)) {
+        throw std::runtime_error("run \"" + rec.run_id + "\" declares other statistics than the first run");
+      }
+    } catch (const std::exception& e) {
+      if (dynamic_cast<const InputError*>(&e)) throw;
+      throw InputError(decision_file, "", where + e.what());
+    }
+    std::vector<double> thresholds;
+    for (const StatisticInfo& info : td->declared) thresholds.push_back(info.threshold);
+    const ThresholdOutcome check = DecideThresholds(stats, thresholds);
+    reproduces(check.alarm_before_onset, check.detected, check.detection_time_s, check.family, check.joint);
+    StatisticHits(stats, td->space, &td->families, &r);
+  }
+  td->runs.push_back(std::move(r));
+}
+
+// Reads results.jsonl and decisions.jsonl line for line (without the latter, results.jsonl's
+// inline "decision"), each line a case of the campaign (`matcher`), into td.
+void ReadRunTables(const CaseMatcher& matcher, const std::string& sweep, TuneDir* td) {
+  std::ifstream in(td->results_path, std::ios::binary);
+  if (!in) throw InputError(td->results_path.string(), "", "cannot read (run the campaign first)");
+  // Each run's statistics are the same line of decisions.jsonl, of the same run; in an older
+  // armfault's directory, without that file, the results line's own "decision".
+  const bool separate = fs::exists(td->decisions_path);
+  std::ifstream decisions_in;
+  if (separate) {
+    decisions_in.open(td->decisions_path, std::ios::binary);
+    if (!decisions_in) throw InputError(td->decisions_path.string(), "", "cannot read the file");
+  }
+  std::string line, decision_line;
+  long n = 0;
+  while (std::getline(in, line)) {
+    ++n;
+    auto where = [&] { return "line " + std::to_string(n) + ": "; };
+    RunRecord rec;
+    try {
+      rec = RunRecordFromJson(nlohmann::json::parse(line));
+      if (const std::string why = matcher.Mismatch(rec); !why.empty()) {
+        throw std::runtime_error(why + ": this results.jsonl is not a run of " + td->campaign_path.string() +
+                                 " (files of different campaigns are not read together); run the campaign into " +
+                                 td->dir_name + " again");
+      }
+    } catch (const std::exception& e) {
+      throw InputError(td->results_path.string(), "", where() + e.what());
+    }
+    nlohmann::json decision = std::move(rec.decision);
+    if (separate) {
+      try {
+        if (!std::getline(decisions_in, decision_line)) {
+          throw std::runtime_error("missing: the file ends after " + std::to_string(n - 1) + " lines, but " +
+                                   td->results_path.string() + " has more");
+        }
+        if (decisions_in.eof()) {
+          throw std::runtime_error("cut: the line has no newline (a killed run? finish it with `armfault run ... --resume`)");
+        }
+        DecisionLine d = DecisionLineFromJson(nlohmann::json::parse(decision_line));
+        if (d.case_index != rec.case_index || d.run_id != rec.run_id) {
+          throw std::runtime_error("case " + std::to_string(d.case_index) + " \"" + d.run_id + "\", but line " +
+                                   std::to_string(n) + " of " + td->results_path.string() + " is case " +
+                                   std::to_string(rec.case_index) + " \"" + rec.run_id +
+                                   "\": decisions.jsonl does not go with results.jsonl");
+        }
+        decision = std::move(d.decision);
+      } catch (const std::exception& e) {
+        throw InputError(td->decisions_path.string(), "", where() + e.what());
+      }
+    }
+    if (!rec.ok) {
+      ++td->failed;
+      continue;
+    }
+    if (!rec.injected()) continue;  // its onset condition never fired: no fault to detect
+    if (rec.is_compound()) continue;  // several faults at once: no family or magnitude to fit
+    AddRunTable(rec, decision, separate, where(), sweep, td);
+  }
+  if (separate && std::getline(decisions_in, decision_line)) {
+    throw InputError(td->decisions_path.string(), "",
+                     "line " + std::to_string(n + 1) + ": more lines than the " + std::to_string(n) + " runs of " +
+                         td->results_path.string() + ": decisions.jsonl does not go with results.jsonl");
+  }
+}
+
+// The tuned monitor at the operating point `op`: the power monitor's config with its limits;
+// another type's "monitor" value (`monitor_json`, else the campaign's) with each statistic's
+// threshold written where it declared it lives (not for a Python monitor).
+void SetTunedMonitor(const TuneDir& td, const Setting& op, const nlohmann::json& monitor_json, const CampaignSpec& campaign,
+                     bool python_monitor, TuningResult* result) {
+  if (td.power) {
+    result->tuned = *td.base;
+    for (size_t d = 0; d < td.space.axes.size(); ++d) {
+      StateLimits& l = result->tuned.*LimitsOf(Detectors()[d].detector);
+      l.worn = td.space.axes[d].values[op[d]];
+      // Keep the defective limit beyond the worn one.
+      l.defective =
+          Detectors()[d].detector == Detector::kKtFactor ? std::min(l.defective, l.worn) : std::max(l.defective, l.worn);
+    }
+    result->tuned.significance = td.space.significance[op[td.space.axes.size()]];
+    Validate(result->tuned, "", "<tuned monitor>");
+    result->tuned_monitor = MonitorConfigToJson(result->tuned);
+  } else {
+    result->tuned_monitor = monitor_json.is_null() ? campaign.monitor.ToJson() : monitor_json;
+    for (size_t s = 0; s < td.declared.size(); ++s) {
+      if (td.declared[s].setting.empty() || python_monitor) continue;
+      const nlohmann::json::json_pointer at("/settings" + td.declared[s].setting);
+      result->tuned_monitor[at] = td.space.axes[s].values[op[s]];
+    }
+  }
+}
+
 }  // namespace
 
 TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& options) {
   const fs::path dir(dir_name);
-  const fs::path campaign_path = dir / "campaign.json", results_path = dir / "results.jsonl";
-  const fs::path decisions_path = dir / "decisions.jsonl";
+  TuneDir td;
+  td.dir_name = dir_name;
+  td.campaign_path = dir / "campaign.json";
+  td.results_path = dir / "results.jsonl";
+  td.decisions_path = dir / "decisions.jsonl";
+  const fs::path& campaign_path = td.campaign_path;
   const nlohmann::json campaign_file = ReadJsonFile(campaign_path.string());
   if (!campaign_file.is_object() || !campaign_file.contains("campaign")) {
     throw InputError(campaign_path.string(), "/campaign", "missing: not a campaign output directory");
@@ -928,8 +459,8 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
   const nlohmann::json monitor_json = campaign_json.is_object() ? campaign_json.value("monitor", nlohmann::json()) : nlohmann::json();
   const bool python_monitor = monitor_json.is_object() && monitor_json.value("type", "") == "python";
   if (python_monitor) campaign_json.erase("monitor");
-  const Campaign campaign = CampaignFromJson(campaign_json, campaign_path.string(), dir.string());
-  const std::string monitor_type = python_monitor ? "python" : campaign.monitor_model->type();
+  const CampaignSpec campaign = CampaignSpecFromJson(campaign_json, campaign_path.string(), dir.string());
+  const std::string monitor_type = python_monitor ? "python" : campaign.monitor.type;
   // Nothing of another campaign is tuned on: summary.json, when there, must be of this
   // campaign.json, and every line of results.jsonl one of its cases (same run_id and seed).
   const std::string campaign_hash = CampaignHash(campaign_file["campaign"]);
@@ -942,159 +473,32 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
   // Only a monitor that publishes the statistics behind its alarms can be re-scored: the
   // power-efficiency monitor (DecisionStats), or any type whose runs stored published statistics
   // (ThresholdStats). Another is scored at its own operating point.
-  const auto* power = python_monitor ? nullptr : dynamic_cast<const PowerEfficiencyModel*>(campaign.monitor_model.get());
-  const std::string cannot_sweep = "monitor type \"" + monitor_type +
-                                   "\" publishes no statistics tune can re-score: its runs are scored at its own "
-                                   "operating point (see summary.json); a monitor that declares statistics "
-                                   "(docs/monitor-api.md, \"Statistics for tune\") can be swept";
-  TuneSpace space;
-  std::vector<StatisticInfo> declared;  // published statistics: what the first run declared
-  const MonitorConfig* base = power ? &power->model().config : nullptr;
-  if (power) space = PowerSpace(MakeSweepGrid(*base, options.sweep), *base);
+  td.power = !python_monitor && campaign.monitor.type == "power_efficiency";
+  td.cannot_sweep = "monitor type \"" + monitor_type +
+                    "\" publishes no statistics tune can re-score: its runs are scored at its own "
+                    "operating point (see summary.json); a monitor that declares statistics "
+                    "(docs/monitor-api.md, \"Statistics for tune\") can be swept";
+  // The power-efficiency monitor's settings as its runs used them (widened, unless commissioned).
+  if (td.power) {
+    td.base = PowerEfficiencyConfig(MonitorConfigFromJson(campaign.monitor.settings, "/monitor", campaign.source),
+                                    MonitorContextOf(campaign));
+    td.space = PowerSpace(MakeSweepGrid(*td.base, options.sweep), *td.base);
+    td.thresholds = ThresholdsOf(*td.base);
+  }
 
   // Load the runs: per run, the first alarm of each axis at each of its values.
-  FamilyTable families;
-  if (power) {
-    for (const DetectorInfo& d : Detectors()) families.Id(d.family);
+  if (td.power) {
+    for (const DetectorInfo& d : Detectors()) td.families.Id(d.family);
   }
-  std::vector<RunTable> runs;
-  long failed = 0;
-  {
-    std::ifstream in(results_path, std::ios::binary);
-    if (!in) throw InputError(results_path.string(), "", "cannot read (run the campaign first)");
-    // Each run's statistics are the same line of decisions.jsonl, of the same run; in an older
-    // armfault's directory, without that file, the results line's own "decision".
-    const bool separate = fs::exists(decisions_path);
-    std::ifstream decisions_in;
-    if (separate) {
-      decisions_in.open(decisions_path, std::ios::binary);
-      if (!decisions_in) throw InputError(decisions_path.string(), "", "cannot read the file");
-    }
-    std::string line, decision_line;
-    long n = 0;
-    while (std::getline(in, line)) {
-      ++n;
-      auto where = [&] { return "line " + std::to_string(n) + ": "; };
-      RunRecord rec;
-      try {
-        rec = RunRecordFromJson(nlohmann::json::parse(line));
-        if (const std::string why = matcher.Mismatch(rec); !why.empty()) {
-          throw std::runtime_error(why + ": this results.jsonl is not a run of " + campaign_path.string() +
-                                   " (files of different campaigns are not read together); run the campaign into " +
-                                   dir_name + " again");
-        }
-      } catch (const std::exception& e) {
-        throw InputError(results_path.string(), "", where() + e.what());
-      }
-      nlohmann::json decision = std::move(rec.decision);
-      if (separate) {
-        try {
-          if (!std::getline(decisions_in, decision_line)) {
-            throw std::runtime_error("missing: the file ends after " + std::to_string(n - 1) + " lines, but " +
-                                     results_path.string() + " has more");
-          }
-          if (decisions_in.eof()) {
-            throw std::runtime_error("cut: the line has no newline (a killed run? finish it with `armfault run ... --resume`)");
-          }
-          DecisionLine d = DecisionLineFromJson(nlohmann::json::parse(decision_line));
-          if (d.case_index != rec.case_index || d.run_id != rec.run_id) {
-            throw std::runtime_error("case " + std::to_string(d.case_index) + " \"" + d.run_id + "\", but line " +
-                                     std::to_string(n) + " of " + results_path.string() + " is case " +
-                                     std::to_string(rec.case_index) + " \"" + rec.run_id +
-                                     "\": decisions.jsonl does not go with results.jsonl");
-          }
-          decision = std::move(d.decision);
-        } catch (const std::exception& e) {
-          throw InputError(decisions_path.string(), "", where() + e.what());
-        }
-      }
-      if (!rec.ok) {
-        ++failed;
-        continue;
-      }
-      if (!rec.injected()) continue;  // its onset condition never fired: no fault to detect
-      if (rec.is_compound()) continue;  // several faults at once: no family or magnitude to fit
-      const std::string decision_file = separate ? decisions_path.string() : results_path.string();
-      if (!power && decision.is_null()) throw InputError(campaign_path.string(), "/campaign/monitor/type", cannot_sweep);
-      RunTable r;
-      r.select = rec.seed % 2 == 0;
-      r.family = rec.family.empty() ? -1 : families.Id(rec.family);
-      r.joint = rec.joint;
-      r.magnitude_key = rec.magnitude_key;
-      r.magnitude = rec.magnitude;
-      r.category = PodCategory(rec.fault);
-      r.onset_s = rec.onset_s;
-      // The stored statistics must give the recorded outcome under the thresholds the run used.
-      auto reproduces = [&](bool alarm_before_onset, bool detected, double time_s, const std::string& family, int joint) {
-        if (detected != rec.detected || alarm_before_onset != rec.alarm_before_onset ||
-            (detected && (time_s != *rec.detection_time_s || family != rec.isolated_family || joint != rec.isolated_joint))) {
-          throw InputError(results_path.string(), "",
-                           where() + "run " + rec.run_id + ": its decision statistics do not reproduce its result" +
-                               (power ? "" : " (the monitor's alarms are not the threshold test on the statistics it "
-                                             "publishes: docs/monitor-api.md, \"Statistics for tune\")"));
-        }
-      };
-      if (power) {
-        DecisionStats stats;
-        try {
-          if (decision.is_null()) {
-            throw std::runtime_error(separate ? "run \"" + rec.run_id + "\" has no decision statistics (null)"
-                                              : "no decision statistics: " + decisions_path.string() +
-                                                    " does not exist and this line carries no inline \"decision\" (was "
-                                                    "the campaign run with --summary-only? run it again without)");
-          }
-          stats = DecisionStatsFromJson(decision);
-        } catch (const std::exception& e) {
-          throw InputError(decision_file, "", where() + e.what());
-        }
-        const DecisionOutcome check = Decide(stats, power->model().thresholds, base->significance);
-        reproduces(check.alarm_before_onset, check.detected, check.detection_time_s, check.family, check.joint);
-        r.event = EventHit(stats, &families);
-        for (size_t d = 0; d < space.axes.size(); ++d) {
-          const DetectorInfo& info = Detectors()[d];
-          auto& hits = r.hits.emplace_back();
-          for (double z : space.significance) {
-            hits.emplace_back();
-            for (double worn : space.axes[d].values) {
-              hits.back().push_back(DetectorHit(stats, info.detector, ThresholdFor(info, worn), z, &families));
-            }
-          }
-        }
-      } else {
-        ThresholdStats stats;
-        try {
-          stats = ThresholdStatsFromJson(decision);
-          if (declared.empty()) {
-            declared = stats.statistics;
-            space = StatisticSpace(declared, options.sweep);
-          } else if (!SameDeclarations(declared, stats.statistics)) {
-            throw std::runtime_error("run \"" + rec.run_id + "\" declares other statistics than the first run");
-          }
-        } catch (const std::exception& e) {
-          if (dynamic_cast<const InputError*>(&e)) throw;
-          throw InputError(decision_file, "", where() + e.what());
-        }
-        std::vector<double> thresholds;
-        for (const StatisticInfo& info : declared) thresholds.push_back(info.threshold);
-        const ThresholdOutcome check = DecideThresholds(stats, thresholds);
-        reproduces(check.alarm_before_onset, check.detected, check.detection_time_s, check.family, check.joint);
-        StatisticHits(stats, space, &families, &r);
-      }
-      runs.push_back(std::move(r));
-    }
-    if (separate && std::getline(decisions_in, decision_line)) {
-      throw InputError(decisions_path.string(), "",
-                       "line " + std::to_string(n + 1) + ": more lines than the " + std::to_string(n) + " runs of " +
-                           results_path.string() + ": decisions.jsonl does not go with results.jsonl");
-    }
-  }
-  if (runs.empty()) throw InputError(results_path.string(), "", "no completed runs to tune on");
+  ReadRunTables(matcher, options.sweep, &td);
+
+  if (td.runs.empty()) throw InputError(td.results_path.string(), "", "no completed runs to tune on");
 
   // The tuned monitor: the power monitor's config with the operating point's limits; another
   // type's "monitor" value with each statistic's threshold written where it declared it lives.
   std::vector<std::string> warnings;
-  if (!power) {
-    for (const StatisticInfo& info : declared) {
+  if (!td.power) {
+    for (const StatisticInfo& info : td.declared) {
       if (info.setting.empty() || python_monitor) {
         warnings.push_back("statistic " + info.name +
                            " names no setting that holds its threshold: set it in the monitor yourself (tuned-monitor.json "
@@ -1102,33 +506,14 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
       }
     }
   }
-  Scored scored = ScoreRuns(space, runs, families, failed, campaign.name, campaign_hash, options, warnings);
+  Scored scored = ScoreRuns(td.space, td.runs, td.families, td.failed, campaign.name, campaign_hash, options, warnings);
   const Setting& op = scored.op;
 
   TuningResult result;
-  if (power) {
-    result.tuned = *base;
-    for (size_t d = 0; d < space.axes.size(); ++d) {
-      StateLimits& l = result.tuned.*LimitsOf(Detectors()[d].detector);
-      l.worn = space.axes[d].values[op[d]];
-      // Keep the defective limit beyond the worn one.
-      l.defective =
-          Detectors()[d].detector == Detector::kKtFactor ? std::min(l.defective, l.worn) : std::max(l.defective, l.worn);
-    }
-    result.tuned.significance = space.significance[op[space.axes.size()]];
-    Validate(result.tuned, "", "<tuned monitor>");
-    result.tuned_monitor = MonitorConfigToJson(result.tuned);
-  } else {
-    result.tuned_monitor = monitor_json.is_null() ? campaign.monitor.ToJson() : monitor_json;
-    for (size_t s = 0; s < declared.size(); ++s) {
-      if (declared[s].setting.empty() || python_monitor) continue;
-      const nlohmann::json::json_pointer at("/settings" + declared[s].setting);
-      result.tuned_monitor[at] = space.axes[s].values[op[s]];
-    }
-  }
+  SetTunedMonitor(td, op, monitor_json, campaign, python_monitor, &result);
   result.report = std::move(scored.report);
   result.settings = scored.settings;
-  result.runs = static_cast<long>(runs.size());
+  result.runs = static_cast<long>(td.runs.size());
   return result;
 }
 

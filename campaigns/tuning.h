@@ -20,6 +20,7 @@
 
 #include "core/monitors/detector_statistics.h"
 #include "core/monitors/power_monitor.h"
+#include "campaigns/pod.h"
 
 namespace armfault {
 
@@ -79,32 +80,5 @@ struct TuningResult {
 // line that is not a case of campaign.json (campaigns/provenance.h). The report carries
 // "campaign_hash".
 TuningResult TuneCampaignDir(const std::string& dir, const TuneOptions& options);
-
-// A hit/miss fit of detection probability against severity (> 0): logistic in log severity,
-// maximum likelihood with Firth's bias reduction (defined under complete separation).
-struct PodFit {
-  bool ok = false;
-  std::string reason;  // why not, when !ok
-  double intercept = 0, slope = 0;
-  double cov[2][2] = {{0, 0}, {0, 0}};
-  double Probability(double severity) const;
-  // The one-sided 95 % (z = 1.645) or two-sided band (z = 1.96) at a severity.
-  double Bound(double severity, double z) const;
-};
-PodFit FitPod(const std::vector<double>& severity, const std::vector<bool>& detected);
-
-// Severity of a magnitude, the distance from healthy (> 0) in which detection should rise:
-// 1 - kt_factor, friction_factor - 1, resistance_factor - 1, 1 / resistance_ohm (a short's
-// conductance), drag_fraction, drift_Nm_per_s; and back.
-double PodSeverity(const std::string& magnitude_key, double magnitude);
-double PodMagnitude(const std::string& magnitude_key, double severity);
-// The named magnitude of a fault without a numeric one (a stuck sensor's "lead", a short's
-// "kind"); "" if none.
-std::string PodCategory(const nlohmann::json& fault);
-// The "fit" object of a detection-probability entry (docs/tuning.md): FitPod of the runs'
-// outcomes against severity, its curve with the two-sided 95 % band over the tested range,
-// a90 and a90_95 (never extrapolated), or {"ok": false, "reason"}.
-nlohmann::json PodFitJson(const std::string& magnitude_key, const std::vector<double>& severities,
-                          const std::vector<bool>& hits);
 
 }  // namespace armfault

@@ -107,6 +107,16 @@ std::vector<std::unique_ptr<Fault>> MakeFaults(const nlohmann::json& specs, cons
 std::vector<std::string> FaultFamilyNames();
 // The parameter that sizes a fault of `family` ("kt_factor" ...), "" if none or unknown.
 std::string FaultMagnitudeKey(const std::string& family);
+// The unit of a magnitude key ("kt_factor": "× nominal K_T"), "" if unknown.
+std::string FaultMagnitudeUnit(const std::string& magnitude_key);
+// Severity of a magnitude, the distance from healthy (> 0) in which detection should rise, by
+// the family that `magnitude_key` sizes: 1 - kt_factor, friction_factor - 1,
+// resistance_factor - 1, 1 / resistance_ohm (a short's conductance), drag_fraction,
+// drift_Nm_per_s (an unknown key: the magnitude itself); and back.
+double FaultSeverity(const std::string& magnitude_key, double magnitude);
+double FaultMagnitudeOfSeverity(const std::string& magnitude_key, double severity);
+// The family's colour in the report's plots ("#1f77b4"), "" for an unknown family.
+std::string FaultFamilyColor(const std::string& family);
 // True when the family's signature needs its joint to move: friction and brake drag act only
 // in motion, and on a still joint a K_T loss shows only as another holding current, which an
 // unknown payload explains as well. A stuck sensor, a short, a drift show at rest.

@@ -6,23 +6,45 @@ namespace armfault {
 
 namespace {
 
+// How a magnitude m becomes a severity s (FaultSeverity), and back.
+enum class Severity {
+  kMagnitude,  // s = m (a drag fraction, a drift rate)
+  kLoss,       // s = 1 - m (a factor below nominal)
+  kGain,       // s = m - 1 (a factor above nominal)
+  kInverse,    // s = 1 / m (a short's conductance from its resistance)
+};
+
 struct Family {
   const char* name;
   FaultFactory make;
-  const char* magnitude_key;  // the parameter that sizes a fault of this family
-  bool needs_motion;          // its signature shows only while the joint moves (fault.h)
-  bool discrete;              // present or absent (a lead, a short), not graded by a magnitude
+  const char* magnitude_key;   // the parameter that sizes a fault of this family
+  const char* magnitude_unit;  // its unit, for axis labels ("" if none)
+  Severity severity;           // of a magnitude
+  bool needs_motion;           // its signature shows only while the joint moves (fault.h)
+  bool discrete;               // present or absent (a lead, a short), not graded by a magnitude
+  const char* color;           // the family's colour in every plot of the report
 };
 
 const Family kFamilies[] = {
-    {"kt_degradation", &MakeKtDegradation, "kt_factor", true, false},
-    {"friction_increase", &MakeFrictionIncrease, "friction_factor", true, false},
-    {"brake_lock", &MakeBrakeLock, "drag_fraction", true, false},
-    {"torque_sensor_stuck", &MakeTorqueSensorStuck, "", false, true},
-    {"inverter_short", &MakeInverterShort, "resistance_ohm", false, true},
-    {"winding_resistance", &MakeWindingResistance, "resistance_factor", false, false},
-    {"torque_sensor_drift", &MakeTorqueSensorDrift, "drift_Nm_per_s", false, false},
+    {"kt_degradation", &MakeKtDegradation, "kt_factor", "× nominal K_T", Severity::kLoss, true, false, "#1f77b4"},
+    {"friction_increase", &MakeFrictionIncrease, "friction_factor", "× nominal friction", Severity::kGain, true, false,
+     "#ff7f0e"},
+    {"brake_lock", &MakeBrakeLock, "drag_fraction", "× brake holding torque", Severity::kMagnitude, true, false, "#2ca02c"},
+    {"torque_sensor_stuck", &MakeTorqueSensorStuck, "", "", Severity::kMagnitude, false, true, "#d62728"},
+    {"inverter_short", &MakeInverterShort, "resistance_ohm", "Ω", Severity::kInverse, false, true, "#9467bd"},
+    {"winding_resistance", &MakeWindingResistance, "resistance_factor", "× nominal winding resistance", Severity::kGain,
+     false, false, "#8c564b"},
+    {"torque_sensor_drift", &MakeTorqueSensorDrift, "drift_Nm_per_s", "N m/s", Severity::kMagnitude, false, false,
+     "#e377c2"},
 };
+
+// The family sized by `magnitude_key`; nullptr if none.
+const Family* FamilyOfMagnitude(const std::string& magnitude_key) {
+  for (const Family& f : kFamilies) {
+    if (!magnitude_key.empty() && magnitude_key == f.magnitude_key) return &f;
+  }
+  return nullptr;
+}
 
 }  // namespace
 
@@ -35,6 +57,40 @@ std::vector<std::string> FaultFamilyNames() {
 std::string FaultMagnitudeKey(const std::string& family) {
   for (const Family& f : kFamilies) {
     if (family == f.name) return f.magnitude_key;
+  }
+  return "";
+}
+
+std::string FaultMagnitudeUnit(const std::string& magnitude_key) {
+  const Family* f = FamilyOfMagnitude(magnitude_key);
+  return f ? f->magnitude_unit : "";
+}
+
+double FaultSeverity(const std::string& magnitude_key, double m) {
+  const Family* f = FamilyOfMagnitude(magnitude_key);
+  switch (f ? f->severity : Severity::kMagnitude) {
+    case Severity::kLoss: return 1 - m;
+    case Severity::kGain: return m - 1;
+    case Severity::kInverse: return 1 / m;
+    case Severity::kMagnitude: break;
+  }
+  return m;
+}
+
+double FaultMagnitudeOfSeverity(const std::string& magnitude_key, double s) {
+  const Family* f = FamilyOfMagnitude(magnitude_key);
+  switch (f ? f->severity : Severity::kMagnitude) {
+    case Severity::kLoss: return 1 - s;
+    case Severity::kGain: return 1 + s;
+    case Severity::kInverse: return 1 / s;
+    case Severity::kMagnitude: break;
+  }
+  return s;
+}
+
+std::string FaultFamilyColor(const std::string& family) {
+  for (const Family& f : kFamilies) {
+    if (family == f.name) return f.color;
   }
   return "";
 }

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <map>
 
+#include "faults/fault.h"
 #include "reports/svg_plot.h"
 
 namespace armfault::report {
@@ -28,13 +29,9 @@ std::string UnitOf(std::string key) {
   if (key.size() > worn.size() && key.compare(key.size() - worn.size(), worn.size(), worn) == 0) {
     key.resize(key.size() - worn.size());
   }
+  // A fault family's magnitude: its registry row (faults/registry.cc).
+  if (const std::string unit = FaultMagnitudeUnit(key); !unit.empty()) return unit;
   static const std::map<std::string, std::string> units = {
-      {"kt_factor", "× nominal K_T"},
-      {"friction_factor", "× nominal friction"},
-      {"resistance_factor", "× nominal winding resistance"},
-      {"drag_fraction", "× brake holding torque"},
-      {"resistance_ohm", "Ω"},
-      {"drift_Nm_per_s", "N m/s"},
       {"sensor_drift_Nm", "N m"},
       {"significance", "standard errors"},
       {"lead", "named"},
@@ -114,10 +111,9 @@ std::string RateText(const Rate& r) {
 std::string SecondsText(std::optional<double> s) { return s ? Fixed(*s, 3) + " s" : "–"; }
 
 std::string FamilyColor(const std::string& family) {
-  static const std::map<std::string, std::string> colors = {
-      {"kt_degradation", "#1f77b4"},      {"friction_increase", "#ff7f0e"}, {"brake_lock", "#2ca02c"},
-      {"torque_sensor_stuck", "#d62728"}, {"inverter_short", "#9467bd"},    {"winding_resistance", "#8c564b"},
-      {"torque_sensor_drift", "#e377c2"}, {"overall", "#222222"},          {"healthy", "#7f7f7f"}};
+  // A fault family's is in its registry row (faults/registry.cc).
+  if (const std::string color = FaultFamilyColor(family); !color.empty()) return color;
+  static const std::map<std::string, std::string> colors = {{"overall", "#222222"}, {"healthy", "#7f7f7f"}};
   auto it = colors.find(family);
   if (it != colors.end()) return it->second;
   static const char* const spare[] = {"#bcbd22", "#17becf", "#7f7f7f", "#393b79", "#637939"};

@@ -13,6 +13,7 @@
 #include "campaigns/run_pipeline.h"
 #include "campaigns/tuning.h"
 #include "core/base/json_input.h"
+#include "faults/fault.h"
 #include "reports/report_common.h"
 #include "reports/svg_plot.h"
 
@@ -33,7 +34,7 @@ void AddPodRun(const RunRecord& r, PodAsRun* p) {
   if (!r.magnitude_key.empty()) {
     p->magnitude_key = r.magnitude_key;
     cell = &p->by_magnitude[r.magnitude];
-    const double severity = PodSeverity(r.magnitude_key, r.magnitude);
+    const double severity = FaultSeverity(r.magnitude_key, r.magnitude);
     if (severity > 0 && std::isfinite(severity)) {
       p->severities.push_back(severity);
       p->hits.push_back(r.detected);
@@ -76,7 +77,7 @@ RunSeries SimulateRunSeries(const Campaign& campaign, const CaseSpec& spec) {
   if (!spec.fault.is_null() && spec.fault.contains("joint") && spec.fault["joint"].is_number_integer()) {
     s.joints.push_back(spec.fault["joint"].get<int>());
   } else {
-    for (const auto& [joint, trajectory] : campaign.trajectories[spec.trajectory].parsed) s.joints.push_back(joint);
+    for (const auto& [joint, trajectory] : campaign.loaded_trajectories[spec.trajectory]) s.joints.push_back(joint);
   }
   s.joints.erase(std::remove_if(s.joints.begin(), s.joints.end(), [&](int j) { return j < 1 || j > joints; }),
                  s.joints.end());

@@ -4,8 +4,10 @@
 
 #include <map>
 
+#include "campaigns/campaign_summary.h"
 #include "campaigns/tuning.h"
 #include "core/base/json_input.h"
+#include "faults/fault.h"
 #include "reports/report_common.h"
 #include "reports/svg_plot.h"
 
@@ -86,7 +88,7 @@ std::string PodFamilyPlot(const std::string& family, const PodAsRun& p, const js
   if (numeric) {
     for (const auto& [m, c] : p.by_magnitude) add_cell(m, FormatNumber(m), c);
     // Severity grows to the right: a falling parameter (kt_factor, resistance_ohm) gets a reversed axis.
-    plot.x().reversed = PodSeverity(key, 2.0) < PodSeverity(key, 1.0);
+    plot.x().reversed = FaultSeverity(key, 2.0) < FaultSeverity(key, 1.0);
   } else {
     for (const auto& [name, c] : p.by_name) {
       add_cell(static_cast<double>(categories.size()), name.empty() ? "–" : name, c);
@@ -236,7 +238,7 @@ std::string BoundarySection(const ReportData& d) {
     plot.y().min = 0;
     plot.y().max = 1;
     plot.x().label = WithUnit(key) + ", fault magnitude";
-    plot.x().reversed = PodSeverity(key, 2.0) < PodSeverity(key, 1.0);
+    plot.x().reversed = FaultSeverity(key, 2.0) < FaultSeverity(key, 1.0);
     std::vector<double> hx, hy, mx, my;
     std::map<double, int> stack;
     if (const json* points = Field(c, "points"); points != nullptr && points->is_array()) {

@@ -61,11 +61,13 @@ nlohmann::json ParsePowerEfficiencySettings(const nlohmann::json& object, const 
 std::shared_ptr<const MonitorModel> BuildPowerEfficiencyModel(const nlohmann::json& settings,
                                                               const MonitorContext& context, const std::string& pointer) {
   const MonitorConfig as_given = MonitorConfigFromJson(settings, pointer, context.input.source);
+  return std::make_shared<PowerEfficiencyModel>(as_given, MakePowerMonitorModel(context.robot, PowerEfficiencyConfig(as_given, context)));
+}
+
+MonitorConfig PowerEfficiencyConfig(const MonitorConfig& as_given, const MonitorContext& context) {
   // A monitor left with the datasheet must allow for the tolerances the datasheet states.
-  const MonitorConfig used = context.has_tolerances && !context.commissioning
-                                 ? WidenedForTolerances(as_given, context.stated, context.robot)
-                                 : as_given;
-  return std::make_shared<PowerEfficiencyModel>(as_given, MakePowerMonitorModel(context.robot, used));
+  return context.has_tolerances && !context.commissioning ? WidenedForTolerances(as_given, context.stated, context.robot)
+                                                          : as_given;
 }
 
 PowerEfficiencyModel::PowerEfficiencyModel(const MonitorConfig& as_given, PowerMonitorModel model)

@@ -90,4 +90,9 @@ class PowerEfficiencyModel : public MonitorModel {
   PowerMonitorModel model_;
 };
 
+// The settings a power-efficiency monitor given `as_given` runs with in `context` (widened for
+// the stated tolerances when it is not commissioned), without building its model: what
+// `armfault tune` sweeps around, from the campaign's spec alone.
+MonitorConfig PowerEfficiencyConfig(const MonitorConfig& as_given, const MonitorContext& context);
+
 }  // namespace armfault

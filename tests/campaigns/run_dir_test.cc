@@ -37,8 +37,8 @@ std::string Lines(const std::vector<RunRecord>& records) {
   return text;
 }
 
-Campaign SmallCampaign() {
-  return CampaignFromJson(nlohmann::json::parse(R"({"name": "small", "duration_s": 2,
+CampaignSpec SmallCampaign() {
+  return CampaignSpecFromJson(nlohmann::json::parse(R"({"name": "small", "duration_s": 2,
     "trajectories": [{"name": "exp1", "joints": {"3": {"type": "sine_pair", "amplitude_deg": 25, "omega_rad_s": 1.2732}}}],
     "faults": [{"family": "kt_degradation", "joint": 3, "kt_factor": 0.6, "onset_s": 1}],
     "floors": {"detection_rate": 0.5}})"),
@@ -103,7 +103,7 @@ TEST(RunDir, EveryRecordOutputIsAFileOfTheDirectory) {
 }
 
 TEST(RunDir, WriteRecordOutputsWritesEveryRowAndSummaryOnlyTheKeptOnes) {
-  const Campaign campaign = SmallCampaign();
+  const CampaignSpec campaign = SmallCampaign();
   ScratchDir dir("run_dir");
   dir.Write("results.jsonl", Lines({Record(0, true), Record(1, false)}));
   const RecordOutputsResult full = WriteRecordOutputs(dir.path(), campaign, false);

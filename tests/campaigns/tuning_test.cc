@@ -270,6 +270,31 @@ TEST(Tune, RocAucCoversTheMeasuredPointsOnlyAndUnsweptCurvesHaveNone) {
   EXPECT_TRUE(roc["kt_degradation"]["swept"].get<bool>()) << roc["kt_degradation"].dump();
 }
 
+TEST(Tune, ARunDirectoryWhoseCsvTrajectoryIsNotBesideItIsTuned) {
+  // campaign.json names the csv trajectory relative to the campaign file, which is not beside
+  // the run directory: tune reads only the spec (campaigns/campaign_spec.h) and loads nothing.
+  ScratchDir dir("tune_csv");
+  std::filesystem::create_directories(dir.path() / "campaign");
+  dir.Write("campaign/swing.csv", "time_s,angle_deg\n0,0\n1,20\n2,0\n3,-20\n4,0\n");
+  json file = KtCampaign(json::object());
+  file["duration_s"] = 4;
+  file["repetitions"] = 1;
+  file["trajectories"] = json::parse(R"([{"name": "swing", "joints": {"3": {"type": "csv", "path": "swing.csv"}}}])");
+  const Campaign campaign = CampaignFromJson(file, "kt.json", (dir.path() / "campaign").string());
+  RunnerOptions o;
+  o.output_dir = (dir.path() / "out").string();
+  RunCampaign(campaign, o);
+  std::filesystem::remove(dir.path() / "campaign" / "swing.csv");
+  TuneOptions options;
+  options.sweep = "kt_factor.worn=0.9:0.99:4";
+  const TuningResult t = TuneCampaignDir(o.output_dir, options);
+  EXPECT_EQ(t.report["campaign"], "kt-tune");
+  // The spec alone reads it too, without the file; the campaign for running still needs it.
+  const json resolved = ReadJsonFile((dir.path() / "out" / "campaign.json").string())["campaign"];
+  EXPECT_EQ(CampaignSpecFromJson(resolved, "campaign.json", o.output_dir).trajectories[0].name, "swing");
+  EXPECT_THROW(CampaignFromJson(resolved, "campaign.json", o.output_dir), InputError);
+}
+
 TEST(Tune, ChoosesOnEvenSeedsReportsOnOddSeedsAndWarnsAtTheGridsEdge) {
   ScratchDir dir("tune_split");
   json file = KtCampaign(json::object());
