@@ -168,15 +168,9 @@ std::string List(const std::vector<int>& xs) {
   return out;
 }
 
-}  // namespace
-
-MergeResult MergeShards(const std::vector<std::string>& input_dirs, const std::string& output_dir) {
-  if (input_dirs.empty()) throw InputError("merge", "", "no shard directories given");
-  std::vector<ShardInput> shards;
-  shards.reserve(input_dirs.size());
-  for (const std::string& dir : input_dirs) shards.push_back(ReadShard(dir));
-
-  // One campaign, one version, one shard count.
+// One campaign, one version (this binary's), one case count and one shard count: else an
+// InputError naming the first shard that differs from the first one given.
+void RequireOneSplit(const std::vector<ShardInput>& shards) {
   const ShardInput& first = shards[0];
   const std::string version = first.file["armfault_version"];
   if (version != ARMFAULT_VERSION) {
@@ -202,9 +196,12 @@ MergeResult MergeShards(const std::vector<std::string>& input_dirs, const std::s
                            std::to_string(first.count) + ": merge shards of one split only");
     }
   }
+}
 
-  // Exactly the shards 0 .. N-1, each once.
-  const int n = first.count;
+// Checks that the shards given (of one split) are exactly 0 .. N-1, each once, and returns
+// where each is: owner[k] is shard k's position in `shards`.
+std::vector<int> ShardOwners(const std::vector<ShardInput>& shards) {
+  const int n = shards[0].count;
   std::vector<int> owner(static_cast<size_t>(n), -1);
   for (size_t k = 0; k < shards.size(); ++k) {
     const ShardInput& s = shards[k];
@@ -226,9 +223,14 @@ MergeResult MergeShards(const std::vector<std::string>& input_dirs, const std::s
                          std::to_string(n) + (missing.size() == 1 ? " is" : " are") +
                          " missing: give the output directories of all shards 0.." + std::to_string(n - 1));
   }
+  return owner;
+}
 
-  // Every shard complete, its decisions.jsonl line for line with results.jsonl, before
-  // anything is written.
+// Every shard complete, its decisions.jsonl line for line with results.jsonl, before anything
+// is written: else an InputError naming the first problem (shards in index order) and how many
+// more shards have one. Marks the shards whose decisions are inline (DecisionsProblem).
+void RequireComplete(std::vector<ShardInput>& shards, const std::vector<int>& owner) {
+  const int n = static_cast<int>(owner.size());
   std::vector<std::string> incomplete;
   std::string first_problem;
   for (int k = 0; k < n; ++k) {
@@ -261,19 +263,12 @@ MergeResult MergeShards(const std::vector<std::string>& input_dirs, const std::s
                                                                   " more shards with the same problem)"
                                                             : ""));
   }
+}
 
-  MergeResult result;
-  result.campaign = CampaignForScoring(first);
-  result.shards = n;
-
-  const fs::path out(output_dir);
-  fs::create_directories(out);
-  for (const ShardInput& s : shards) {
-    if (fs::equivalent(out, s.dir)) {
-      throw InputError(output_dir, "", "the output directory is one of the shards: choose another one");
-    }
-  }
-
+// Opens every shard's results.jsonl and, unless its decisions are inline, its decisions.jsonl
+// (2 N files at once).
+void OpenShards(std::vector<ShardInput>& shards) {
+  const int n = shards[0].count;
   auto open = [&](const std::string& path) {
     auto in = std::make_unique<std::ifstream>(path, std::ios::binary);
     if (!*in) {
@@ -287,97 +282,143 @@ MergeResult MergeShards(const std::vector<std::string>& input_dirs, const std::s
     s.in = open(s.results_path);
     if (!s.inline_decisions && fs::exists(s.decisions_path)) s.decisions = open(s.decisions_path);
   }
+}
 
-  // k-way merge by case: case c is in shard c % N, and each shard's lines ascend, so the next
-  // line of shard c % N must be case c. Lines are copied as read; each decisions.jsonl line
-  // must be of its results line's run. An older shard's inline decisions are written out as
-  // the runner writes them (the same numbers print the same).
-  const fs::path results_path = out / run_dir::kResults, decisions_path = out / run_dir::kDecisions;
-  const fs::path tmp_path = out / "results.jsonl.tmp", decisions_tmp_path = out / "decisions.jsonl.tmp";
-  std::FILE* merged = std::fopen(tmp_path.string().c_str(), "wb");
-  if (!merged) throw InputError(tmp_path.string(), "", "cannot open the file for writing");
-  std::FILE* merged_decisions = std::fopen(decisions_tmp_path.string().c_str(), "wb");
+// The k-way merge's step for case `c`: the next line of its shard `s` (of `n`), which must be
+// valid JSON of case c, into `line`, and that run's decisions line into `decision_line`: the
+// next of the shard's decisions.jsonl, of the same case and run_id, or an older shard's inline
+// decision written out as the runner writes it (the same numbers print the same). Lines are
+// returned as read, each ending in '\n'.
+void ReadCase(ShardInput& s, long c, int n, std::string* line, std::string* decision_line) {
+  std::getline(*s.in, *line);
+  ++s.line;
+  const std::string where = "line " + std::to_string(s.line) + ": ";
+  long found = -1;
+  std::string run_id;
+  nlohmann::json inline_decision;
+  try {
+    nlohmann::json j = nlohmann::json::parse(*line);
+    found = j.at("case").get<long>();
+    run_id = j.at("run_id").get<std::string>();
+    if (s.inline_decisions) {
+      if (!j.contains("decision")) {
+        throw InputError(s.results_path, "",
+                         where + "no inline \"decision\", and " + s.decisions_path + " does not exist; " +
+                             DecisionsHint(s));
+      }
+      inline_decision = std::move(j["decision"]);
+    }
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(s.results_path, "", where + "not a results line (" + e.what() + ")");
+  }
+  if (found != c) {
+    throw InputError(s.results_path, "", where + "case " + std::to_string(found) + ", expected case " +
+                                             std::to_string(c) + " (shard " + std::to_string(s.index) + "/" +
+                                             std::to_string(n) + " in case order)");
+  }
+  if (s.decisions) {
+    std::getline(*s.decisions, *decision_line);
+    DecisionLine d;
+    try {
+      d = DecisionLineFromJson(nlohmann::json::parse(*decision_line));
+    } catch (const std::exception& e) {
+      throw InputError(s.decisions_path, "", where + "not a decisions line (" + e.what() + "); " + DecisionsHint(s));
+    }
+    if (d.case_index != found || d.run_id != run_id) {
+      throw InputError(s.decisions_path, "",
+                       where + "case " + std::to_string(d.case_index) + " \"" + d.run_id + "\", but line " +
+                           std::to_string(s.line) + " of " + s.results_path + " is case " + std::to_string(found) +
+                           " \"" + run_id + "\": decisions.jsonl does not go with results.jsonl; " + DecisionsHint(s));
+    }
+  } else {
+    RunRecord r;
+    r.case_index = found;
+    r.run_id = run_id;
+    r.decision = std::move(inline_decision);
+    *decision_line = DecisionLineJson(r).dump();
+  }
+  *line += '\n';
+  *decision_line += '\n';
+}
+
+// The merged files in the output directory, written as temporaries and renamed into place.
+struct MergedPaths {
+  fs::path results, decisions, results_tmp, decisions_tmp;
+};
+MergedPaths MergedPathsIn(const fs::path& out) {
+  return {out / run_dir::kResults, out / run_dir::kDecisions, out / "results.jsonl.tmp", out / "decisions.jsonl.tmp"};
+}
+
+// The k-way merge by case: case c is in shard c % N (owner[c % N] in `shards`), and each
+// shard's lines ascend, so the next line of shard c % N must be case c (ReadCase). Writes the
+// `cases` lines to the temporaries of `paths`; on an error closes and removes both. Returns
+// the runs written.
+long MergeLines(std::vector<ShardInput>& shards, const std::vector<int>& owner, long cases, const MergedPaths& paths) {
+  const int n = static_cast<int>(owner.size());
+  std::FILE* merged = std::fopen(paths.results_tmp.string().c_str(), "wb");
+  if (!merged) throw InputError(paths.results_tmp.string(), "", "cannot open the file for writing");
+  std::FILE* merged_decisions = std::fopen(paths.decisions_tmp.string().c_str(), "wb");
   auto write = [](std::FILE* f, const std::string& text, const fs::path& path) {
     if (std::fwrite(text.data(), 1, text.size(), f) != text.size()) {
       throw InputError(path.string(), "", "error while writing");
     }
   };
+  long runs = 0;
   try {
-    if (!merged_decisions) throw InputError(decisions_tmp_path.string(), "", "cannot open the file for writing");
+    if (!merged_decisions) throw InputError(paths.decisions_tmp.string(), "", "cannot open the file for writing");
     std::string line, decision_line;
-    for (long c = 0; c < first.cases; ++c) {
-      ShardInput& s = shards[static_cast<size_t>(owner[static_cast<size_t>(c % n)])];
-      std::getline(*s.in, line);
-      ++s.line;
-      const std::string where = "line " + std::to_string(s.line) + ": ";
-      long found = -1;
-      std::string run_id;
-      nlohmann::json inline_decision;
-      try {
-        nlohmann::json j = nlohmann::json::parse(line);
-        found = j.at("case").get<long>();
-        run_id = j.at("run_id").get<std::string>();
-        if (s.inline_decisions) {
-          if (!j.contains("decision")) {
-            throw InputError(s.results_path, "",
-                             where + "no inline \"decision\", and " + s.decisions_path + " does not exist; " +
-                                 DecisionsHint(s));
-          }
-          inline_decision = std::move(j["decision"]);
-        }
-      } catch (const nlohmann::json::exception& e) {
-        throw InputError(s.results_path, "", where + "not a results line (" + e.what() + ")");
-      }
-      if (found != c) {
-        throw InputError(s.results_path, "", where + "case " + std::to_string(found) + ", expected case " +
-                                                 std::to_string(c) + " (shard " + std::to_string(s.index) + "/" +
-                                                 std::to_string(n) + " in case order)");
-      }
-      if (s.decisions) {
-        std::getline(*s.decisions, decision_line);
-        DecisionLine d;
-        try {
-          d = DecisionLineFromJson(nlohmann::json::parse(decision_line));
-        } catch (const std::exception& e) {
-          throw InputError(s.decisions_path, "", where + "not a decisions line (" + e.what() + "); " + DecisionsHint(s));
-        }
-        if (d.case_index != found || d.run_id != run_id) {
-          throw InputError(s.decisions_path, "",
-                           where + "case " + std::to_string(d.case_index) + " \"" + d.run_id + "\", but line " +
-                               std::to_string(s.line) + " of " + s.results_path + " is case " + std::to_string(found) +
-                               " \"" + run_id + "\": decisions.jsonl does not go with results.jsonl; " + DecisionsHint(s));
-        }
-      } else {
-        RunRecord r;
-        r.case_index = found;
-        r.run_id = run_id;
-        r.decision = std::move(inline_decision);
-        decision_line = DecisionLineJson(r).dump();
-      }
-      line += '\n';
-      decision_line += '\n';
-      write(merged_decisions, decision_line, decisions_tmp_path);
-      write(merged, line, tmp_path);
-      ++result.runs;
+    for (long c = 0; c < cases; ++c) {
+      ReadCase(shards[static_cast<size_t>(owner[static_cast<size_t>(c % n)])], c, n, &line, &decision_line);
+      write(merged_decisions, decision_line, paths.decisions_tmp);
+      write(merged, line, paths.results_tmp);
+      ++runs;
     }
     const bool decisions_closed = std::fclose(merged_decisions) == 0;
     merged_decisions = nullptr;
-    if (!decisions_closed) throw InputError(decisions_tmp_path.string(), "", "error while writing");
+    if (!decisions_closed) throw InputError(paths.decisions_tmp.string(), "", "error while writing");
     const bool results_closed = std::fclose(merged) == 0;
     merged = nullptr;
-    if (!results_closed) throw InputError(tmp_path.string(), "", "error while writing");
+    if (!results_closed) throw InputError(paths.results_tmp.string(), "", "error while writing");
   } catch (...) {
     if (merged) std::fclose(merged);
     if (merged_decisions) std::fclose(merged_decisions);
     std::error_code ec;
-    fs::remove(tmp_path, ec);
-    fs::remove(decisions_tmp_path, ec);
+    fs::remove(paths.results_tmp, ec);
+    fs::remove(paths.decisions_tmp, ec);
     throw;
   }
+  return runs;
+}
+
+}  // namespace
+
+MergeResult MergeShards(const std::vector<std::string>& input_dirs, const std::string& output_dir) {
+  if (input_dirs.empty()) throw InputError("merge", "", "no shard directories given");
+  std::vector<ShardInput> shards;
+  shards.reserve(input_dirs.size());
+  for (const std::string& dir : input_dirs) shards.push_back(ReadShard(dir));
+  RequireOneSplit(shards);
+  const std::vector<int> owner = ShardOwners(shards);
+  RequireComplete(shards, owner);
+
+  MergeResult result;
+  result.campaign = CampaignForScoring(shards[0]);
+  result.shards = shards[0].count;
+
+  const fs::path out(output_dir);
+  fs::create_directories(out);
+  for (const ShardInput& s : shards) {
+    if (fs::equivalent(out, s.dir)) {
+      throw InputError(output_dir, "", "the output directory is one of the shards: choose another one");
+    }
+  }
+  OpenShards(shards);
+  const MergedPaths paths = MergedPathsIn(out);
+  result.runs = MergeLines(shards, owner, shards[0].cases, paths);
   // As an unsharded run writes it (the same function, shard 0/1).
   WriteAtomically(out / run_dir::kCampaign, CampaignFileJson(result.campaign, ShardSpec{}).dump(2) + "\n");
-  fs::rename(decisions_tmp_path, decisions_path);
-  fs::rename(tmp_path, results_path);
+  fs::rename(paths.decisions_tmp, paths.decisions);
+  fs::rename(paths.results_tmp, paths.results);
   return result;
 }
 

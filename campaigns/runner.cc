@@ -8,7 +8,10 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <memory>
+#include <mutex>
 #include <optional>
+#include <system_error>
 
 #include "campaigns/early_stop.h"
 
@@ -97,6 +100,282 @@ std::string CostLine(const RunRecord& r) {
   return j.dump() + "\n";
 }
 
+// A case's fault family, as the early-stop floors count it: "" for a healthy case. A compound
+// case's family is "compound": a faulty case for the overall floors, in no per_family scope
+// (EarlyStop::Scope::Holds).
+std::string FamilyOf(const CaseSpec& spec) { return spec.fault.is_null() ? std::string() : spec.fault.value("family", ""); }
+
+// What the stages of one RunCampaign share: the directory's files, campaign.json as this run
+// writes it, and the order of its cases (the shard's, or with --early-stop an even sweep of the
+// case space and the floors that decide when to stop).
+struct RunState {
+  const Campaign& campaign;
+  const RunnerOptions& options;
+  fs::path campaign_path, results_path, decisions_path, cost_path;
+  fs::path early_path;  // early_stop.json: marks a finished --early-stop run
+  nlohmann::json campaign_file;
+  std::unique_ptr<EarlyStop> early;     // --early-stop only
+  std::optional<EarlyStopOrder> order;  // --early-stop only
+  // The shard's cases, taken by index (CaseAt): nothing is held per case, so memory stays flat
+  // in the campaign's size and the first run starts at once.
+  size_t cases = 0;
+};
+
+// Creates the output directory and names its files; with --early-stop, the sweep and the floors
+// (InputError with a shard: the floors are decided on all of the campaign's runs).
+RunState StartRun(const Campaign& campaign, const RunnerOptions& o) {
+  const fs::path dir(o.output_dir);
+  fs::create_directories(dir);
+  RunState run{campaign,
+               o,
+               dir / run_dir::kCampaign,
+               dir / run_dir::kResults,
+               dir / run_dir::kDecisions,
+               dir / run_dir::kMonitorCost,
+               dir / run_dir::kEarlyStop,
+               CampaignFileJson(campaign, o.shard),
+               nullptr,
+               std::nullopt};
+  if (o.early_stop) {
+    if (o.shard.count > 1) {
+      throw InputError("--early-stop", "",
+                       "decides the campaign's floors on all of its runs in one directory, so it cannot run as a shard "
+                       "(drop --shard, or run the shards without --early-stop)");
+    }
+    run.early = std::make_unique<EarlyStop>(campaign, *o.early_stop);
+    run.order.emplace(CaseCount(campaign), campaign.seed);
+    run.campaign_file["early_stop"] = o.early_stop->ToJson();
+  }
+  run.cases = static_cast<size_t>(o.shard.Size(CaseCount(campaign)));
+  return run;
+}
+
+// The case index of the run's k-th case (k from 0).
+long CaseIndexAt(const RunState& run, size_t k) {
+  return run.order ? run.order->CaseIndex(static_cast<long>(k)) : run.options.shard.CaseIndex(static_cast<long>(k));
+}
+
+// --resume into a directory with results: its campaign.json must be this run's.
+void RequireSameRun(const RunState& run) {
+  if (!fs::exists(run.campaign_path) || ReadJsonFile(run.campaign_path.string()) != run.campaign_file) {
+    throw InputError(run.campaign_path.string(), "",
+                     "--resume: this directory holds another campaign or shard (or was run with other --early-stop "
+                     "settings); run it without --resume, or choose another output directory");
+  }
+}
+
+// A fresh run: campaign.json, the three line files empty, no early_stop.json of an earlier run
+// into this directory.
+void StartFresh(const RunState& run) {
+  std::error_code ec;
+  fs::remove(run.early_path, ec);
+  WriteAtomically(run.campaign_path, run.campaign_file.dump(2) + "\n");
+  std::ofstream(run.results_path, std::ios::binary | std::ios::trunc);
+  std::ofstream(run.decisions_path, std::ios::binary | std::ios::trunc);
+  std::ofstream(run.cost_path, std::ios::binary | std::ios::trunc);
+}
+
+// --resume of an ordinary run: keeps the complete prefix of lines that are exactly the expected
+// cases, in order, in both files, and returns its length (the position to run on from).
+// decisions.jsonl is written first, so after a kill it is at most one line ahead; a missing one
+// (removed, or an older armfault's directory) keeps nothing. Sets out->resumed and out->failed.
+size_t ResumeRun(const RunState& run, RunnerResult* out) {
+  auto is_case = [&](size_t k, long case_index, const std::string& run_id) {
+    const long index = CaseIndexAt(run, k);
+    return case_index == index && run_id == CaseAt(run.campaign, index).run_id;
+  };
+  std::vector<bool> ok;
+  const std::vector<std::streamoff> result_ends =
+      AcceptedLineEnds(run.results_path, run.cases, [&](size_t k, const std::string& line) {
+        try {
+          const RunRecord r = RunRecordFromJson(nlohmann::json::parse(line));
+          if (!is_case(k, r.case_index, r.run_id)) return false;
+          ok.push_back(r.ok);
+          return true;
+        } catch (const std::exception&) {
+          return false;
+        }
+      });
+  const std::vector<std::streamoff> decision_ends =
+      AcceptedLineEnds(run.decisions_path, result_ends.size(), [&](size_t k, const std::string& line) {
+        try {
+          const DecisionLine d = DecisionLineFromJson(nlohmann::json::parse(line));
+          return is_case(k, d.case_index, d.run_id);
+        } catch (const std::exception&) {
+          return false;
+        }
+      });
+  const size_t next = decision_ends.size();
+  for (size_t k = 0; k < next; ++k) out->failed += ok[k] ? 0 : 1;
+  KeepLines(run.results_path, result_ends, next);
+  KeepLines(run.decisions_path, decision_ends, next);
+  KeepFirstLines(run.cost_path, next);  // written before each results line: at least `next`
+  out->resumed = static_cast<long>(next);
+  return next;
+}
+
+// --resume of an --early-stop run not finished: replays the decisions over the runs kept so far,
+// in the order they ran (each needed case in turn must be the next line of both files), keeps
+// that prefix and returns the position in the sweep to run on from. Sets out->resumed and
+// out->failed.
+size_t ResumeEarlyStop(RunState& run, RunnerResult* out) {
+  const std::vector<std::string> results_lines = CompleteLines(run.results_path),
+                                 decision_lines = CompleteLines(run.decisions_path);
+  const size_t lines = std::min(results_lines.size(), decision_lines.size());
+  size_t next = 0, kept = 0;
+  for (; next < run.cases && kept < lines && !run.early->AllDecided(); ++next) {
+    const CaseSpec spec = CaseAt(run.campaign, CaseIndexAt(run, next));
+    if (!run.early->Needed(FamilyOf(spec))) continue;
+    RunRecord r;
+    try {
+      r = RunRecordFromJson(nlohmann::json::parse(results_lines[kept]));
+      const DecisionLine d = DecisionLineFromJson(nlohmann::json::parse(decision_lines[kept]));
+      if (r.case_index != spec.index || r.run_id != spec.run_id || d.case_index != spec.index) break;
+    } catch (const std::exception&) {
+      break;
+    }
+    run.early->Add(r);
+    out->failed += r.ok ? 0 : 1;
+    ++kept;
+  }
+  std::string results_text, decisions_text;
+  for (size_t k = 0; k < kept; ++k) {
+    results_text += results_lines[k] + "\n";
+    decisions_text += decision_lines[k] + "\n";
+  }
+  WriteAtomically(run.decisions_path, decisions_text);
+  KeepFirstLines(run.cost_path, kept);
+  WriteAtomically(run.results_path, results_text);
+  out->resumed = static_cast<long>(kept);
+  return next;
+}
+
+// --resume of a finished --early-stop run (early_stop.json there): its files are in case order
+// already and nothing is left to run. Counts its runs and reads its early_stop.json into `out`.
+void ReadFinishedEarlyStop(const RunState& run, RunnerResult* out) {
+  for (const std::string& line : CompleteLines(run.results_path)) {
+    ++out->resumed;
+    out->failed += RunRecordFromJson(nlohmann::json::parse(line)).ok ? 0 : 1;
+  }
+  out->early_stop = ReadJsonFile(run.early_path.string());
+}
+
+// A file the writer stage appends to, closed on every path: by Close, which says whether every
+// write reached the file, or else (an exception) when it goes out of scope.
+struct AppendFile {
+  explicit AppendFile(const fs::path& p) : path(p), file(std::fopen(p.string().c_str(), "ab")) {
+    if (!file) throw InputError(path.string(), "", "cannot open for appending");
+  }
+  AppendFile(const AppendFile&) = delete;
+  AppendFile& operator=(const AppendFile&) = delete;
+  ~AppendFile() {
+    if (file) std::fclose(file);
+  }
+  // One write per line, flushed at once: a kill leaves at most one partial line.
+  void Write(const std::string& line) {
+    std::fwrite(line.data(), 1, line.size(), file);
+    std::fflush(file);
+  }
+  bool Close() {
+    const bool closed = std::fclose(file) == 0;
+    file = nullptr;
+    return closed;
+  }
+  fs::path path;
+  std::FILE* file;
+};
+
+// The run's three line files, opened for appending in this order (a failed open closes those
+// already open). Close closes all three, then names the first that lost a write.
+struct RunFiles {
+  explicit RunFiles(const RunState& run)
+      : results(run.results_path), decisions(run.decisions_path), costs(run.cost_path) {}
+  void Close() {
+    const bool decisions_closed = decisions.Close();
+    const bool costs_closed = costs.Close();
+    if (!results.Close()) throw InputError(results.path.string(), "", "error while writing");
+    if (!decisions_closed) throw InputError(decisions.path.string(), "", "error while writing");
+    if (!costs_closed) throw InputError(costs.path.string(), "", "error while writing");
+  }
+  AppendFile results, decisions, costs;
+};
+
+// Runs the cases from position `next` on (oneTBB, the options' threads) and appends each run's
+// lines to `files` in case order (in sweep order with --early-stop, dropping the runs no
+// undecided floor needs). Sets out->ran, out->failed and out->interrupted; calls progress.
+void RunCases(RunState& run, size_t next, RunFiles& files, RunnerResult* out) {
+  const RunnerOptions& o = run.options;
+  long done = out->resumed;
+  if (o.progress) o.progress(done, out->total);
+  std::mutex early_mutex;  // the input stage asks what the output stage decides
+  size_t cursor = next;
+  auto input = [&](tbb::flow_control& fc) -> size_t {
+    if (cursor >= run.cases) {
+      fc.stop();
+      return 0;
+    }
+    if (o.stop && o.stop->load()) {
+      out->interrupted = true;
+      fc.stop();
+      return 0;
+    }
+    if (run.early) {
+      // Skip the cases no undecided floor needs (decisions are final, so the output stage
+      // would drop them too).
+      std::lock_guard<std::mutex> lock(early_mutex);
+      while (cursor < run.cases && !run.early->AllDecided() &&
+             !run.early->Needed(FamilyOf(CaseAt(run.campaign, CaseIndexAt(run, cursor))))) {
+        ++cursor;
+      }
+      if (cursor >= run.cases || run.early->AllDecided()) {
+        fc.stop();
+        return 0;
+      }
+    }
+    return cursor++;
+  };
+  UnitMonitors units(run.campaign);
+  auto run_case = [&](size_t k) {
+    RunRecord r = RunCase(run.campaign, CaseAt(run.campaign, CaseIndexAt(run, k)), nullptr, &units);
+    RunLines lines{DecisionLineJson(r).dump() + "\n", ToJson(r).dump() + "\n", r.ok, CostLine(r), {}};
+    if (run.early) lines.record = std::move(r);
+    return lines;
+  };
+  auto write = [&](const RunLines& item) {
+    std::unique_lock<std::mutex> lock(early_mutex, std::defer_lock);
+    if (run.early) {
+      // In the order of the runs: a run no undecided floor needs any more is dropped,
+      // whichever thread finished it when, so the kept runs are the same for any -j.
+      lock.lock();
+      if (run.early->AllDecided() || !run.early->Needed(item.record.family)) return;
+      run.early->Add(item.record);
+    }
+    // The decision first: results.jsonl is never ahead of decisions.jsonl.
+    files.decisions.Write(item.decision);
+    files.costs.Write(item.cost);
+    files.results.Write(item.result);
+    if (!item.ok) ++out->failed;
+    ++out->ran;
+    ++done;
+    if (o.progress) o.progress(done, out->total);
+  };
+  const int threads = o.threads > 0 ? o.threads : tbb::this_task_arena::max_concurrency();
+  tbb::task_arena arena(threads);
+  arena.execute([&] {
+    tbb::parallel_pipeline(static_cast<size_t>(4 * threads),
+                           tbb::make_filter<void, size_t>(tbb::filter_mode::serial_in_order, input) &
+                               tbb::make_filter<size_t, RunLines>(tbb::filter_mode::parallel, run_case) &
+                               tbb::make_filter<RunLines, void>(tbb::filter_mode::serial_in_order, write));
+  });
+}
+
+// The end of a finished --early-stop run: its files rewritten in case order, and early_stop.json.
+void FinishEarlyStop(const RunState& run, RunnerResult* out) {
+  SortByCaseIndex({run.decisions_path, run.cost_path, run.results_path});
+  out->early_stop = run.early->ToJson(CaseCount(run.campaign));
+  WriteAtomically(run.early_path, out->early_stop.dump(2) + "\n");
+}
+
 }  // namespace
 
 std::string EarlyStopSummaryLine(const nlohmann::json& report) {
@@ -122,224 +401,27 @@ std::string EarlyStopSummaryLine(const nlohmann::json& report) {
 }
 
 RunnerResult RunCampaign(const Campaign& campaign, const RunnerOptions& o) {
-  const fs::path dir(o.output_dir);
-  fs::create_directories(dir);
-  const fs::path campaign_path = dir / run_dir::kCampaign;
-  const fs::path results_path = dir / run_dir::kResults;
-  const fs::path decisions_path = dir / run_dir::kDecisions;
-  const fs::path cost_path = dir / run_dir::kMonitorCost;
-  nlohmann::json campaign_file = CampaignFileJson(campaign, o.shard);
-  // --early-stop: the runs go in an even sweep of the case space and stop when every floor is
-  // decided (campaigns/early_stop.h); early_stop.json marks a finished one.
-  const fs::path early_path = dir / run_dir::kEarlyStop;
-  std::unique_ptr<EarlyStop> early;
-  std::optional<EarlyStopOrder> order;
-  std::mutex early_mutex;  // the input stage asks what the output stage decides
-  if (o.early_stop) {
-    if (o.shard.count > 1) {
-      throw InputError("--early-stop", "",
-                       "decides the campaign's floors on all of its runs in one directory, so it cannot run as a shard "
-                       "(drop --shard, or run the shards without --early-stop)");
-    }
-    early = std::make_unique<EarlyStop>(campaign, *o.early_stop);
-    order.emplace(CaseCount(campaign), campaign.seed);
-    campaign_file["early_stop"] = o.early_stop->ToJson();
-  }
-  auto case_at_position = [&](size_t k) {
-    return order ? order->CaseIndex(static_cast<long>(k)) : o.shard.CaseIndex(static_cast<long>(k));
-  };
-  // A compound case's family is "compound": a faulty case for the overall floors, in no
-  // per_family scope (EarlyStop::Scope::Holds).
-  auto family_of = [](const CaseSpec& spec) { return spec.fault.is_null() ? std::string() : spec.fault.value("family", ""); };
-
-  // The shard's cases by index (CaseAt): nothing is held per case, so memory stays flat in
-  // the campaign's size and the first run starts at once.
-  const size_t mine = static_cast<size_t>(o.shard.Size(CaseCount(campaign)));
-  auto is_case = [&](size_t k, long case_index, const std::string& run_id) {
-    const long index = case_at_position(k);
-    return case_index == index && run_id == CaseAt(campaign, index).run_id;
-  };
+  RunState run = StartRun(campaign, o);
   RunnerResult out;
-  out.total = static_cast<long>(mine);
-
-  size_t next = 0;
-  if (o.resume && fs::exists(results_path)) {
-    if (!fs::exists(campaign_path) || ReadJsonFile(campaign_path.string()) != campaign_file) {
-      throw InputError(campaign_path.string(), "",
-                       "--resume: this directory holds another campaign or shard (or was run with other --early-stop "
-                       "settings); run it without --resume, or choose another output directory");
-    }
-  }
-  if (early && o.resume && fs::exists(results_path) && fs::exists(early_path)) {
-    // Finished: its files are in case order already, and nothing is left to run.
-    for (const std::string& line : CompleteLines(results_path)) {
-      ++out.resumed;
-      out.failed += RunRecordFromJson(nlohmann::json::parse(line)).ok ? 0 : 1;
-    }
-    out.early_stop = ReadJsonFile(early_path.string());
+  out.total = static_cast<long>(run.cases);
+  const bool resume = o.resume && fs::exists(run.results_path);
+  if (resume) RequireSameRun(run);
+  if (resume && run.early && fs::exists(run.early_path)) {
+    ReadFinishedEarlyStop(run, &out);
     return out;
   }
-  if (early && o.resume && fs::exists(results_path)) {
-    // Replay the decisions over the runs kept so far, in the order they ran: each needed case
-    // in turn must be the next line of both files; keep that prefix.
-    const std::vector<std::string> results_lines = CompleteLines(results_path), decision_lines = CompleteLines(decisions_path);
-    const size_t lines = std::min(results_lines.size(), decision_lines.size());
-    size_t kept = 0;
-    for (; next < mine && kept < lines && !early->AllDecided(); ++next) {
-      const CaseSpec spec = CaseAt(campaign, case_at_position(next));
-      if (!early->Needed(family_of(spec))) continue;
-      RunRecord r;
-      try {
-        r = RunRecordFromJson(nlohmann::json::parse(results_lines[kept]));
-        const DecisionLine d = DecisionLineFromJson(nlohmann::json::parse(decision_lines[kept]));
-        if (r.case_index != spec.index || r.run_id != spec.run_id || d.case_index != spec.index) break;
-      } catch (const std::exception&) {
-        break;
-      }
-      early->Add(r);
-      out.failed += r.ok ? 0 : 1;
-      ++kept;
-    }
-    std::string results_text, decisions_text;
-    for (size_t k = 0; k < kept; ++k) {
-      results_text += results_lines[k] + "\n";
-      decisions_text += decision_lines[k] + "\n";
-    }
-    WriteAtomically(decisions_path, decisions_text);
-    KeepFirstLines(cost_path, kept);
-    WriteAtomically(results_path, results_text);
-    out.resumed = static_cast<long>(kept);
-  } else if (o.resume && fs::exists(results_path)) {
-    // Keep the complete prefix of lines that are exactly the expected cases, in order, in both
-    // files. decisions.jsonl is written first, so after a kill it is at most one line ahead; a
-    // missing one (removed, or an older armfault's directory) keeps nothing.
-    std::vector<bool> ok;
-    const std::vector<std::streamoff> result_ends =
-        AcceptedLineEnds(results_path, mine, [&](size_t k, const std::string& line) {
-          try {
-            const RunRecord r = RunRecordFromJson(nlohmann::json::parse(line));
-            if (!is_case(k, r.case_index, r.run_id)) return false;
-            ok.push_back(r.ok);
-            return true;
-          } catch (const std::exception&) {
-            return false;
-          }
-        });
-    const std::vector<std::streamoff> decision_ends =
-        AcceptedLineEnds(decisions_path, result_ends.size(), [&](size_t k, const std::string& line) {
-          try {
-            const DecisionLine d = DecisionLineFromJson(nlohmann::json::parse(line));
-            return is_case(k, d.case_index, d.run_id);
-          } catch (const std::exception&) {
-            return false;
-          }
-        });
-    next = decision_ends.size();
-    for (size_t k = 0; k < next; ++k) out.failed += ok[k] ? 0 : 1;
-    KeepLines(results_path, result_ends, next);
-    KeepLines(decisions_path, decision_ends, next);
-    KeepFirstLines(cost_path, next);  // written before each results line: at least `next`
-    out.resumed = static_cast<long>(next);
+  size_t next = 0;
+  if (resume && run.early) {
+    next = ResumeEarlyStop(run, &out);
+  } else if (resume) {
+    next = ResumeRun(run, &out);
   } else {
-    std::error_code ec;
-    fs::remove(early_path, ec);  // of an earlier run into this directory
-    WriteAtomically(campaign_path, campaign_file.dump(2) + "\n");
-    std::ofstream(results_path, std::ios::binary | std::ios::trunc);
-    std::ofstream(decisions_path, std::ios::binary | std::ios::trunc);
-    std::ofstream(cost_path, std::ios::binary | std::ios::trunc);
+    StartFresh(run);
   }
-
-  std::FILE* results = std::fopen(results_path.string().c_str(), "ab");
-  if (!results) throw InputError(results_path.string(), "", "cannot open for appending");
-  std::FILE* decisions = std::fopen(decisions_path.string().c_str(), "ab");
-  if (!decisions) {
-    std::fclose(results);
-    throw InputError(decisions_path.string(), "", "cannot open for appending");
-  }
-  std::FILE* costs = std::fopen(cost_path.string().c_str(), "ab");
-  if (!costs) {
-    std::fclose(results);
-    std::fclose(decisions);
-    throw InputError(cost_path.string(), "", "cannot open for appending");
-  }
-  long done = out.resumed;
-  if (o.progress) o.progress(done, out.total);
-
-  UnitMonitors units(campaign);
-  const int threads = o.threads > 0 ? o.threads : tbb::this_task_arena::max_concurrency();
-  tbb::task_arena arena(threads);
-  arena.execute([&] {
-    size_t cursor = next;
-    tbb::parallel_pipeline(
-        static_cast<size_t>(4 * threads),
-        tbb::make_filter<void, size_t>(tbb::filter_mode::serial_in_order,
-                                       [&](tbb::flow_control& fc) -> size_t {
-                                         if (cursor >= mine) {
-                                           fc.stop();
-                                           return 0;
-                                         }
-                                         if (o.stop && o.stop->load()) {
-                                           out.interrupted = true;
-                                           fc.stop();
-                                           return 0;
-                                         }
-                                         if (early) {
-                                           // Skip the cases no undecided floor needs (decisions are final,
-                                           // so the output stage would drop them too).
-                                           std::lock_guard<std::mutex> lock(early_mutex);
-                                           while (cursor < mine && !early->AllDecided() &&
-                                                  !early->Needed(family_of(CaseAt(campaign, case_at_position(cursor))))) {
-                                             ++cursor;
-                                           }
-                                           if (cursor >= mine || early->AllDecided()) {
-                                             fc.stop();
-                                             return 0;
-                                           }
-                                         }
-                                         return cursor++;
-                                       }) &
-            tbb::make_filter<size_t, RunLines>(tbb::filter_mode::parallel,
-                                               [&](size_t k) {
-                                                 RunRecord r = RunCase(campaign, CaseAt(campaign, case_at_position(k)),
-                                                                       nullptr, &units);
-                                                 RunLines lines{DecisionLineJson(r).dump() + "\n", ToJson(r).dump() + "\n",
-                                                                r.ok, CostLine(r), {}};
-                                                 if (early) lines.record = std::move(r);
-                                                 return lines;
-                                               }) &
-            tbb::make_filter<RunLines, void>(tbb::filter_mode::serial_in_order, [&](const RunLines& item) {
-              std::unique_lock<std::mutex> lock(early_mutex, std::defer_lock);
-              if (early) {
-                // In the order of the runs: a run no undecided floor needs any more is dropped,
-                // whichever thread finished it when, so the kept runs are the same for any -j.
-                lock.lock();
-                if (early->AllDecided() || !early->Needed(item.record.family)) return;
-                early->Add(item.record);
-              }
-              // One write per line, flushed at once, the decision first: a kill leaves at most one
-              // partial line in each file, and results.jsonl never ahead of decisions.jsonl.
-              std::fwrite(item.decision.data(), 1, item.decision.size(), decisions);
-              std::fflush(decisions);
-              std::fwrite(item.cost.data(), 1, item.cost.size(), costs);
-              std::fflush(costs);
-              std::fwrite(item.result.data(), 1, item.result.size(), results);
-              std::fflush(results);
-              if (!item.ok) ++out.failed;
-              ++out.ran;
-              ++done;
-              if (o.progress) o.progress(done, out.total);
-            }));
-  });
-  const bool decisions_closed = std::fclose(decisions) == 0;
-  const bool costs_closed = std::fclose(costs) == 0;
-  if (std::fclose(results) != 0) throw InputError(results_path.string(), "", "error while writing");
-  if (!decisions_closed) throw InputError(decisions_path.string(), "", "error while writing");
-  if (!costs_closed) throw InputError(cost_path.string(), "", "error while writing");
-  if (early && !out.interrupted) {
-    SortByCaseIndex({decisions_path, cost_path, results_path});
-    out.early_stop = early->ToJson(CaseCount(campaign));
-    WriteAtomically(early_path, out.early_stop.dump(2) + "\n");
-  }
+  RunFiles files(run);
+  RunCases(run, next, files, &out);
+  files.Close();
+  if (run.early && !out.interrupted) FinishEarlyStop(run, &out);
   return out;
 }
 
