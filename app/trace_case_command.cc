@@ -13,6 +13,7 @@
 #include "campaigns/runner.h"
 #include "core/base/json_input.h"
 #include "core/monitors/power_monitor.h"
+#include "core/observe.h"
 #include "reports/trace_csv.h"
 
 namespace armfault {

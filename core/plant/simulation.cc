@@ -402,17 +402,18 @@ RunResult Simulate(const ArmModel& model, const RunSpec& spec, const TickObserve
 
       const double inv = k == 0 ? 0.0 : 1.0 / steps;
       const double supply_noise = r.rng.Normal();
-      tick.q_ref_rad = ref.q_rad;
-      tick.qd_ref_rad_s = ref.qd_rad_s;
-      tick.q_meas_rad = co.position_rad;
-      tick.qd_est_rad_s = co.velocity_rad_s;
-      tick.tau_sensor_Nm = ci.torque_reading_Nm;
-      tick.i_cmd_A = r.i_cmd;
+      JointSignals& sig = tick.signals;
+      sig.q_ref_rad = ref.q_rad;
+      sig.qd_ref_rad_s = ref.qd_rad_s;
+      sig.q_meas_rad = co.position_rad;
+      sig.qd_est_rad_s = co.velocity_rad_s;
+      sig.tau_sensor_Nm = ci.torque_reading_Nm;
+      sig.i_cmd_A = r.i_cmd;
       tick.q_rad = r.q;
       tick.qd_rad_s = r.qd;
       tick.tau_true_Nm = r.tau_transmitted;
       tick.i_phase_a_A = r.phase_current[0];
-      tick.v_bus_meas_V = jm.params.inverter.bus_voltage_V;
+      sig.v_bus_meas_V = jm.params.inverter.bus_voltage_V;
       tick.p_supply_W = r.sum_supply * inv;
       tick.p_copper_W = r.sum_copper * inv;
       tick.p_inverter_W = r.sum_inverter * inv;
@@ -423,10 +424,10 @@ RunResult Simulate(const ArmModel& model, const RunSpec& spec, const TickObserve
       tick.p_magnetic_W = r.sum_magnetic * inv;
       tick.i_supply_A = tick.p_supply_W / jm.params.inverter.bus_voltage_V;
       const InverterParams& inv_p = jm.params.inverter;
-      tick.i_supply_meas_A = (1.0 + inv_p.supply_current_gain_error) * tick.i_supply_A + inv_p.supply_current_offset_error_A +
+      sig.i_supply_meas_A = (1.0 + inv_p.supply_current_gain_error) * tick.i_supply_A + inv_p.supply_current_offset_error_A +
                              inv_p.supply_current_noise_A * supply_noise;
       tick.winding_temp_C = r.winding_temp_C;
-      tick.winding_temp_meas_C = jm.params.winding_temperature_sensor ? r.winding_temp_C : std::nan("");
+      sig.winding_temp_C = jm.params.winding_temperature_sensor ? r.winding_temp_C : std::nan("");
       tick.peak_phase_current_A = r.peak_current;
       tick.torque_motor_Nm = r.sum_torque * inv;
       tick.current_sq_A2 = r.sum_current_sq * inv;
