@@ -68,7 +68,7 @@ int BenchCommand(int repeats) {
   RunCase(campaign, healthy, [&](const Tick& tick) {
     times.push_back(tick.t_s);
     std::vector<JointSignals> s;
-    for (const JointTick& j : *tick.joints) s.push_back(SignalsOf(j));
+    for (const JointTick& j : *tick.joints) s.push_back(j.signals);
     signals.push_back(std::move(s));
   });
   const double monitor = LeastCpuSeconds<1>(repeats, {[&] {

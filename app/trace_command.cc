@@ -8,6 +8,7 @@
 #include "campaigns/run_pipeline.h"
 #include "core/base/json_input.h"
 #include "core/monitors/power_monitor.h"
+#include "core/observe.h"
 #include "core/run_config.h"
 #include "core/plant/simulation.h"
 #include "faults/fault.h"
@@ -127,12 +128,12 @@ int RunTrace(const TraceOptions& o) {
     writer.Write(tick);
     for (int j = 0; j < n; ++j) {
       const JointTick& jt = (*tick.joints)[j];
-      const double err = (jt.q_rad - jt.q_ref_rad) * 180.0 / M_PI;
+      const double err = (jt.q_rad - jt.signals.q_ref_rad) * 180.0 / M_PI;
       JointStats& s = stats[j];
       s.sum_sq_error += err * err;
       s.max_error = std::max(s.max_error, std::fabs(err));
-      s.peak_cmd = std::max(s.peak_cmd, std::fabs(jt.i_cmd_A));
-      s.sum_sq_cmd += jt.i_cmd_A * jt.i_cmd_A;
+      s.peak_cmd = std::max(s.peak_cmd, std::fabs(jt.signals.i_cmd_A));
+      s.sum_sq_cmd += jt.signals.i_cmd_A * jt.signals.i_cmd_A;
       ++s.count;
     }
   });

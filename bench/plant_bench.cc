@@ -6,6 +6,7 @@
 #include "core/monitors/monitor.h"
 #include "core/plant/ode_runtime.h"
 #include "core/monitors/power_monitor.h"
+#include "core/observe.h"
 #include "core/run_config.h"
 #include "core/plant/simulation.h"
 
@@ -58,7 +59,7 @@ void BM_MonitorOnlyPerTick(benchmark::State& state) {
   Simulate(model, MakeRunSpec(run), [&](const Tick& tick) {
     times.push_back(tick.t_s);
     std::vector<JointSignals> s;
-    for (const JointTick& j : *tick.joints) s.push_back(SignalsOf(j));
+    for (const JointTick& j : *tick.joints) s.push_back(j.signals);
     signals.push_back(s);
   });
   const std::shared_ptr<const MonitorModel> monitor_model = MakeRunMonitor(run);

@@ -55,7 +55,7 @@ void BM_MonitorOnly(benchmark::State& state) {
   RunCase(c, spec, [&](const Tick& tick) {
     times.push_back(tick.t_s);
     std::vector<JointSignals> s;
-    for (const JointTick& j : *tick.joints) s.push_back(SignalsOf(j));
+    for (const JointTick& j : *tick.joints) s.push_back(j.signals);
     signals.push_back(std::move(s));
   });
   state.SetLabel(kMonitorNames[state.range(0)]);

@@ -19,7 +19,6 @@
 #include <vector>
 
 #include "core/base/json_input.h"
-#include "core/monitors/power_monitor.h"
 #include "core/monitors/registry.h"
 #include "core/plant/robot_config.h"
 #include "core/plant/trajectory.h"

@@ -64,7 +64,7 @@ class SignalsWriter {
     row.clear();
     AppendCsvExact(&row, tick.t_s);
     for (const JointTick& jt : *tick.joints) {
-      const JointSignals s = SignalsOf(jt);
+      const JointSignals& s = jt.signals;
       for (double x : {s.q_ref_rad, s.qd_ref_rad_s, s.q_meas_rad, s.qd_est_rad_s, s.tau_sensor_Nm, s.i_cmd_A,
                        s.i_supply_meas_A, s.v_bus_meas_V, s.winding_temp_C}) {
         row += ',';

@@ -35,7 +35,7 @@ std::optional<double> ProbeMonitorHeapBytes(const Campaign& campaign) {
   RunCase(campaign, CaseAt(campaign, 0), [&](const Tick& tick) {
     times.push_back(tick.t_s);
     std::vector<JointSignals> s;
-    for (const JointTick& j : *tick.joints) s.push_back(SignalsOf(j));
+    for (const JointTick& j : *tick.joints) s.push_back(j.signals);
     signals.push_back(std::move(s));
   });
   if (times.empty()) return std::nullopt;

@@ -57,7 +57,7 @@ UnitMonitor CommissionUnit(const Campaign& campaign, const CaseSpec& spec) {
       data.t_s.push_back(tick.t_s);
       std::vector<JointSignals> s;
       s.reserve(tick.joints->size());
-      for (const JointTick& jt : *tick.joints) s.push_back(SignalsOf(jt));
+      for (const JointTick& jt : *tick.joints) s.push_back(jt.signals);
       data.signals.push_back(std::move(s));
     });
     data.ok = result.ok;
@@ -271,7 +271,7 @@ ExecutedRun Execute(const ArmModel& model, const RunSpec& spec, const std::vecto
   try {
     x.result = Simulate(model, spec, [&](const Tick& tick) {
       signals.resize(tick.joints->size());
-      for (size_t j = 0; j < signals.size(); ++j) signals[j] = SignalsOf((*tick.joints)[j]);
+      for (size_t j = 0; j < signals.size(); ++j) signals[j] = (*tick.joints)[j].signals;
       clock.Start();
       x.monitor->Observe(tick.t_s, signals);
       clock.StopTick();

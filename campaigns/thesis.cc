@@ -7,6 +7,7 @@
 
 #include "campaigns/run_pipeline.h"
 #include "core/monitors/power_monitor.h"
+#include "core/observe.h"
 #include "core/run_config.h"
 #include "core/plant/simulation.h"
 #include "faults/fault.h"

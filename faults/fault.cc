@@ -236,7 +236,7 @@ void EffectRecorder::Observe(const Tick& tick) {
   for (size_t k = 0; k < meters_.size(); ++k) {
     const JointTick& joint = (*tick.joints)[joints_[k]];
     meters_[k]->Observe(tick.t_s, joint);
-    if (tick.t_s >= onsets_s_[k]) travel_rad_[k] += std::fabs(joint.qd_ref_rad_s) * dt_s;
+    if (tick.t_s >= onsets_s_[k]) travel_rad_[k] += std::fabs(joint.signals.qd_ref_rad_s) * dt_s;
   }
 }
 

@@ -17,7 +17,7 @@ class TorqueSensorDrift : public Fault {
   nlohmann::json Parameters() const override { return {{"drift_Nm_per_s", rate_}}; }
   std::unique_ptr<EffectMeter> MakeEffectMeter(const JointModel&) const override {
     return MakeRmsMeter("sensor_error_rms_Nm", timing().onset_s, 3.0, 0.1,
-                        [](const JointTick& j) { return j.tau_sensor_Nm - j.tau_true_Nm; });
+                        [](const JointTick& j) { return j.signals.tau_sensor_Nm - j.tau_true_Nm; });
   }
 
  private:

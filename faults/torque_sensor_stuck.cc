@@ -19,9 +19,9 @@ class TorqueSensorStuck : public Fault {
   nlohmann::json Parameters() const override { return {{"lead", name_}}; }
   std::unique_ptr<EffectMeter> MakeEffectMeter(const JointModel&) const override {
     return MakeEitherMeter(MakeFlatnessMeter("sensor_reading_std_Nm", timing().onset_s, 0.2,
-                                             [](const JointTick& j) { return j.tau_sensor_Nm; }),
+                                             [](const JointTick& j) { return j.signals.tau_sensor_Nm; }),
                            MakeRmsMeter("sensor_error_rms_Nm", timing().onset_s, 3.0, 0.1,
-                                        [](const JointTick& j) { return j.tau_sensor_Nm - j.tau_true_Nm; }));
+                                        [](const JointTick& j) { return j.signals.tau_sensor_Nm - j.tau_true_Nm; }));
   }
 
  private:

@@ -89,9 +89,9 @@ RunSeries SimulateRunSeries(const Campaign& campaign, const CaseSpec& spec) {
     s.t_s.push_back(tick.t_s);
     for (size_t k = 0; k < s.joints.size(); ++k) {
       const JointTick& jt = (*tick.joints)[s.joints[k] - 1];
-      s.i_cmd_A[k].push_back(jt.i_cmd_A);
-      s.i_supply_A[k].push_back(jt.i_supply_meas_A);
-      s.tau_sensor_Nm[k].push_back(jt.tau_sensor_Nm);
+      s.i_cmd_A[k].push_back(jt.signals.i_cmd_A);
+      s.i_supply_A[k].push_back(jt.signals.i_supply_meas_A);
+      s.tau_sensor_Nm[k].push_back(jt.signals.tau_sensor_Nm);
     }
   };
   s.record = RunCase(campaign, spec, observer, nullptr, &s.monitor);

@@ -16,6 +16,13 @@
 
 namespace armfault {
 
+// Where a JSON value came from: the file name (for errors) and the directory against which
+// relative paths inside it (a csv trajectory's "path", a plugin library) are resolved.
+struct InputContext {
+  std::string source = "<input>";
+  std::string base_dir = ".";
+};
+
 // Invalid user input (a file, a command-line value). The CLI turns it into
 // exit status 2. what() reads "<source>: <pointer>: <message>".
 //

@@ -15,20 +15,6 @@ std::string JoinNames(const std::vector<std::string>& names) {
 }
 }  // namespace
 
-JointSignals SignalsOf(const JointTick& tick) {
-  JointSignals s;
-  s.q_ref_rad = tick.q_ref_rad;
-  s.qd_ref_rad_s = tick.qd_ref_rad_s;
-  s.q_meas_rad = tick.q_meas_rad;
-  s.qd_est_rad_s = tick.qd_est_rad_s;
-  s.tau_sensor_Nm = tick.tau_sensor_Nm;
-  s.i_cmd_A = tick.i_cmd_A;
-  s.i_supply_meas_A = tick.i_supply_meas_A;
-  s.v_bus_meas_V = tick.v_bus_meas_V;
-  s.winding_temp_C = tick.winding_temp_meas_C;
-  return s;
-}
-
 const char* HealthStateName(HealthState s) {
   switch (s) {
     case HealthState::kHealthy: return "healthy";
@@ -207,15 +193,6 @@ nlohmann::json ToJson(const MonitorOutput& output) {
   for (const Verdict& v : output.verdicts) out["verdicts"].push_back(ToJson(v));
   for (const EfficiencyWindow& w : output.windows) out["windows"].push_back(ToJson(w));
   return out;
-}
-
-TickObserver ObserveWith(HealthMonitor* monitor, TickObserver also) {
-  return [monitor, also, signals = std::vector<JointSignals>()](const Tick& tick) mutable {
-    signals.resize(tick.joints->size());
-    for (size_t j = 0; j < signals.size(); ++j) signals[j] = SignalsOf((*tick.joints)[j]);
-    monitor->Observe(tick.t_s, signals);
-    if (also) also(tick);
-  };
 }
 
 }  // namespace armfault

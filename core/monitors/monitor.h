@@ -1,36 +1,20 @@
 // The standard monitor interface: what any health monitor may read (the joint controller's
-// signals) and what it must produce (a stream of verdicts plus per-window efficiencies).
+// signals, JointSignals in core/signals/joint_signals.h) and what it must produce (a stream of verdicts plus per-window efficiencies).
 // Scoring and threshold tuning read only MonitorOutput, so any monitor that implements
 // HealthMonitor is scored the same way as the power-efficiency monitor.
 #pragma once
 
 #include <nlohmann/json.hpp>
 
-#include <limits>
 #include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
-#include "core/plant/simulation.h"
+#include "core/signals/joint_signals.h"
 
 namespace armfault {
-
-// The signals one joint's controller has at a tick, and nothing else: a monitor never sees
-// the simulator's truth. Units: rad, rad/s, N m, A, V.
-struct JointSignals {
-  double q_ref_rad = 0, qd_ref_rad_s = 0;  // reference the controller tracks
-  double q_meas_rad = 0;                   // encoder (link side)
-  double qd_est_rad_s = 0;                 // controller's velocity estimate
-  double tau_sensor_Nm = 0;                // joint torque sensor (after the ADC)
-  double i_cmd_A = 0;                      // commanded current (after the DAC)
-  double i_supply_meas_A = 0;              // driver input current, mean over the control period
-  double v_bus_meas_V = 0;                 // driver input (bus) voltage
-  // winding temperature sensor, only where the robot config declares one; NaN otherwise
-  double winding_temp_C = std::numeric_limits<double>::quiet_NaN();
-};
-JointSignals SignalsOf(const JointTick& tick);
 
 // What a monitor recorded on one robot unit during a healthy commissioning run: the signals
 // of every joint at every controller tick, nothing else. See core/monitors/commissioning.cc.
@@ -173,8 +157,5 @@ class HealthMonitor {
     return nullptr;
   }
 };
-
-// Adapts a monitor to the simulation's tick observer: passes on only the signals.
-TickObserver ObserveWith(HealthMonitor* monitor, TickObserver also = nullptr);
 
 }  // namespace armfault

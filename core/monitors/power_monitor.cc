@@ -268,6 +268,7 @@ PowerMonitorModel MakePowerMonitorModel(const RobotConfig& robot, const MonitorC
 
 namespace {
 
+using JointState = PowerEfficiencyMonitor::JointState;
 
 void FinishWindow(EfficiencyWindow* w) {
   w->mesh_in_J = w->rotor_J - w->friction_J;
@@ -305,6 +306,316 @@ void FinishWindow(EfficiencyWindow* w) {
   }
 }
 
+// What one joint's estimators take from one tick: the motion and the powers over the control
+// period just ended, from this tick's signals and the previous tick's.
+struct TickTerms {
+  double dq = 0;            // encoder travel over the period [rad]
+  double i = 0;             // the command held over the period [A]
+  double tau_mean = 0;      // mean torque-sensor reading over the period [N m]
+  double rotor_torque = 0;  // rotor torque the command gives, as perceived at the link [N m]
+  double p_supply = 0;      // U_d I_d [W]
+  double p_rotor = 0, p_copper = 0, p_fixed = 0;  // the calibration's terms of the supply power [W]
+};
+
+TickTerms TermsOf(const JointKnowledge& k, const JointSignals& now, const JointSignals& prev, double dt) {
+  TickTerms x;
+  x.dq = now.q_meas_rad - prev.q_meas_rad;
+  x.i = prev.i_cmd_A;
+  x.tau_mean = 0.5 * (now.tau_sensor_Nm + prev.tau_sensor_Nm);
+  // A declared winding-temperature sensor lets the monitor follow copper resistance and
+  // magnet strength from the temperature its calibration holds at (docs/monitor.md).
+  const bool has_temp = std::isfinite(now.winding_temp_C);
+  const double dT = has_temp ? now.winding_temp_C - k.electrical.reference_temp_C : 0.0;
+  const double kt_scale = 1.0 - kMagnetLossPerK * dT;
+  x.rotor_torque = kt_scale * k.ratio * k.kt_Nm_per_A * x.i;
+  x.p_supply = now.v_bus_meas_V * now.i_supply_meas_A;
+  x.p_rotor = k.electrical.rotor_gain * x.rotor_torque * x.dq / dt;
+  x.p_copper = (1.0 + kCopperPerK * dT) * k.electrical.Copper(x.i);
+  x.p_fixed = k.electrical.Fixed(x.i);
+  return x;
+}
+
+// The electrical fits and the tick-rate torque balance fits after one tick, and the joint's
+// estimates from them. `terms`: the balance filter's output at this tick; `coupling_torque`:
+// the lower joints' rotor coupling [N m].
+void UpdateFits(const MonitorConfig& c, const JointKnowledge& k, const TickTerms& x, const FilteredTerms& terms,
+                double coupling_torque, double dt, JointState* state) {
+  JointState& s = *state;
+  // --- electrical balance, every tick ---
+  const double y = x.p_supply - x.p_fixed;
+  s.electrical.Add(y, x.p_rotor, x.p_copper);
+  s.electrical_fast.Add(y, x.p_rotor, x.p_copper);
+  const double forget = s.electrical.forget;
+  s.excitation_rotor_J = forget * s.excitation_rotor_J + std::fabs(x.p_rotor) * dt;
+  s.excitation_copper_J = forget * s.excitation_copper_J + x.p_copper * dt;
+  s.est.kt_factor = s.electrical.n;
+  s.est.kt_factor_se = s.electrical.n_se;
+  s.est.resistance_factor = s.electrical.rho;
+  s.est.resistance_factor_se = s.electrical.rho_se;
+
+  // The torque gain is the K_T factor the fast electrical fit sees (a magnet cannot
+  // strengthen, so never above 1).
+  const BalanceRow row = RowOf(k.mechanical, terms, coupling_torque);
+  const double gain = std::min(1.0, s.electrical_fast.n);
+  s.balance_slow.Add(row, gain, 0.0);
+  // The fast fit keeps the calibrated offset: within one direction of motion an offset
+  // change cannot be told from friction, and friction is the commoner wear.
+  s.balance.Add(row, gain, 0.0);
+  if (s.balance_crossed) s.balance_since_alarm.Add(row, std::min(1.0, s.electrical.n), 0.0);
+  const BalanceFit::Estimate& b = s.balance.estimate();
+  const BalanceFit::Estimate& m = s.balance_since_alarm.estimate();
+  const BalanceFit::Estimate& sl = s.balance_slow.estimate();
+  const bool grown = s.balance_crossed && m.moving_s >= c.min_balance_moving_s;
+  s.est.friction_factor = grown ? m.friction_factor : b.friction_factor;
+  s.est.friction_factor_se = b.friction_factor_se;
+  s.est.sensor_drift_Nm = grown ? m.offset_Nm : sl.offset_Nm;
+  s.est.sensor_drift_se = sl.offset_se;
+  s.est.torque_gain = gain;
+  s.est.torque_gain_se = s.electrical_fast.n_se;
+  s.est.balance_moving_s = b.moving_s;
+}
+
+// Adds a used window to the mechanical window fit (the thesis's view, its last
+// `mechanical_windows` windows) and refits: y = n E_rotor - E_out - mesh loss = k E_friction - d dq.
+void FitMechanicalWindows(const MonitorConfig& c, const EfficiencyWindow& w, double window_dq, JointState* state) {
+  JointState& s = *state;
+  MechanicalWindow m;
+  m.rotor_J = w.rotor_J;
+  m.out_J = w.out_J;
+  m.mesh_loss_J = w.mesh_loss_J;
+  m.friction_J = w.friction_J;
+  m.dq_rad = window_dq;
+  m.sigma_J = kMechanicalNoiseFloor_J +
+              kMechanicalNoiseFraction * (std::fabs(w.out_J) + w.mesh_loss_J + std::fabs(w.friction_J));
+  s.mech.push_back(m);
+  while (static_cast<int>(s.mech.size()) > c.mechanical_windows) s.mech.pop_front();
+  double a11 = kFrictionPrior, a12 = 0, a22 = kDriftPrior;
+  double b1 = kFrictionPrior, b2 = 0;
+  for (const MechanicalWindow& mw : s.mech) {
+    const double wgt = 1.0 / (mw.sigma_J * mw.sigma_J);
+    const double yw = s.est.kt_factor * mw.rotor_J - mw.out_J - mw.mesh_loss_J;
+    const double x1 = mw.friction_J, x2 = -mw.dq_rad;
+    a11 += wgt * x1 * x1;
+    a12 += wgt * x1 * x2;
+    a22 += wgt * x2 * x2;
+    b1 += wgt * x1 * yw;
+    b2 += wgt * x2 * yw;
+  }
+  double kf, d, inv11, inv22;
+  if (Solve2(a11, a12, a22, b1, b2, &kf, &d, &inv11, &inv22)) s.est.window_friction_factor = kf;
+  s.est.windows_in_fit = static_cast<int>(s.mech.size());
+}
+
+// Windows bounded by zero velocity: extends the joint's window by the tick that ends at t_s
+// (opening one at t_prev_s when the joint starts to move, `dir` its direction, 0 at rest) and
+// closes it when the direction changes; a closed window goes to `windows`, and into the
+// mechanical fit when it is used. `v`: the velocity estimate [rad/s].
+void UpdateWindow(const MonitorConfig& c, const JointKnowledge& k, const TickTerms& x, double coupling_torque, double v,
+                  int dir, int joint, double t_prev_s, double t_s, double dt, JointState* state,
+                  std::vector<EfficiencyWindow>* windows) {
+  JointState& s = *state;
+  bool close = false;
+  if (s.in_window || dir != 0) {
+    if (!s.in_window) {
+      s.in_window = true;
+      s.window = EfficiencyWindow();
+      s.window.joint = joint;
+      s.window.t_start_s = t_prev_s;
+      s.window.direction = dir;
+      s.window_dq = 0;
+    }
+    EfficiencyWindow& w = s.window;
+    w.out_J += (x.tau_mean + coupling_torque) * x.dq;
+    w.rotor_J += x.rotor_torque * x.dq;
+    w.friction_J += k.mechanical.FrictionNm(v) * x.dq;
+    w.mesh_loss_J += k.mechanical.mesh_loss_fraction * std::fabs(x.tau_mean + coupling_torque) * std::fabs(x.dq);
+    w.supply_J += x.p_supply * dt;
+    w.electrical_loss_J += (x.p_copper + x.p_fixed) * dt;
+    w.t_end_s = t_s;
+    s.window_dq += x.dq;
+    close = dir != w.direction;
+  }
+  if (close) {
+    s.in_window = false;
+    EfficiencyWindow& w = s.window;
+    FinishWindow(&w);
+    w.used = w.t_end_s - w.t_start_s >= c.min_window_s && std::fabs(w.out_J) >= c.min_window_energy_J &&
+             std::fabs(w.mesh_in_J) >= c.min_window_energy_J && w.flow != "mixed";
+    windows->push_back(w);
+    if (w.used) FitMechanicalWindows(c, w, s.window_dq, &s);
+  }
+}
+
+// The tick-level detectors: their timers after this tick, and the candidate of the first one
+// that fires (healthy when none does). `dir`: the window direction, 0 at rest.
+Candidate TickLevelCandidate(const MonitorConfig& c, const JointKnowledge& k, const TickTerms& x,
+                             const JointSignals& now, const JointSignals& prev, int dir, double dt, JointState* state) {
+  JointState& s = *state;
+  Candidate structural;
+  // Inverter short: supply power far above what the commanded current can explain.
+  const double excess = x.p_supply - (std::max(0.0, x.p_rotor) + x.p_copper + x.p_fixed);
+  s.overpower_s = excess > c.overpower_W ? s.overpower_s + dt : 0.0;
+  // Dead drive: a large command but no copper loss in the supply: the over-current
+  // protection has opened the bridge (a short that tripped faster than it could be seen).
+  const bool dead = std::fabs(x.i) >= c.dead_drive_current_A && x.p_supply - k.electrical.quiescent_W < 0.25 * x.p_copper;
+  s.dead_s = dead ? s.dead_s + dt : 0.0;
+  // Stuck torque sensor: on a rail, or unchanged while the joint moves and the commanded
+  // torque swings (a live sensor would follow it).
+  const bool on_rail = now.tau_sensor_Nm >= k.sensor_max_Nm - 1e-9 || now.tau_sensor_Nm <= k.sensor_min_Nm + 1e-9;
+  s.rail_s = on_rail ? s.rail_s + dt : 0.0;
+  if (now.tau_sensor_Nm == prev.tau_sensor_Nm) {
+    if (s.flat_s == 0) {
+      s.flat_cmd_min = s.flat_cmd_max = x.rotor_torque, s.flat_dq = 0;
+      s.flat_ref_min = s.flat_ref_max = now.q_ref_rad;
+    }
+    s.flat_s += dt;
+    s.flat_dq += std::fabs(x.dq);
+    s.flat_ref_min = std::min(s.flat_ref_min, now.q_ref_rad);
+    s.flat_ref_max = std::max(s.flat_ref_max, now.q_ref_rad);
+    s.flat_cmd_min = std::min(s.flat_cmd_min, x.rotor_torque);
+    s.flat_cmd_max = std::max(s.flat_cmd_max, x.rotor_torque);
+  } else {
+    s.flat_s = 0;
+  }
+  // The joint moved, or was meant to stay put: a command swinging against a still reference
+  // is the load (the other joints) changing, which a live sensor follows; a brake fighting a
+  // moving reference is not that.
+  const bool flat_stuck = s.flat_s >= c.stuck_time_s && s.flat_cmd_max - s.flat_cmd_min >= c.stuck_torque_span_Nm &&
+                          (s.flat_dq >= 10 * c.rest_velocity_rad_s * c.stuck_time_s ||
+                           s.flat_ref_max - s.flat_ref_min < c.blocked_error_rad);
+  // Locked: at rest, far from a moving reference, with high current.
+  const bool blocked = dir == 0 && std::fabs(now.i_cmd_A) >= c.blocked_current_A &&
+                       std::fabs(now.q_ref_rad - now.q_meas_rad) >= c.blocked_error_rad;
+  s.blocked_s = blocked ? s.blocked_s + dt : 0.0;
+
+  if (s.overpower_s >= c.overpower_time_s) {
+    structural = {HealthState::kDefective, "inverter_short", "excess_power_W", excess, 1.0, true};
+  } else if (s.dead_s >= c.dead_drive_time_s) {
+    structural = {HealthState::kDefective, "inverter_short", "", 0, 1.0, true};
+  } else if (s.rail_s >= c.rail_time_s || flat_stuck) {
+    structural = {HealthState::kDefective, "torque_sensor_stuck", "stuck_reading_Nm", now.tau_sensor_Nm, 1.0, true};
+  } else if (s.blocked_s >= c.blocked_time_s) {
+    const double motor = std::fabs(k.ratio * k.kt_Nm_per_A * now.i_cmd_A);
+    if (std::fabs(now.tau_sensor_Nm) < 0.5 * motor) {
+      // The torque stays inside the module: the brake holds it. With the drive at its
+      // limit this is a lower bound of the drag.
+      const double drag = (motor - std::fabs(now.tau_sensor_Nm)) / (k.ratio * k.brake_holding_Nm);
+      structural = {HealthState::kDefective, "brake_lock", "drag_fraction", std::min(1.0, drag), 1.0, true};
+    } else {
+      structural = {HealthState::kDefective, "unknown", "", 0, 0.5, true};  // blocked outside the joint
+    }
+  }
+  return structural;
+}
+
+// The parametric detectors: deviation statistics from the estimates, held over the debounce
+// time (s->readings); the magnitude fit starts where the friction or drift statistic first
+// crosses its limit. Returns whether the friction is far beyond wear: a brake dragging.
+bool UpdateReadings(const MonitorConfig& c, const DetectorThresholds& thresholds, JointState* state) {
+  JointState& s = *state;
+  const PowerEfficiencyMonitor::Estimates& e = s.est;
+  const bool judge_n = s.excitation_rotor_J >= c.min_rotor_energy_J;
+  const bool judge_r = s.excitation_copper_J >= c.min_copper_energy_J;
+  const BalanceFit::Estimate& bal = s.balance.estimate();
+  const BalanceFit::Estimate& slow = s.balance_slow.estimate();
+  const bool judge_b = bal.moving_s >= c.min_balance_moving_s;
+  // An offset is told from friction only by motion both ways.
+  const bool judge_d = std::min(slow.positive_s, slow.negative_s) >= kMinOffsetMovingEachWay_s;
+  const std::array<double, kDetectorCount> deviation = {
+      judge_n ? 1 - e.kt_factor : kNoStatistic, judge_r ? e.resistance_factor - 1 : kNoStatistic,
+      judge_b ? bal.friction_factor - 1 : kNoStatistic, judge_d ? std::fabs(slow.offset_Nm) : kNoStatistic};
+  const std::array<double, kDetectorCount> significance = {
+      judge_n ? Significance(deviation[0], e.kt_factor_se) : kNoStatistic,
+      judge_r ? Significance(deviation[1], e.resistance_factor_se) : kNoStatistic,
+      judge_b ? Significance(deviation[2], bal.friction_factor_se) : kNoStatistic,
+      judge_d ? Significance(deviation[3], slow.offset_se) : kNoStatistic};
+  if (!s.balance_crossed && ((judge_b && deviation[2] > thresholds[2]) || (judge_d && deviation[3] > thresholds[3]))) {
+    s.balance_crossed = true;
+    s.balance_since_alarm.Reset();
+  }
+  for (int d = 0; d < kDetectorCount; ++d) {
+    s.readings[d].held_quanta = s.held[d].Push(Quantize(deviation[d]));
+    s.readings[d].held_significance_quanta =
+        s.held_significance[d].Push(Quantize(significance[d], kSignificanceQuantum));
+    s.readings[d].family = Detectors()[d].family;
+  }
+  const bool drag = e.friction_factor > kBrakeDragFrictionFactor;
+  if (drag) s.readings[static_cast<int>(Detector::kFrictionFactor)].family = "brake_lock";
+  return drag;
+}
+
+// The joint's verdict before debounce: a latched tick-level alarm, else the first alarming
+// detector (healthy when none alarms). `drag`: the friction is a dragging brake.
+Candidate ShownCandidate(const MonitorConfig& c, const JointKnowledge& k, const DetectorThresholds& thresholds,
+                         bool drag, const JointState& s) {
+  Candidate shown;
+  if (s.structural.structural) {
+    shown = s.structural;
+    return shown;
+  }
+  const PowerEfficiencyMonitor::Estimates& e = s.est;
+  auto confidence = [](double margin, double se) { return se > 0 ? NormalCdf(margin / se) : 1.0; };
+  for (int d = 0; d < kDetectorCount && shown.state == HealthState::kHealthy; ++d) {
+    const DetectorReading& r = s.readings[d];
+    if (!Alarms(r.held_quanta, r.held_significance_quanta, thresholds[d], c.significance)) continue;
+    switch (static_cast<Detector>(d)) {
+      case Detector::kKtFactor:
+        shown = {e.kt_factor < c.kt_factor.defective ? HealthState::kDefective : HealthState::kWorn, "kt_degradation",
+                 "kt_factor", e.kt_factor, confidence(c.kt_factor.worn - e.kt_factor, e.kt_factor_se), false};
+        break;
+      case Detector::kResistanceFactor:
+        shown = {e.resistance_factor > c.resistance_factor.defective ? HealthState::kDefective : HealthState::kWorn,
+                 "winding_resistance", "resistance_factor", e.resistance_factor,
+                 confidence(e.resistance_factor - c.resistance_factor.worn, e.resistance_factor_se), false};
+        break;
+      case Detector::kFrictionFactor:
+        if (drag) {
+          // Its torque ~ the extra Coulomb part.
+          shown = {HealthState::kDefective, "brake_lock", "drag_fraction",
+                   (e.friction_factor - 1) * (k.friction.coulomb_Nm + k.friction.static_Nm) / k.brake_holding_Nm, 1.0,
+                   false};
+        } else {
+          shown = {e.friction_factor > c.friction_factor.defective ? HealthState::kDefective : HealthState::kWorn,
+                   "friction_increase", "friction_factor", e.friction_factor,
+                   confidence(e.friction_factor - c.friction_factor.worn, e.friction_factor_se), false};
+        }
+        break;
+      case Detector::kSensorDrift:
+        shown = {std::fabs(e.sensor_drift_Nm) > c.sensor_drift_Nm.defective ? HealthState::kDefective : HealthState::kWorn,
+                 "torque_sensor_drift", "drift_Nm", e.sensor_drift_Nm,
+                 confidence(std::fabs(e.sensor_drift_Nm) - c.sensor_drift_Nm.worn, e.sensor_drift_se), false};
+        break;
+    }
+  }
+  return shown;
+}
+
+// Emits `shown` as the joint's verdict at t_s on a change of family or state, and now and then
+// to refine a standing magnitude.
+void EmitVerdict(const Candidate& shown, double t_s, int joint, JointState* state, std::vector<Verdict>* verdicts) {
+  JointState& s = *state;
+  const bool changed = shown.family != s.shown_family || shown.state != s.shown_state;
+  const bool refine = !changed && !shown.structural && shown.state != HealthState::kHealthy &&
+                      t_s - s.last_emit_t >= 0.5 &&
+                      std::fabs(shown.magnitude - s.last_emit_magnitude) >
+                          0.01 * std::max(1.0, std::fabs(s.last_emit_magnitude));
+  if (!changed && !refine) return;
+  Verdict out;
+  out.t_s = t_s;
+  out.joint = joint;
+  out.state = shown.state;
+  out.alarm = shown.state != HealthState::kHealthy;
+  out.family = shown.family;
+  out.magnitude_name = shown.magnitude_name;
+  out.magnitude = shown.magnitude;
+  out.confidence = shown.confidence;
+  verdicts->push_back(out);
+  s.shown_family = shown.family;
+  s.shown_state = shown.state;
+  s.last_emit_t = t_s;
+  s.last_emit_magnitude = shown.magnitude;
+}
+
 }  // namespace
 
 void PowerEfficiencyMonitor::Observe(double t_s, const std::vector<JointSignals>& signals) {
@@ -324,277 +635,34 @@ void PowerEfficiencyMonitor::Observe(double t_s, const std::vector<JointSignals>
     JointState& s = *joints_[j];
     const JointSignals& now = signals[j];
     const JointSignals& prev = previous_[j];
-    const double dq = now.q_meas_rad - prev.q_meas_rad;
-    const double i = prev.i_cmd_A;  // the command held over the period just ended
-    const double tau_mean = 0.5 * (now.tau_sensor_Nm + prev.tau_sensor_Nm);
-    // A declared winding-temperature sensor lets the monitor follow copper resistance and
-    // magnet strength from the temperature its calibration holds at (docs/monitor.md).
-    const bool has_temp = std::isfinite(now.winding_temp_C);
-    const double dT = has_temp ? now.winding_temp_C - k.electrical.reference_temp_C : 0.0;
-    const double kt_scale = 1.0 - kMagnetLossPerK * dT;
-    const double rotor_torque = kt_scale * k.ratio * k.kt_Nm_per_A * i;  // perceived, at the link
-    const double p_supply = now.v_bus_meas_V * now.i_supply_meas_A;
-    const double p_rotor = k.electrical.rotor_gain * rotor_torque * dq / dt;
-    const double p_copper = (1.0 + kCopperPerK * dT) * k.electrical.Copper(i);
-    const double p_fixed = k.electrical.Fixed(i);
+    const TickTerms x = TermsOf(k, now, prev, dt);
 
     // --- tick-rate torque balance (core/monitors/torque_balance.h) ---
     // Coupling (eq 4-14, 4-15): the rotor turns with the parallel lower joints, so their
     // acceleration I_m γ c_l q̈_l is rotor torque the sensor never sees.
-    const FilteredTerms& terms = s.balance_filter.Push(rotor_torque, dq / dt, tau_mean);
+    const FilteredTerms& terms = s.balance_filter.Push(x.rotor_torque, x.dq / dt, x.tau_mean);
     double coupling_torque = 0;
     for (int l = 0; l < j; ++l) {
       if (k.coupling[l] != 0) {
         coupling_torque += k.coupling[l] * k.mechanical.rotor_coupling_kg_m2 * joints_[l]->balance_filter.terms().accel_rad_s2;
       }
     }
-    // --- electrical balance, every tick ---
-    const double y = p_supply - p_fixed;
-    s.electrical.Add(y, p_rotor, p_copper);
-    s.electrical_fast.Add(y, p_rotor, p_copper);
-    const double forget = s.electrical.forget;
-    s.excitation_rotor_J = forget * s.excitation_rotor_J + std::fabs(p_rotor) * dt;
-    s.excitation_copper_J = forget * s.excitation_copper_J + p_copper * dt;
-    s.est.kt_factor = s.electrical.n;
-    s.est.kt_factor_se = s.electrical.n_se;
-    s.est.resistance_factor = s.electrical.rho;
-    s.est.resistance_factor_se = s.electrical.rho_se;
-
-    // The torque gain is the K_T factor the fast electrical fit sees (a magnet cannot
-    // strengthen, so never above 1).
-    const BalanceRow row = RowOf(k.mechanical, terms, coupling_torque);
-    const double gain = std::min(1.0, s.electrical_fast.n);
-    s.balance_slow.Add(row, gain, 0.0);
-    // The fast fit keeps the calibrated offset: within one direction of motion an offset
-    // change cannot be told from friction, and friction is the commoner wear.
-    s.balance.Add(row, gain, 0.0);
-    if (s.balance_crossed) s.balance_since_alarm.Add(row, std::min(1.0, s.electrical.n), 0.0);
-    {
-      const BalanceFit::Estimate& b = s.balance.estimate();
-      const BalanceFit::Estimate& m = s.balance_since_alarm.estimate();
-      const BalanceFit::Estimate& sl = s.balance_slow.estimate();
-      const bool grown = s.balance_crossed && m.moving_s >= c.min_balance_moving_s;
-      s.est.friction_factor = grown ? m.friction_factor : b.friction_factor;
-      s.est.friction_factor_se = b.friction_factor_se;
-      s.est.sensor_drift_Nm = grown ? m.offset_Nm : sl.offset_Nm;
-      s.est.sensor_drift_se = sl.offset_se;
-      s.est.torque_gain = gain;
-      s.est.torque_gain_se = s.electrical_fast.n_se;
-      s.est.balance_moving_s = b.moving_s;
-    }
+    UpdateFits(c, k, x, terms, coupling_torque, dt, &s);
 
     // --- windows bounded by zero velocity ---
     const double v = now.qd_est_rad_s;
     const int dir = std::fabs(v) < c.rest_velocity_rad_s ? 0 : (v > 0 ? 1 : -1);
-    bool close = false;
-    if (s.in_window || dir != 0) {
-      if (!s.in_window) {
-        s.in_window = true;
-        s.window = EfficiencyWindow();
-        s.window.joint = j + 1;
-        s.window.t_start_s = t_prev_;
-        s.window.direction = dir;
-        s.window_dq = 0;
-      }
-      EfficiencyWindow& w = s.window;
-      w.out_J += (tau_mean + coupling_torque) * dq;
-      w.rotor_J += rotor_torque * dq;
-      w.friction_J += k.mechanical.FrictionNm(v) * dq;
-      w.mesh_loss_J += k.mechanical.mesh_loss_fraction * std::fabs(tau_mean + coupling_torque) * std::fabs(dq);
-      w.supply_J += p_supply * dt;
-      w.electrical_loss_J += (p_copper + p_fixed) * dt;
-      w.t_end_s = t_s;
-      s.window_dq += dq;
-      close = dir != w.direction;
-    }
-    if (close) {
-      s.in_window = false;
-      EfficiencyWindow& w = s.window;
-      FinishWindow(&w);
-      w.used = w.t_end_s - w.t_start_s >= c.min_window_s && std::fabs(w.out_J) >= c.min_window_energy_J &&
-               std::fabs(w.mesh_in_J) >= c.min_window_energy_J && w.flow != "mixed";
-      output_.windows.push_back(w);
-      if (w.used) {
-        MechanicalWindow m;
-        m.rotor_J = w.rotor_J;
-        m.out_J = w.out_J;
-        m.mesh_loss_J = w.mesh_loss_J;
-        m.friction_J = w.friction_J;
-        m.dq_rad = s.window_dq;
-        m.sigma_J = kMechanicalNoiseFloor_J +
-                    kMechanicalNoiseFraction * (std::fabs(w.out_J) + w.mesh_loss_J + std::fabs(w.friction_J));
-        s.mech.push_back(m);
-        while (static_cast<int>(s.mech.size()) > c.mechanical_windows) s.mech.pop_front();
-        // Mechanical fit: y = n E_rotor - E_out - mesh loss = k E_friction - d dq.
-        double a11 = kFrictionPrior, a12 = 0, a22 = kDriftPrior;
-        double b1 = kFrictionPrior, b2 = 0;
-        for (const MechanicalWindow& mw : s.mech) {
-          const double wgt = 1.0 / (mw.sigma_J * mw.sigma_J);
-          const double yw = s.est.kt_factor * mw.rotor_J - mw.out_J - mw.mesh_loss_J;
-          const double x1 = mw.friction_J, x2 = -mw.dq_rad;
-          a11 += wgt * x1 * x1;
-          a12 += wgt * x1 * x2;
-          a22 += wgt * x2 * x2;
-          b1 += wgt * x1 * yw;
-          b2 += wgt * x2 * yw;
-        }
-        double kf, d, inv11, inv22;
-        if (Solve2(a11, a12, a22, b1, b2, &kf, &d, &inv11, &inv22)) s.est.window_friction_factor = kf;
-        s.est.windows_in_fit = static_cast<int>(s.mech.size());
-      }
-    }
+    UpdateWindow(c, k, x, coupling_torque, v, dir, j + 1, t_prev_, t_s, dt, &s, &output_.windows);
 
-    // --- tick-level detectors ---
-    Candidate structural;
-    // Inverter short: supply power far above what the commanded current can explain.
-    const double excess = p_supply - (std::max(0.0, p_rotor) + p_copper + p_fixed);
-    s.overpower_s = excess > c.overpower_W ? s.overpower_s + dt : 0.0;
-    // Dead drive: a large command but no copper loss in the supply: the over-current
-    // protection has opened the bridge (a short that tripped faster than it could be seen).
-    const bool dead = std::fabs(i) >= c.dead_drive_current_A && p_supply - k.electrical.quiescent_W < 0.25 * p_copper;
-    s.dead_s = dead ? s.dead_s + dt : 0.0;
-    // Stuck torque sensor: on a rail, or unchanged while the joint moves and the commanded
-    // torque swings (a live sensor would follow it).
-    const bool on_rail = now.tau_sensor_Nm >= k.sensor_max_Nm - 1e-9 || now.tau_sensor_Nm <= k.sensor_min_Nm + 1e-9;
-    s.rail_s = on_rail ? s.rail_s + dt : 0.0;
-    if (now.tau_sensor_Nm == prev.tau_sensor_Nm) {
-      if (s.flat_s == 0) {
-        s.flat_cmd_min = s.flat_cmd_max = rotor_torque, s.flat_dq = 0;
-        s.flat_ref_min = s.flat_ref_max = now.q_ref_rad;
-      }
-      s.flat_s += dt;
-      s.flat_dq += std::fabs(dq);
-      s.flat_ref_min = std::min(s.flat_ref_min, now.q_ref_rad);
-      s.flat_ref_max = std::max(s.flat_ref_max, now.q_ref_rad);
-      s.flat_cmd_min = std::min(s.flat_cmd_min, rotor_torque);
-      s.flat_cmd_max = std::max(s.flat_cmd_max, rotor_torque);
-    } else {
-      s.flat_s = 0;
-    }
-    // The joint moved, or was meant to stay put: a command swinging against a still reference
-    // is the load (the other joints) changing, which a live sensor follows; a brake fighting a
-    // moving reference is not that.
-    const bool flat_stuck = s.flat_s >= c.stuck_time_s && s.flat_cmd_max - s.flat_cmd_min >= c.stuck_torque_span_Nm &&
-                            (s.flat_dq >= 10 * c.rest_velocity_rad_s * c.stuck_time_s ||
-                             s.flat_ref_max - s.flat_ref_min < c.blocked_error_rad);
-    // Locked: at rest, far from a moving reference, with high current.
-    const bool blocked = dir == 0 && std::fabs(now.i_cmd_A) >= c.blocked_current_A &&
-                         std::fabs(now.q_ref_rad - now.q_meas_rad) >= c.blocked_error_rad;
-    s.blocked_s = blocked ? s.blocked_s + dt : 0.0;
-
-    if (s.overpower_s >= c.overpower_time_s) {
-      structural = {HealthState::kDefective, "inverter_short", "excess_power_W", excess, 1.0, true};
-    } else if (s.dead_s >= c.dead_drive_time_s) {
-      structural = {HealthState::kDefective, "inverter_short", "", 0, 1.0, true};
-    } else if (s.rail_s >= c.rail_time_s || flat_stuck) {
-      structural = {HealthState::kDefective, "torque_sensor_stuck", "stuck_reading_Nm", now.tau_sensor_Nm, 1.0, true};
-    } else if (s.blocked_s >= c.blocked_time_s) {
-      const double motor = std::fabs(k.ratio * k.kt_Nm_per_A * now.i_cmd_A);
-      if (std::fabs(now.tau_sensor_Nm) < 0.5 * motor) {
-        // The torque stays inside the module: the brake holds it. With the drive at its
-        // limit this is a lower bound of the drag.
-        const double drag = (motor - std::fabs(now.tau_sensor_Nm)) / (k.ratio * k.brake_holding_Nm);
-        structural = {HealthState::kDefective, "brake_lock", "drag_fraction", std::min(1.0, drag), 1.0, true};
-      } else {
-        structural = {HealthState::kDefective, "unknown", "", 0, 0.5, true};  // blocked outside the joint
-      }
-    }
-
+    // --- tick-level detectors, latched once one fires ---
+    const Candidate structural = TickLevelCandidate(c, k, x, now, prev, dir, dt, &s);
     if (!s.structural.structural && structural.structural) s.structural = structural;
 
     // --- parametric detectors: deviation statistics, held over the debounce time ---
-    const Estimates& e = s.est;
-    const bool judge_n = s.excitation_rotor_J >= c.min_rotor_energy_J;
-    const bool judge_r = s.excitation_copper_J >= c.min_copper_energy_J;
-    const BalanceFit::Estimate& bal = s.balance.estimate();
-    const BalanceFit::Estimate& slow = s.balance_slow.estimate();
-    const bool judge_b = bal.moving_s >= c.min_balance_moving_s;
-    // An offset is told from friction only by motion both ways.
-    const bool judge_d = std::min(slow.positive_s, slow.negative_s) >= kMinOffsetMovingEachWay_s;
-    const std::array<double, kDetectorCount> deviation = {
-        judge_n ? 1 - e.kt_factor : kNoStatistic, judge_r ? e.resistance_factor - 1 : kNoStatistic,
-        judge_b ? bal.friction_factor - 1 : kNoStatistic, judge_d ? std::fabs(slow.offset_Nm) : kNoStatistic};
-    const std::array<double, kDetectorCount> significance = {
-        judge_n ? Significance(deviation[0], e.kt_factor_se) : kNoStatistic,
-        judge_r ? Significance(deviation[1], e.resistance_factor_se) : kNoStatistic,
-        judge_b ? Significance(deviation[2], bal.friction_factor_se) : kNoStatistic,
-        judge_d ? Significance(deviation[3], slow.offset_se) : kNoStatistic};
-    // The magnitude fit starts where the friction or drift statistic first crosses its limit.
-    if (!s.balance_crossed && ((judge_b && deviation[2] > model_.thresholds[2]) || (judge_d && deviation[3] > model_.thresholds[3]))) {
-      s.balance_crossed = true;
-      s.balance_since_alarm.Reset();
-    }
-    for (int d = 0; d < kDetectorCount; ++d) {
-      s.readings[d].held_quanta = s.held[d].Push(Quantize(deviation[d]));
-      s.readings[d].held_significance_quanta =
-          s.held_significance[d].Push(Quantize(significance[d], kSignificanceQuantum));
-      s.readings[d].family = Detectors()[d].family;
-    }
-    // Far beyond wear: a brake dragging on the shaft.
-    const bool drag = e.friction_factor > kBrakeDragFrictionFactor;
-    if (drag) s.readings[static_cast<int>(Detector::kFrictionFactor)].family = "brake_lock";
+    const bool drag = UpdateReadings(c, model_.thresholds, &s);
 
-    // --- the joint's verdict: a latched tick-level alarm, else the first alarming detector ---
-    Candidate shown;
-    if (s.structural.structural) {
-      shown = s.structural;
-    } else {
-      auto confidence = [](double margin, double se) { return se > 0 ? NormalCdf(margin / se) : 1.0; };
-      for (int d = 0; d < kDetectorCount && shown.state == HealthState::kHealthy; ++d) {
-        const DetectorReading& r = s.readings[d];
-        if (!Alarms(r.held_quanta, r.held_significance_quanta, model_.thresholds[d], c.significance)) continue;
-        switch (static_cast<Detector>(d)) {
-          case Detector::kKtFactor:
-            shown = {e.kt_factor < c.kt_factor.defective ? HealthState::kDefective : HealthState::kWorn, "kt_degradation",
-                     "kt_factor", e.kt_factor, confidence(c.kt_factor.worn - e.kt_factor, e.kt_factor_se), false};
-            break;
-          case Detector::kResistanceFactor:
-            shown = {e.resistance_factor > c.resistance_factor.defective ? HealthState::kDefective : HealthState::kWorn,
-                     "winding_resistance", "resistance_factor", e.resistance_factor,
-                     confidence(e.resistance_factor - c.resistance_factor.worn, e.resistance_factor_se), false};
-            break;
-          case Detector::kFrictionFactor:
-            if (drag) {
-              // Its torque ~ the extra Coulomb part.
-              shown = {HealthState::kDefective, "brake_lock", "drag_fraction",
-                       (e.friction_factor - 1) * (k.friction.coulomb_Nm + k.friction.static_Nm) / k.brake_holding_Nm, 1.0,
-                       false};
-            } else {
-              shown = {e.friction_factor > c.friction_factor.defective ? HealthState::kDefective : HealthState::kWorn,
-                       "friction_increase", "friction_factor", e.friction_factor,
-                       confidence(e.friction_factor - c.friction_factor.worn, e.friction_factor_se), false};
-            }
-            break;
-          case Detector::kSensorDrift:
-            shown = {std::fabs(e.sensor_drift_Nm) > c.sensor_drift_Nm.defective ? HealthState::kDefective : HealthState::kWorn,
-                     "torque_sensor_drift", "drift_Nm", e.sensor_drift_Nm,
-                     confidence(std::fabs(e.sensor_drift_Nm) - c.sensor_drift_Nm.worn, e.sensor_drift_se), false};
-            break;
-        }
-      }
-    }
-    // Emit on a change of family or state, and now and then to refine a standing magnitude.
-    const bool changed = shown.family != s.shown_family || shown.state != s.shown_state;
-    const bool refine = !changed && !shown.structural && shown.state != HealthState::kHealthy &&
-                        t_s - s.last_emit_t >= 0.5 &&
-                        std::fabs(shown.magnitude - s.last_emit_magnitude) >
-                            0.01 * std::max(1.0, std::fabs(s.last_emit_magnitude));
-    if (changed || refine) {
-      Verdict out;
-      out.t_s = t_s;
-      out.joint = j + 1;
-      out.state = shown.state;
-      out.alarm = shown.state != HealthState::kHealthy;
-      out.family = shown.family;
-      out.magnitude_name = shown.magnitude_name;
-      out.magnitude = shown.magnitude;
-      out.confidence = shown.confidence;
-      output_.verdicts.push_back(out);
-      s.shown_family = shown.family;
-      s.shown_state = shown.state;
-      s.last_emit_t = t_s;
-      s.last_emit_magnitude = shown.magnitude;
-    }
+    // --- the joint's verdict ---
+    EmitVerdict(ShownCandidate(c, k, model_.thresholds, drag, s), t_s, j + 1, &s, &output_.verdicts);
   }
   previous_ = signals;
   t_prev_ = t_s;

@@ -76,18 +76,8 @@ struct MonitorConfig {
   double constant_power_uncertainty_W = 0.1;
 };
 
-// Tolerances a datasheet states for a unit (relative half-widths unless named otherwise): what
-// a monitor may know without commissioning. Not the values a unit drew.
-struct StatedTolerances {
-  double kt = 0, winding_resistance = 0, switch_resistance = 0, switching_loss = 0, quiescent_power = 0;
-  double mesh_loss = 0, rotor_inertia = 0, stribeck_velocity = 0, friction = 0;
-  double torque_sensor_gain = 0, torque_sensor_offset_Nm = 0;
-  double supply_current_gain = 0, supply_current_offset_A = 0, bus_voltage = 0;
-  double ambient_max_C = 20;  // warmest ambient the robot is specified for (datasheet values at 20 °C)
-  double ambient_min_C = 20;
-};
-
-// The limits a monitor without commissioning must use on a unit known only within `tol`:
+// The limits a monitor without commissioning must use on a unit known only within `tol`
+// (StatedTolerances, core/plant/robot_config.h):
 // each swept detector's worn and defective limits move out by the bias the stated tolerances
 // can put on its statistic (docs/monitor.md, "Without commissioning"). `robot` gives the
 // nominal scales (quiescent power, bus voltage, resistance, friction).

@@ -85,6 +85,106 @@ namespace {
 
 enum class LegMode { kOff, kSwitched, kDiodeHigh, kDiodeLow };
 
+using NetworkMatrix = Eigen::Matrix<double, 10, 10>;
+using NetworkVector = Eigen::Matrix<double, 10, 1>;
+
+// What stays fixed over one StepDriveNetwork call, for its sub-steps' solves.
+struct NetworkRun {
+  ShortKind short_kind;
+  double ud, vd, ke, r, l_over_h, g_fault, omega;
+};
+
+// Solves one sub-step's network (backward Euler) from the phase currents i at its start and the
+// back-EMF shapes: an off leg whose terminal leaves the rails conducts through its diode, a
+// diode that would conduct backwards opens, and the network is solved again (8 tries at most).
+// Updates the legs' modes; returns the unknowns v_a..v_c, v_n, i_a..i_c, g_a..g_c.
+NetworkVector SolveNetwork(const NetworkRun& f, const std::array<double, 3>& shape,
+                           const std::array<double, 3>& leg_voltage, const std::array<double, 3>& i,
+                           std::array<LegMode, 3>* mode) {
+  using Matrix = NetworkMatrix;
+  using Vector = NetworkVector;
+  const ShortKind short_kind = f.short_kind;
+  const double ud = f.ud, vd = f.vd, ke = f.ke, r = f.r, l_over_h = f.l_over_h, g_fault = f.g_fault, omega = f.omega;
+  std::array<LegMode, 3>& m = *mode;
+  Vector x;
+  for (int attempt = 0; attempt < 8; ++attempt) {
+    Matrix a = Matrix::Zero();
+    Vector b = Vector::Zero();
+    for (int p = 0; p < 3; ++p) {
+      // winding p: (L/h + R) i_p - v_p + v_n = (L/h) i_p,old - e_p
+      a(p, 4 + p) = l_over_h + r;
+      a(p, p) = -1.0;
+      a(p, 3) = 1.0;
+      b(p) = l_over_h * i[p] - ke * omega * shape[p];
+    }
+    a(3, 4) = a(3, 5) = a(3, 6) = 1.0;  // star point: sum of winding currents is zero
+    // ... but for a 1 uS leakage to mid-bus, which fixes the potential of a motor whose
+    // terminals all float (the matrix would be singular otherwise) where a symmetric
+    // bridge leaves it, so that no diode conducts below the bus voltage.
+    a(3, 3) = 1e-6;
+    b(3) = 1e-6 * 0.5 * ud;
+    for (int p = 0; p < 3; ++p) {
+      const int row = 4 + p;
+      a(row, 7 + p) = 1.0;
+      a(row, 4 + p) = -1.0;
+    }
+    switch (short_kind) {
+      case ShortKind::kPhasePhase:
+        a(4, 0) -= g_fault;
+        a(4, 1) += g_fault;
+        a(5, 1) -= g_fault;
+        a(5, 0) += g_fault;
+        break;
+      case ShortKind::kPhaseGround:
+        a(4, 0) -= g_fault;
+        break;
+      case ShortKind::kSwitch:
+        a(4, 0) -= g_fault;
+        b(4) -= g_fault * ud;
+        break;
+      case ShortKind::kNone:
+        break;
+    }
+    for (int p = 0; p < 3; ++p) {
+      const int row = 7 + p;
+      switch (m[p]) {
+        case LegMode::kOff:
+          a(row, 7 + p) = 1.0;  // no leg current
+          break;
+        case LegMode::kSwitched:
+          a(row, p) = 1.0;
+          b(row) = leg_voltage[p];
+          break;
+        case LegMode::kDiodeHigh:
+          a(row, p) = 1.0;
+          b(row) = ud + vd;
+          break;
+        case LegMode::kDiodeLow:
+          a(row, p) = 1.0;
+          b(row) = -vd;
+          break;
+      }
+    }
+    x = a.partialPivLu().solve(b);
+    // Diodes: conduct only forward; an off leg whose terminal leaves the rails conducts.
+    bool consistent = true;
+    for (int p = 0; p < 3; ++p) {
+      const double v = x(p), g = x(7 + p);
+      LegMode next = m[p];
+      if (m[p] == LegMode::kOff && v > ud + vd) next = LegMode::kDiodeHigh;
+      else if (m[p] == LegMode::kOff && v < -vd) next = LegMode::kDiodeLow;
+      else if (m[p] == LegMode::kDiodeHigh && g > 0) next = LegMode::kOff;
+      else if (m[p] == LegMode::kDiodeLow && g < 0) next = LegMode::kOff;
+      if (next != m[p]) {
+        m[p] = next;
+        consistent = false;
+      }
+    }
+    if (consistent) break;
+  }
+  return x;
+}
+
 // The drive with a short in it (HardwareCondition::short_kind): a small nodal network per
 // sub-step, integrated with backward Euler. Unknowns: terminal voltages v_a..v_c, star point
 // v_n, winding currents i_a..i_c (end of sub-step) and leg currents g_a..g_c (into each
@@ -94,8 +194,6 @@ enum class LegMode { kOff, kSwitched, kDiodeHigh, kDiodeLow };
 // trip level opens all switches (latched), as a driver's over-current protection does.
 void StepDriveNetwork(const DriveConstants& c, const HardwareCondition& cond, const DriveInputs& in, int substeps,
                       DriveState* s, DriveOutputs* out) {
-  using Matrix = Eigen::Matrix<double, 10, 10>;
-  using Vector = Eigen::Matrix<double, 10, 1>;
   const double h = c.substep_s;
   const double ud = c.inverter.bus_voltage_V;
   const double vd = c.inverter.diode_drop_V;
@@ -106,6 +204,7 @@ void StepDriveNetwork(const DriveConstants& c, const HardwareCondition& cond, co
   const double sw_loss_per_A = ud * c.inverter.switching_time_s * c.inverter.pwm_frequency_Hz;
   const double omega = in.motor_speed_rad_s;
   std::array<double, 3>& i = s->phase_current_A;
+  const NetworkRun network{cond.short_kind, ud, vd, ke, r, l_over_h, g_fault, omega};
 
   double torque_sum = 0, p_bus = 0, p_inverter = 0, p_magnetic = 0, sq_sum = 0, peak = 0;
   std::array<LegMode, 3> mode = {LegMode::kOff, LegMode::kOff, LegMode::kOff};
@@ -130,82 +229,7 @@ void StepDriveNetwork(const DriveConstants& c, const HardwareCondition& cond, co
       s->pi_integral_V = 0.0;
     }
 
-    Vector x;
-    for (int attempt = 0; attempt < 8; ++attempt) {
-      Matrix a = Matrix::Zero();
-      Vector b = Vector::Zero();
-      for (int p = 0; p < 3; ++p) {
-        // winding p: (L/h + R) i_p - v_p + v_n = (L/h) i_p,old - e_p
-        a(p, 4 + p) = l_over_h + r;
-        a(p, p) = -1.0;
-        a(p, 3) = 1.0;
-        b(p) = l_over_h * i[p] - ke * omega * shape[p];
-      }
-      a(3, 4) = a(3, 5) = a(3, 6) = 1.0;  // star point: sum of winding currents is zero
-      // ... but for a 1 uS leakage to mid-bus, which fixes the potential of a motor whose
-      // terminals all float (the matrix would be singular otherwise) where a symmetric
-      // bridge leaves it, so that no diode conducts below the bus voltage.
-      a(3, 3) = 1e-6;
-      b(3) = 1e-6 * 0.5 * ud;
-      for (int p = 0; p < 3; ++p) {
-        const int row = 4 + p;
-        a(row, 7 + p) = 1.0;
-        a(row, 4 + p) = -1.0;
-      }
-      switch (cond.short_kind) {
-        case ShortKind::kPhasePhase:
-          a(4, 0) -= g_fault;
-          a(4, 1) += g_fault;
-          a(5, 1) -= g_fault;
-          a(5, 0) += g_fault;
-          break;
-        case ShortKind::kPhaseGround:
-          a(4, 0) -= g_fault;
-          break;
-        case ShortKind::kSwitch:
-          a(4, 0) -= g_fault;
-          b(4) -= g_fault * ud;
-          break;
-        case ShortKind::kNone:
-          break;
-      }
-      for (int p = 0; p < 3; ++p) {
-        const int row = 7 + p;
-        switch (mode[p]) {
-          case LegMode::kOff:
-            a(row, 7 + p) = 1.0;  // no leg current
-            break;
-          case LegMode::kSwitched:
-            a(row, p) = 1.0;
-            b(row) = leg_voltage[p];
-            break;
-          case LegMode::kDiodeHigh:
-            a(row, p) = 1.0;
-            b(row) = ud + vd;
-            break;
-          case LegMode::kDiodeLow:
-            a(row, p) = 1.0;
-            b(row) = -vd;
-            break;
-        }
-      }
-      x = a.partialPivLu().solve(b);
-      // Diodes: conduct only forward; an off leg whose terminal leaves the rails conducts.
-      bool consistent = true;
-      for (int p = 0; p < 3; ++p) {
-        const double v = x(p), g = x(7 + p);
-        LegMode next = mode[p];
-        if (mode[p] == LegMode::kOff && v > ud + vd) next = LegMode::kDiodeHigh;
-        else if (mode[p] == LegMode::kOff && v < -vd) next = LegMode::kDiodeLow;
-        else if (mode[p] == LegMode::kDiodeHigh && g > 0) next = LegMode::kOff;
-        else if (mode[p] == LegMode::kDiodeLow && g < 0) next = LegMode::kOff;
-        if (next != mode[p]) {
-          mode[p] = next;
-          consistent = false;
-        }
-      }
-      if (consistent) break;
-    }
+    const NetworkVector x = SolveNetwork(network, shape, leg_voltage, i, &mode);
 
     const std::array<double, 3> i_new = {x(4), x(5), x(6)};
     for (int p = 0; p < 3; ++p) {
@@ -322,6 +346,113 @@ struct FastRun {
   sums->peak = peak;
 }
 
+// What stays fixed over one StepDrive call, for its general sub-steps.
+struct GeneralRun {
+  const DriveConstants& c;
+  double h, ud, vd, ke, r, decay, sw_loss_per_A, omega;
+};
+
+// One general sub-step at the electrical angle theta: any legs conducting (after a commutation
+// the leg just switched off freewheels through a diode until its current dies out). When
+// `driving`, the pair high/low is switched with the PI output u. Advances the phase currents
+// and adds to the sums (*p_diode: |current| through the diodes).
+void GeneralSubstep(const GeneralRun& f, double theta, bool driving, int high, int low, double u,
+                    std::array<double, 3>* current, FastSums* sums, double* p_diode) {
+  const DriveConstants& c = f.c;
+  const double h = f.h, ud = f.ud, vd = f.vd, ke = f.ke, r = f.r, decay = f.decay;
+  const double sw_loss_per_A = f.sw_loss_per_A, omega = f.omega;
+  std::array<double, 3>& i = *current;
+  double& torque_sum = sums->torque;
+  double& p_rail = sums->rail;
+  double& p_copper = sums->copper;
+  double& p_switch = sums->switching;
+  double& peak = sums->peak;
+  const double phase_angle[3] = {theta, ShiftWrapped(theta, 2.0 * M_PI / 3.0), ShiftWrapped(theta, 4.0 * M_PI / 3.0)};
+  const std::array<double, 3> shape = {ShapeWrapped(phase_angle[0]), ShapeWrapped(phase_angle[1]),
+                                       ShapeWrapped(phase_angle[2])};
+  std::array<double, 3> emf;
+  for (int x = 0; x < 3; ++x) emf[x] = ke * omega * shape[x];
+
+  // Leg voltages (relative to the negative rail) and which legs conduct.
+  std::array<double, 3> v{};      // terminal voltage
+  std::array<double, 3> rail{};   // the rail voltage the leg current is exchanged with
+  std::array<bool, 3> known{};    // terminal voltage is imposed (switch or diode conducting)
+  std::array<bool, 3> switched{};
+  if (driving) {
+    v[high] = rail[high] = 0.5 * (ud + u);
+    v[low] = rail[low] = 0.5 * (ud - u);
+    known[high] = known[low] = switched[high] = switched[low] = true;
+  }
+  for (int x = 0; x < 3; ++x) {
+    if (switched[x] || i[x] == 0.0) continue;
+    // Off leg still carrying current: a freewheeling diode conducts.
+    known[x] = true;
+    if (i[x] > 0) {  // current into the motor comes up through the low-side diode
+      v[x] = -vd;
+      rail[x] = 0.0;
+    } else {  // current out of the motor returns to the bus through the high-side diode
+      v[x] = ud + vd;
+      rail[x] = ud;
+    }
+  }
+
+  // Integrate the sub-step; a freewheeling current that would reverse stops at zero (its
+  // diode blocks), so the sub-step is split there and the leg opens for the rest of it.
+  double remaining = h;
+  while (remaining > 0) {
+    const double leg_decay = remaining == h ? decay : std::exp(-r * remaining / c.inductance_H);
+    std::array<double, 3> i_new = Advance(v, emf, known, i, r, leg_decay);
+    int turning_off = -1;
+    double fraction = 1.0;
+    for (int x = 0; x < 3; ++x) {
+      if (known[x] && !switched[x] && i_new[x] * i[x] < 0) {
+        const double f = i[x] / (i[x] - i_new[x]);
+        if (f < fraction) {
+          fraction = f;
+          turning_off = x;
+        }
+      }
+    }
+    double span = remaining;
+    if (turning_off >= 0) {
+      span = remaining * fraction;
+      i_new = Advance(v, emf, known, i, r, std::exp(-r * span / c.inductance_H));
+      // What is left of the current (second order in the split) goes to the driven legs.
+      double residual = i_new[turning_off];
+      i_new[turning_off] = 0.0;
+      known[turning_off] = false;
+      int n_known = 0;
+      for (int x = 0; x < 3; ++x) n_known += known[x];
+      for (int x = 0; x < 3; ++x) {
+        if (known[x]) i_new[x] += residual / std::max(1, n_known);
+      }
+    }
+    const double w = span / h;
+    double torque_part = 0, sq_part = 0, rail_part = 0, switch_part = 0, diode_part = 0;
+    for (int x = 0; x < 3; ++x) {
+      const double i_mid = 0.5 * (i[x] + i_new[x]);
+      const double i_sq = (i[x] * i[x] + i[x] * i_new[x] + i_new[x] * i_new[x]) * (1.0 / 3.0);
+      torque_part += shape[x] * i_mid;
+      sq_part += i_sq;
+      rail_part += rail[x] * i_mid;
+      if (switched[x]) {
+        switch_part += c.inverter.switch_resistance_ohm * i_sq + sw_loss_per_A * std::fabs(i_mid);
+      } else {
+        diode_part += std::fabs(i_mid);
+      }
+      peak = std::max(peak, std::fabs(i_new[x]));
+    }
+    torque_sum += w * torque_part;
+    p_copper += w * sq_part;
+    p_rail += w * rail_part;
+    p_switch += w * switch_part;
+    *p_diode += w * diode_part;
+    i = i_new;
+    remaining -= span;
+    if (turning_off < 0) break;
+  }
+}
+
 }  // namespace
 
 void StepDrive(const DriveConstants& c, const HardwareCondition& cond, const DriveInputs& in,
@@ -362,6 +493,7 @@ void StepDrive(const DriveConstants& c, const HardwareCondition& cond, const Dri
   // The fast path's back-EMF across the conducting pair: within its sector the high phase is on
   // its +1 plateau and the low phase on its -1 plateau, so e_high - e_low = 2 ke omega.
   const double e_pair = ke * omega * 2.0;
+  const GeneralRun general{c, h, ud, vd, ke, r, decay, sw_loss_per_A, omega};
   for (int k = 0; k < substeps; ++k, theta += step_e) {
     if (theta >= 2.0 * M_PI || theta < 0) theta = WrapAngle(theta);
     int high = -1, low = -1, off = -1;
@@ -386,90 +518,7 @@ void StepDrive(const DriveConstants& c, const HardwareCondition& cond, const Dri
       u = std::clamp(c.kp_V_per_A * error + s->pi_integral_V, -ud, ud);
       s->pi_integral_V = std::clamp(s->pi_integral_V + c.ki_V_per_A_s * error * h, -ud, ud);
     }
-    const double phase_angle[3] = {theta, ShiftWrapped(theta, 2.0 * M_PI / 3.0), ShiftWrapped(theta, 4.0 * M_PI / 3.0)};
-    const std::array<double, 3> shape = {ShapeWrapped(phase_angle[0]), ShapeWrapped(phase_angle[1]),
-                                         ShapeWrapped(phase_angle[2])};
-    std::array<double, 3> emf;
-    for (int x = 0; x < 3; ++x) emf[x] = ke * omega * shape[x];
-
-    // Leg voltages (relative to the negative rail) and which legs conduct.
-    std::array<double, 3> v{};      // terminal voltage
-    std::array<double, 3> rail{};   // the rail voltage the leg current is exchanged with
-    std::array<bool, 3> known{};    // terminal voltage is imposed (switch or diode conducting)
-    std::array<bool, 3> switched{};
-    if (driving) {
-      v[high] = rail[high] = 0.5 * (ud + u);
-      v[low] = rail[low] = 0.5 * (ud - u);
-      known[high] = known[low] = switched[high] = switched[low] = true;
-    }
-    for (int x = 0; x < 3; ++x) {
-      if (switched[x] || i[x] == 0.0) continue;
-      // Off leg still carrying current: a freewheeling diode conducts.
-      known[x] = true;
-      if (i[x] > 0) {  // current into the motor comes up through the low-side diode
-        v[x] = -vd;
-        rail[x] = 0.0;
-      } else {  // current out of the motor returns to the bus through the high-side diode
-        v[x] = ud + vd;
-        rail[x] = ud;
-      }
-    }
-
-    // Integrate the sub-step; a freewheeling current that would reverse stops at zero (its
-    // diode blocks), so the sub-step is split there and the leg opens for the rest of it.
-    double remaining = h;
-    while (remaining > 0) {
-      const double leg_decay = remaining == h ? decay : std::exp(-r * remaining / c.inductance_H);
-      std::array<double, 3> i_new = Advance(v, emf, known, i, r, leg_decay);
-      int turning_off = -1;
-      double fraction = 1.0;
-      for (int x = 0; x < 3; ++x) {
-        if (known[x] && !switched[x] && i_new[x] * i[x] < 0) {
-          const double f = i[x] / (i[x] - i_new[x]);
-          if (f < fraction) {
-            fraction = f;
-            turning_off = x;
-          }
-        }
-      }
-      double span = remaining;
-      if (turning_off >= 0) {
-        span = remaining * fraction;
-        i_new = Advance(v, emf, known, i, r, std::exp(-r * span / c.inductance_H));
-        // What is left of the current (second order in the split) goes to the driven legs.
-        double residual = i_new[turning_off];
-        i_new[turning_off] = 0.0;
-        known[turning_off] = false;
-        int n_known = 0;
-        for (int x = 0; x < 3; ++x) n_known += known[x];
-        for (int x = 0; x < 3; ++x) {
-          if (known[x]) i_new[x] += residual / std::max(1, n_known);
-        }
-      }
-      const double w = span / h;
-      double torque_part = 0, sq_part = 0, rail_part = 0, switch_part = 0, diode_part = 0;
-      for (int x = 0; x < 3; ++x) {
-        const double i_mid = 0.5 * (i[x] + i_new[x]);
-        const double i_sq = (i[x] * i[x] + i[x] * i_new[x] + i_new[x] * i_new[x]) * (1.0 / 3.0);
-        torque_part += shape[x] * i_mid;
-        sq_part += i_sq;
-        rail_part += rail[x] * i_mid;
-        if (switched[x]) {
-          switch_part += c.inverter.switch_resistance_ohm * i_sq + sw_loss_per_A * std::fabs(i_mid);
-        } else {
-          diode_part += std::fabs(i_mid);
-        }
-        peak = std::max(peak, std::fabs(i_new[x]));
-      }
-      torque_sum += w * torque_part;
-      p_copper += w * sq_part;
-      p_rail += w * rail_part;
-      p_switch += w * switch_part;
-      p_diode += w * diode_part;
-      i = i_new;
-      remaining -= span;
-      if (turning_off < 0) break;
-    }
+    GeneralSubstep(general, theta, driving, high, low, u, &i, &sums, &p_diode);
   }
 
   const double inv_n = 1.0 / substeps;

@@ -149,6 +149,18 @@ struct RobotConfig {
   int electrical_substeps = 20;        // per physics step; 20 at 1 kHz = 50 us << L/R
 };
 
+// Tolerances a datasheet states for a unit (relative half-widths unless named otherwise): what
+// a monitor may know without commissioning. Not the values a unit drew. A campaign states them
+// ("tolerances"); a monitor widens its limits by them (WidenedForTolerances, the power monitor).
+struct StatedTolerances {
+  double kt = 0, winding_resistance = 0, switch_resistance = 0, switching_loss = 0, quiescent_power = 0;
+  double mesh_loss = 0, rotor_inertia = 0, stribeck_velocity = 0, friction = 0;
+  double torque_sensor_gain = 0, torque_sensor_offset_Nm = 0;
+  double supply_current_gain = 0, supply_current_offset_A = 0, bus_voltage = 0;
+  double ambient_max_C = 20;  // warmest ambient the robot is specified for (datasheet values at 20 °C)
+  double ambient_min_C = 20;
+};
+
 // Module defaults by type ("MRR1", "MRR2"); throws InputError for an unknown type.
 ModuleParams ModuleDefaults(const std::string& type, const std::string& pointer);
 

@@ -269,6 +269,188 @@ std::string FormatFailure(double t, int joint, const std::string& what, double v
   return s.str();
 }
 
+// One joint at a controller tick: reads the sensors (the torque sensor as its lead condition
+// allows), runs the controller, and writes the tick record: the signals beside the truth and
+// the mean powers of the period just ended (`first_tick`: none yet). Draws the joint's noise
+// in a fixed order.
+void ControllerTick(const JointModel& jm, const JointRunOptions& o, const HardwareCondition& cond, double t,
+                    bool first_tick, int steps, JointRuntime* runtime, JointTick* tick_out) {
+  JointRuntime& r = *runtime;
+  JointTick& tick = *tick_out;
+  TrajectoryPoint ref;
+  if (o.trajectory) ref = o.trajectory->At(t);
+  else ref.q_rad = r.q_initial;
+
+  const TorqueSensorParams& ts = jm.params.torque_sensor;
+  const double noise = r.rng.Normal();  // drawn every tick so streams stay aligned
+  switch (cond.torque_sensor_lead) {
+    case SensorLead::kHealthy:
+      // The unit's gauge errors act on the torque; a drift fault adds to the reading.
+      r.last_adc_code = TorqueSensorAdcCode(
+          ts, TorqueSensorVoltage(ts, (1.0 + ts.gain_error) * r.tau_transmitted + ts.offset_error_Nm + cond.torque_sensor_drift_Nm,
+                                  noise));
+      break;
+    case SensorLead::kSupply:
+    case SensorLead::kGround:
+      r.last_adc_code = TorqueSensorAdcCode(ts, StuckLeadVoltage(ts, cond.torque_sensor_lead));
+      break;
+    case SensorLead::kOpen:
+      break;  // the ADC input floats at its last held value
+  }
+  ControllerInputs ci;
+  ci.encoder_count = EncoderCount(jm.params.encoder, jm.ratio * r.q);
+  ci.torque_reading_Nm = TorqueFromAdcCode(ts, r.last_adc_code);
+  ci.reference = ref;
+  ControllerOutputs co;
+  if (r.driver_enabled) {
+    StepController(jm.controller, ci, &r.controller, &co);
+    r.i_cmd = co.current_command_A;
+  } else {
+    co.position_rad = ci.encoder_count * jm.controller.link_rad_per_count;
+    r.i_cmd = 0;
+  }
+
+  const double inv = first_tick ? 0.0 : 1.0 / steps;
+  const double supply_noise = r.rng.Normal();
+  JointSignals& sig = tick.signals;
+  sig.q_ref_rad = ref.q_rad;
+  sig.qd_ref_rad_s = ref.qd_rad_s;
+  sig.q_meas_rad = co.position_rad;
+  sig.qd_est_rad_s = co.velocity_rad_s;
+  sig.tau_sensor_Nm = ci.torque_reading_Nm;
+  sig.i_cmd_A = r.i_cmd;
+  tick.q_rad = r.q;
+  tick.qd_rad_s = r.qd;
+  tick.tau_true_Nm = r.tau_transmitted;
+  tick.i_phase_a_A = r.phase_current[0];
+  sig.v_bus_meas_V = jm.params.inverter.bus_voltage_V;
+  tick.p_supply_W = r.sum_supply * inv;
+  tick.p_copper_W = r.sum_copper * inv;
+  tick.p_inverter_W = r.sum_inverter * inv;
+  tick.p_quiescent_W = r.sum_quiescent * inv;
+  tick.p_friction_W = r.sum_friction * inv;
+  tick.p_mech_out_W = r.sum_mech * inv;
+  tick.p_emf_W = r.sum_emf * inv;
+  tick.p_magnetic_W = r.sum_magnetic * inv;
+  tick.i_supply_A = tick.p_supply_W / jm.params.inverter.bus_voltage_V;
+  const InverterParams& inv_p = jm.params.inverter;
+  sig.i_supply_meas_A = (1.0 + inv_p.supply_current_gain_error) * tick.i_supply_A + inv_p.supply_current_offset_error_A +
+                         inv_p.supply_current_noise_A * supply_noise;
+  tick.winding_temp_C = r.winding_temp_C;
+  sig.winding_temp_C = jm.params.winding_temperature_sensor ? r.winding_temp_C : std::nan("");
+  tick.peak_phase_current_A = r.peak_current;
+  tick.torque_motor_Nm = r.sum_torque * inv;
+  tick.current_sq_A2 = r.sum_current_sq * inv;
+  tick.brake_torque_Nm = r.sum_brake * inv;
+  tick.brake_engaged = r.brake_engaged;
+  tick.driver_enabled = r.driver_enabled && !r.drive.tripped;
+  tick.limit_stop = r.limit_stop;
+}
+
+// Books the period's sums into the run's energies and starts the next period.
+void BookPeriod(double dt, JointRuntime* runtime, JointEnergy* energy) {
+  JointRuntime& r = *runtime;
+  JointEnergy& e = *energy;
+  e.supply_J += r.sum_supply * dt;
+  e.copper_J += r.sum_copper * dt;
+  e.inverter_J += r.sum_inverter * dt;
+  e.quiescent_J += r.sum_quiescent * dt;
+  e.friction_J += r.sum_friction * dt;
+  e.mech_out_J += r.sum_mech * dt;
+  e.emf_J += r.sum_emf * dt;
+  e.magnetic_J += r.sum_magnetic * dt;
+  r.sum_supply = r.sum_copper = r.sum_inverter = r.sum_quiescent = r.sum_friction = 0;
+  r.sum_mech = r.sum_emf = r.sum_magnetic = r.peak_current = 0;
+  r.sum_torque = r.sum_current_sq = r.sum_brake = 0;
+}
+
+// Before a physics step: the drive's electrical sub-steps (the winding's temperature scaling
+// R and K_T) and the winding's heating; the rotor's dry-friction bound and the motor torque less
+// viscous friction as a couple on rotor and stator.
+void DriveJoint(const JointModel& jm, const HardwareCondition& cond, int substeps, double dt, double ambient_C,
+                OdeWorld* ode, int j, JointRuntime* runtime) {
+  JointRuntime& r = *runtime;
+  DriveInputs di;
+  di.current_command_A = r.i_cmd;
+  di.enabled = r.driver_enabled;
+  di.motor_angle_rad = jm.ratio * r.q;
+  di.motor_speed_rad_s = r.rotor_rate;
+  DriveOutputs dout;
+  // The winding's temperature scales its resistance and the magnet's flux (K_T).
+  HardwareCondition warm = cond;
+  const double above_20 = r.winding_temp_C - 20.0;
+  if (above_20 != 0.0) {
+    warm.resistance_factor *= 1.0 + kCopperPerK * above_20;
+    warm.kt_factor *= 1.0 - kMagnetLossPerK * above_20;
+  }
+  StepDrive(jm.drive, warm, di, substeps, &r.drive, &dout);
+  const MotorParams& motor = jm.params.motor;
+  r.winding_temp_C += dt / motor.thermal_time_constant_s *
+                      (ambient_C + motor.thermal_resistance_K_per_W * dout.p_copper_W - r.winding_temp_C);
+  r.sum_supply += dout.p_supply_W;
+  r.sum_copper += dout.p_copper_W;
+  r.sum_inverter += dout.p_inverter_W;
+  r.sum_quiescent += dout.p_quiescent_W;
+  r.sum_emf += dout.p_emf_W;
+  r.sum_magnetic += dout.p_magnetic_W;
+  r.peak_current = std::max(r.peak_current, dout.peak_phase_current_A);
+  r.sum_torque += dout.torque_Nm;
+  r.sum_current_sq += dout.current_sq_A2;
+  r.phase_current = dout.phase_current_A;
+
+  // Motor-side dry friction (Coulomb + Stribeck, brake, and the mesh loss referred to the
+  // rotor) as the rotor's bounded velocity row with target 0; motor torque less viscous
+  // friction as a couple between rotor and stator.
+  const FrictionParams& fp = jm.params.friction;
+  const double brake = BrakeTorqueLimitNm(jm.params.brake, cond, r.brake_engaged);
+  const double dry = BreakawayFrictionNm(fp, cond.friction_factor, r.qd) +
+                     jm.params.drive.mesh_loss_fraction * std::fabs(r.tau_transmitted) / jm.ratio + brake;
+  r.brake_share = dry > 0 ? brake / dry : 0.0;
+  r.viscous_torque = ViscousFrictionNm(fp, cond.friction_factor, r.qd);
+  dJointSetAMotorParam(ode->drag(j), dParamFMax, dry);
+  dVector3 axis;
+  dJointGetHingeAxis(ode->joint(j), axis);
+  r.axis = ToEigen(axis);
+  const Eigen::Vector3d couple = (dout.torque_Nm - r.viscous_torque) * r.axis;
+  dBodyAddTorque(ode->rotor(j), couple.x(), couple.y(), couple.z());
+  if (dBodyID stator = ode->parent(j)) dBodyAddTorque(stator, -couple.x(), -couple.y(), -couple.z());
+}
+
+// After a physics step: the joint's angle, rate, rotor rate and transmitted torque from the
+// world, the period's mechanical and friction powers, and the limit switch.
+void ReadBackJoint(const JointModel& jm, const OdeWorld& ode, int j, JointRuntime* runtime) {
+  JointRuntime& r = *runtime;
+  dJointID hinge = ode.joint(j);
+  dVector3 axis_v, anchor_v;
+  dJointGetHingeAxis(hinge, axis_v);
+  dJointGetHingeAnchor(hinge, anchor_v);
+  const Eigen::Vector3d axis = ToEigen(axis_v);
+  const double qd_new = dJointGetHingeAngleRate(hinge);
+  const double raw = dJointGetHingeAngle(hinge);
+  r.q += WrapPi(raw - WrapPi(r.q - r.q_initial));
+  r.qd = qd_new;
+  r.rotor_rate = ode.RotorRate(j, axis);
+  // What the harmonic drive passes on to the link: the moment about the joint axis of the
+  // rotor hinge's wrench on the link (the gear reaction through the planet's carrier).
+  const dJointFeedback& rf = ode.rotor_feedback(j);
+  const Eigen::Vector3d com = ToEigen(dBodyGetPosition(ode.body(j)));
+  r.tau_transmitted = (ToEigen(rf.t2) + (com - ToEigen(anchor_v)).cross(ToEigen(rf.f2))).dot(axis);
+  // The AMotor row is a pure torque on the rotor: the dry friction (motor side).
+  const double dry_torque = ToEigen(ode.drag_feedback(j).t1).dot(r.axis);
+  r.sum_mech += r.tau_transmitted * qd_new;
+  r.sum_friction += (r.viscous_torque - dry_torque) * r.rotor_rate;
+  // The dry elements share the constraint torque in proportion to their bounds (exact
+  // while slipping, when each is at its bound); the brake is reported link side.
+  r.sum_brake += jm.ratio * std::fabs(dry_torque) * r.brake_share;
+  const ModuleParams& m = jm.params;
+  if (!r.limit_stop && (r.q < m.min_angle_deg * M_PI / 180 || r.q > m.max_angle_deg * M_PI / 180)) {
+    // Limit switch: the joint controller disables the drive and engages the brake.
+    r.limit_stop = true;
+    r.driver_enabled = false;
+    r.brake_engaged = true;
+  }
+}
+
 }  // namespace
 
 ArmModel::ArmModel(RobotConfig config) : config_(std::move(config)) {
@@ -362,91 +544,8 @@ RunResult Simulate(const ArmModel& model, const RunSpec& spec, const TickObserve
     // --- controller tick: sensors -> controllers -> commands, and the tick record ---
     if (spec.hardware) spec.hardware->Apply(t, &conditions);  // a sensor fault acts from its onset tick
     for (int j = 0; j < n; ++j) {
-      const JointModel& jm = model.joint(j);
-      JointRuntime& r = rt[j];
-      JointTick& tick = ticks[j];
-      const JointRunOptions& o = options[j];
-      TrajectoryPoint ref;
-      if (o.trajectory) ref = o.trajectory->At(t);
-      else ref.q_rad = r.q_initial;
-
-      const TorqueSensorParams& ts = jm.params.torque_sensor;
-      const HardwareCondition& cond = conditions[j];
-      const double noise = r.rng.Normal();  // drawn every tick so streams stay aligned
-      switch (cond.torque_sensor_lead) {
-        case SensorLead::kHealthy:
-          // The unit's gauge errors act on the torque; a drift fault adds to the reading.
-          r.last_adc_code = TorqueSensorAdcCode(
-              ts, TorqueSensorVoltage(ts, (1.0 + ts.gain_error) * r.tau_transmitted + ts.offset_error_Nm + cond.torque_sensor_drift_Nm,
-                                      noise));
-          break;
-        case SensorLead::kSupply:
-        case SensorLead::kGround:
-          r.last_adc_code = TorqueSensorAdcCode(ts, StuckLeadVoltage(ts, cond.torque_sensor_lead));
-          break;
-        case SensorLead::kOpen:
-          break;  // the ADC input floats at its last held value
-      }
-      ControllerInputs ci;
-      ci.encoder_count = EncoderCount(jm.params.encoder, jm.ratio * r.q);
-      ci.torque_reading_Nm = TorqueFromAdcCode(ts, r.last_adc_code);
-      ci.reference = ref;
-      ControllerOutputs co;
-      if (r.driver_enabled) {
-        StepController(jm.controller, ci, &r.controller, &co);
-        r.i_cmd = co.current_command_A;
-      } else {
-        co.position_rad = ci.encoder_count * jm.controller.link_rad_per_count;
-        r.i_cmd = 0;
-      }
-
-      const double inv = k == 0 ? 0.0 : 1.0 / steps;
-      const double supply_noise = r.rng.Normal();
-      tick.q_ref_rad = ref.q_rad;
-      tick.qd_ref_rad_s = ref.qd_rad_s;
-      tick.q_meas_rad = co.position_rad;
-      tick.qd_est_rad_s = co.velocity_rad_s;
-      tick.tau_sensor_Nm = ci.torque_reading_Nm;
-      tick.i_cmd_A = r.i_cmd;
-      tick.q_rad = r.q;
-      tick.qd_rad_s = r.qd;
-      tick.tau_true_Nm = r.tau_transmitted;
-      tick.i_phase_a_A = r.phase_current[0];
-      tick.v_bus_meas_V = jm.params.inverter.bus_voltage_V;
-      tick.p_supply_W = r.sum_supply * inv;
-      tick.p_copper_W = r.sum_copper * inv;
-      tick.p_inverter_W = r.sum_inverter * inv;
-      tick.p_quiescent_W = r.sum_quiescent * inv;
-      tick.p_friction_W = r.sum_friction * inv;
-      tick.p_mech_out_W = r.sum_mech * inv;
-      tick.p_emf_W = r.sum_emf * inv;
-      tick.p_magnetic_W = r.sum_magnetic * inv;
-      tick.i_supply_A = tick.p_supply_W / jm.params.inverter.bus_voltage_V;
-      const InverterParams& inv_p = jm.params.inverter;
-      tick.i_supply_meas_A = (1.0 + inv_p.supply_current_gain_error) * tick.i_supply_A + inv_p.supply_current_offset_error_A +
-                             inv_p.supply_current_noise_A * supply_noise;
-      tick.winding_temp_C = r.winding_temp_C;
-      tick.winding_temp_meas_C = jm.params.winding_temperature_sensor ? r.winding_temp_C : std::nan("");
-      tick.peak_phase_current_A = r.peak_current;
-      tick.torque_motor_Nm = r.sum_torque * inv;
-      tick.current_sq_A2 = r.sum_current_sq * inv;
-      tick.brake_torque_Nm = r.sum_brake * inv;
-      tick.brake_engaged = r.brake_engaged;
-      tick.driver_enabled = r.driver_enabled && !r.drive.tripped;
-      tick.limit_stop = r.limit_stop;
-
-      JointEnergy& e = result.energy[j];
-      e.supply_J += r.sum_supply * dt;
-      e.copper_J += r.sum_copper * dt;
-      e.inverter_J += r.sum_inverter * dt;
-      e.quiescent_J += r.sum_quiescent * dt;
-      e.friction_J += r.sum_friction * dt;
-      e.mech_out_J += r.sum_mech * dt;
-      e.emf_J += r.sum_emf * dt;
-      e.magnetic_J += r.sum_magnetic * dt;
-      r.sum_supply = r.sum_copper = r.sum_inverter = r.sum_quiescent = r.sum_friction = 0;
-      r.sum_mech = r.sum_emf = r.sum_magnetic = r.peak_current = 0;
-      r.sum_torque = r.sum_current_sq = r.sum_brake = 0;
+      ControllerTick(model.joint(j), options[j], conditions[j], t, k == 0, steps, &rt[j], &ticks[j]);
+      BookPeriod(dt, &rt[j], &result.energy[j]);
     }
     result.end_time_s = t;
     if (observer) observer(Tick{t, &ticks});
@@ -463,89 +562,9 @@ RunResult Simulate(const ArmModel& model, const RunSpec& spec, const TickObserve
     for (int s = 0; s < steps; ++s) {
       const double ts = t + s * dt;
       if (spec.hardware && s > 0) spec.hardware->Apply(ts, &conditions);  // s = 0: applied at the tick
-      for (int j = 0; j < n; ++j) {
-        const JointModel& jm = model.joint(j);
-        JointRuntime& r = rt[j];
-        const HardwareCondition& cond = conditions[j];
-        DriveInputs di;
-        di.current_command_A = r.i_cmd;
-        di.enabled = r.driver_enabled;
-        di.motor_angle_rad = jm.ratio * r.q;
-        di.motor_speed_rad_s = r.rotor_rate;
-        DriveOutputs dout;
-        // The winding's temperature scales its resistance and the magnet's flux (K_T).
-        HardwareCondition warm = cond;
-        const double above_20 = r.winding_temp_C - 20.0;
-        if (above_20 != 0.0) {
-          warm.resistance_factor *= 1.0 + kCopperPerK * above_20;
-          warm.kt_factor *= 1.0 - kMagnetLossPerK * above_20;
-        }
-        StepDrive(jm.drive, warm, di, substeps, &r.drive, &dout);
-        const MotorParams& motor = jm.params.motor;
-        r.winding_temp_C += dt / motor.thermal_time_constant_s *
-                            (ambient_C + motor.thermal_resistance_K_per_W * dout.p_copper_W - r.winding_temp_C);
-        r.sum_supply += dout.p_supply_W;
-        r.sum_copper += dout.p_copper_W;
-        r.sum_inverter += dout.p_inverter_W;
-        r.sum_quiescent += dout.p_quiescent_W;
-        r.sum_emf += dout.p_emf_W;
-        r.sum_magnetic += dout.p_magnetic_W;
-        r.peak_current = std::max(r.peak_current, dout.peak_phase_current_A);
-        r.sum_torque += dout.torque_Nm;
-        r.sum_current_sq += dout.current_sq_A2;
-        r.phase_current = dout.phase_current_A;
-
-        // Motor-side dry friction (Coulomb + Stribeck, brake, and the mesh loss referred to the
-        // rotor) as the rotor's bounded velocity row with target 0; motor torque less viscous
-        // friction as a couple between rotor and stator.
-        const FrictionParams& fp = jm.params.friction;
-        const double brake = BrakeTorqueLimitNm(jm.params.brake, cond, r.brake_engaged);
-        const double dry = BreakawayFrictionNm(fp, cond.friction_factor, r.qd) +
-                           jm.params.drive.mesh_loss_fraction * std::fabs(r.tau_transmitted) / jm.ratio + brake;
-        r.brake_share = dry > 0 ? brake / dry : 0.0;
-        r.viscous_torque = ViscousFrictionNm(fp, cond.friction_factor, r.qd);
-        dJointSetAMotorParam(ode.drag(j), dParamFMax, dry);
-        dVector3 axis;
-        dJointGetHingeAxis(ode.joint(j), axis);
-        r.axis = ToEigen(axis);
-        const Eigen::Vector3d couple = (dout.torque_Nm - r.viscous_torque) * r.axis;
-        dBodyAddTorque(ode.rotor(j), couple.x(), couple.y(), couple.z());
-        if (dBodyID stator = ode.parent(j)) dBodyAddTorque(stator, -couple.x(), -couple.y(), -couple.z());
-      }
+      for (int j = 0; j < n; ++j) DriveJoint(model.joint(j), conditions[j], substeps, dt, ambient_C, &ode, j, &rt[j]);
       dWorldStep(ode.world(), dt);
-      for (int j = 0; j < n; ++j) {
-        const JointModel& jm = model.joint(j);
-        JointRuntime& r = rt[j];
-        dJointID hinge = ode.joint(j);
-        dVector3 axis_v, anchor_v;
-        dJointGetHingeAxis(hinge, axis_v);
-        dJointGetHingeAnchor(hinge, anchor_v);
-        const Eigen::Vector3d axis = ToEigen(axis_v);
-        const double qd_new = dJointGetHingeAngleRate(hinge);
-        const double raw = dJointGetHingeAngle(hinge);
-        r.q += WrapPi(raw - WrapPi(r.q - r.q_initial));
-        r.qd = qd_new;
-        r.rotor_rate = ode.RotorRate(j, axis);
-        // What the harmonic drive passes on to the link: the moment about the joint axis of the
-        // rotor hinge's wrench on the link (the gear reaction through the planet's carrier).
-        const dJointFeedback& rf = ode.rotor_feedback(j);
-        const Eigen::Vector3d com = ToEigen(dBodyGetPosition(ode.body(j)));
-        r.tau_transmitted = (ToEigen(rf.t2) + (com - ToEigen(anchor_v)).cross(ToEigen(rf.f2))).dot(axis);
-        // The AMotor row is a pure torque on the rotor: the dry friction (motor side).
-        const double dry_torque = ToEigen(ode.drag_feedback(j).t1).dot(r.axis);
-        r.sum_mech += r.tau_transmitted * qd_new;
-        r.sum_friction += (r.viscous_torque - dry_torque) * r.rotor_rate;
-        // The dry elements share the constraint torque in proportion to their bounds (exact
-        // while slipping, when each is at its bound); the brake is reported link side.
-        r.sum_brake += jm.ratio * std::fabs(dry_torque) * r.brake_share;
-        const ModuleParams& m = jm.params;
-        if (!r.limit_stop && (r.q < m.min_angle_deg * M_PI / 180 || r.q > m.max_angle_deg * M_PI / 180)) {
-          // Limit switch: the joint controller disables the drive and engages the brake.
-          r.limit_stop = true;
-          r.driver_enabled = false;
-          r.brake_engaged = true;
-        }
-      }
+      for (int j = 0; j < n; ++j) ReadBackJoint(model.joint(j), ode, j, &rt[j]);
     }
   }
   result.kinetic_end_J = ode.KineticEnergy();

@@ -42,6 +42,7 @@
 #include "core/plant/motor.h"
 #include "core/plant/robot_config.h"
 #include "core/plant/trajectory.h"
+#include "core/signals/joint_signals.h"
 
 namespace armfault {
 
@@ -107,26 +108,17 @@ struct RunSpec {
   std::function<bool()> stop;
 };
 
-// One joint at one controller tick. Sensor values are what the joint's controller (and a
-// monitor) may use; the others are the simulator's truth. Powers are means over the control
-// period that ends at this tick (0 at t = 0).
+// One joint at one controller tick: the sensor signals its controller (and a monitor) may use,
+// and beside them the simulator's truth. Powers are means over the control period that ends
+// at this tick (0 at t = 0).
 struct JointTick {
-  // reference
-  double q_ref_rad = 0, qd_ref_rad_s = 0;
-  // sensors
-  double q_meas_rad = 0;        // encoder, link side
-  double qd_est_rad_s = 0;      // controller's velocity estimate
-  double tau_sensor_Nm = 0;     // torque-sensor reading after the ADC
-  double i_cmd_A = 0;           // commanded current (after the DAC)
-  double i_supply_meas_A = 0;   // supply-current sensor, mean over the period, with noise
-  double v_bus_meas_V = 0;
-  double winding_temp_meas_C = 0;  // NaN unless the module declares a winding temperature sensor
+  JointSignals signals;  // reference and sensors, what a monitor sees (core/signals/joint_signals.h)
   // truth
-  double winding_temp_C = 20;   // winding temperature
+  double winding_temp_C = 20;   // winding temperature (signals.winding_temp_C: the sensor's, if declared)
   double q_rad = 0, qd_rad_s = 0;
   double tau_true_Nm = 0;       // torque the harmonic drive passes to the link (sensor truth)
   double i_phase_a_A = 0;
-  double i_supply_A = 0;        // mean over the period
+  double i_supply_A = 0;        // mean over the period (signals.i_supply_meas_A is the sensor's)
   double peak_phase_current_A = 0;
   bool brake_engaged = false;
   bool driver_enabled = true;

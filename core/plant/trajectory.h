@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "core/base/json_input.h"  // InputContext
+
 namespace armfault {
 
 // Reference for one joint at one instant: angle [rad], velocity [rad/s], acceleration [rad/s^2].
@@ -26,13 +28,6 @@ class Trajectory {
   virtual TrajectoryPoint At(double t_s) const = 0;
   // The type name as written in JSON ("sine_pair", ...).
   virtual const char* type() const = 0;
-};
-
-// Where a JSON value came from: the file name (for errors) and the directory against which
-// relative paths inside it (a csv trajectory's "path") are resolved.
-struct InputContext {
-  std::string source = "<input>";
-  std::string base_dir = ".";
 };
 
 // Builds a trajectory from its JSON object ({"type": "...", ...}). `pointer` is the JSON

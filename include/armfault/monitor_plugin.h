@@ -60,7 +60,7 @@ extern "C" {
 #endif
 
 /* The signals one joint's controller has at a tick, and nothing else (JointSignals in
- * core/monitors/monitor.h). Units are in the names: rad, rad/s, N m, A, V, degrees Celsius. */
+ * core/signals/joint_signals.h). Units are in the names: rad, rad/s, N m, A, V, degrees Celsius. */
 typedef struct armfault_joint_signals {
   double q_ref_rad;        /* reference position the controller tracks */
   double qd_ref_rad_s;     /* reference velocity */

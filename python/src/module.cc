@@ -256,7 +256,7 @@ py::tuple SimulateCase(const PyCampaign& pc, py::object run) {
       const size_t at = rows.size();
       rows.resize(at + fields * joints);
       for (size_t j = 0; j < joints && j < tick.joints->size(); ++j) {
-        const JointSignals s = SignalsOf((*tick.joints)[j]);
+        const JointSignals& s = (*tick.joints)[j].signals;
         const double values[] = {s.q_ref_rad,    s.qd_ref_rad_s, s.q_meas_rad,      s.qd_est_rad_s, s.tau_sensor_Nm,
                                  s.i_cmd_A,      s.i_supply_meas_A, s.v_bus_meas_V, s.winding_temp_C};
         for (size_t f = 0; f < fields; ++f) rows[at + f * joints + j] = values[f];

@@ -72,14 +72,14 @@ double Rms(const Recording& rec, double from, double to, F f) {
 }
 
 double TrackingRmsDeg(const Recording& rec, double from, double to) {
-  return Rms(rec, from, to, [](const JointTick& j) { return (j.q_rad - j.q_ref_rad) * 180 / M_PI; });
+  return Rms(rec, from, to, [](const JointTick& j) { return (j.q_rad - j.signals.q_ref_rad) * 180 / M_PI; });
 }
 
 TEST(KtDegradationTest, StillTracksWithCurrentRaisedByOneOverN) {
   const FaultyRun f = RunWithFaults(TopJointFault({{"family", "kt_degradation"}, {"kt_factor", 0.6}}));
   ASSERT_TRUE(f.result.ok);
   EXPECT_LT(TrackingRmsDeg(f.rec, kOnset, 10), 0.5);
-  auto current = [](const JointTick& j) { return j.i_cmd_A; };
+  auto current = [](const JointTick& j) { return j.signals.i_cmd_A; };
   const double ratio = Rms(f.rec, kOnset + 0.2, 10, current) / Rms(Healthy().rec, kOnset + 0.2, 10, current);
   EXPECT_NEAR(ratio, 1 / 0.6, 0.15) << ratio;
   ASSERT_TRUE(f.effects[0].took_effect);
@@ -111,8 +111,8 @@ TEST(BrakeLockTest, JointStaysWhereItWasAndTheCommandSaturates) {
       continue;
     }
     max_dev = std::max(max_dev, std::fabs(j.q_rad - q_onset) * 180 / M_PI);
-    max_ref_dev = std::max(max_ref_dev, std::fabs(j.q_ref_rad - q_onset) * 180 / M_PI);
-    max_cmd = std::max(max_cmd, std::fabs(j.i_cmd_A));
+    max_ref_dev = std::max(max_ref_dev, std::fabs(j.signals.q_ref_rad - q_onset) * 180 / M_PI);
+    max_cmd = std::max(max_cmd, std::fabs(j.signals.i_cmd_A));
   }
   EXPECT_GT(max_ref_dev, 20.0);  // motion was commanded
   EXPECT_LT(max_dev, 0.2);
@@ -122,7 +122,7 @@ TEST(BrakeLockTest, JointStaysWhereItWasAndTheCommandSaturates) {
 
 double ReadingAt(const Recording& rec, double t) {
   for (size_t k = 0; k < rec.t.size(); ++k) {
-    if (rec.t[k] >= t) return rec.ticks[k][kTop].tau_sensor_Nm;
+    if (rec.t[k] >= t) return rec.ticks[k][kTop].signals.tau_sensor_Nm;
   }
   return NAN;
 }
@@ -243,7 +243,7 @@ TEST(FaultProfileTest, IncipientRampsAndIntermittentSwitches) {
 TEST(FaultProfileTest, IncipientKtLossShowsAsAGrowingCurrentInThePlant) {
   const FaultyRun f = RunWithFaults(TopJointFault(
       {{"family", "kt_degradation"}, {"kt_factor", 0.5}, {"profile", "incipient"}, {"ramp_s", 6.0}}));
-  auto current = [](const JointTick& j) { return j.i_cmd_A; };
+  auto current = [](const JointTick& j) { return j.signals.i_cmd_A; };
   // Whole periods of the reference (2 pi / 1.2732 = 4.93 s) are not available after onset;
   // compare the faulty run with the healthy one over the same windows instead.
   const double early = Rms(f.rec, 2.5, 4.5, current) / Rms(Healthy().rec, 2.5, 4.5, current);

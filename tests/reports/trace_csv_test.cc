@@ -23,8 +23,8 @@ TEST(TraceCsvTest, WritesHeaderAndOneExactRowPerTick) {
   std::ostringstream out;
   TraceCsvWriter writer(&out, 1);
   std::vector<JointTick> joints(1);
-  joints[0].q_ref_rad = 0.1;
-  joints[0].tau_sensor_Nm = -2.5;
+  joints[0].signals.q_ref_rad = 0.1;
+  joints[0].signals.tau_sensor_Nm = -2.5;
   joints[0].brake_engaged = true;
   writer.Write(Tick{0.002, &joints});
   std::istringstream in(out.str());

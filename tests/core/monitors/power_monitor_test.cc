@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "core/monitors/power_monitor.h"
+#include "core/observe.h"
 #include "core/run_config.h"
 #include "faults/fault.h"
 #include "tests/core/test_support.h"
@@ -357,7 +358,7 @@ CommissioningData Record(const RobotConfig& robot, const json& run_json, uint64_
   const RunResult r = Simulate(model, MakeRunSpec(run), [&](const Tick& tick) {
     data.t_s.push_back(tick.t_s);
     std::vector<JointSignals> s;
-    for (const JointTick& jt : *tick.joints) s.push_back(SignalsOf(jt));
+    for (const JointTick& jt : *tick.joints) s.push_back(jt.signals);
     data.signals.push_back(std::move(s));
   });
   data.ok = r.ok;

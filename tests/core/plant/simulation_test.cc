@@ -226,8 +226,8 @@ TEST(Experiment1Test, TopJointTracksWithinHalfADegree) {
   std::vector<double> err;
   double peak_ref = 0;
   for (const auto& tick : r.rec.ticks) {
-    err.push_back((tick[2].q_rad - tick[2].q_ref_rad) * 180 / M_PI);
-    peak_ref = std::max(peak_ref, std::fabs(tick[2].q_ref_rad) * 180 / M_PI);
+    err.push_back((tick[2].q_rad - tick[2].signals.q_ref_rad) * 180 / M_PI);
+    peak_ref = std::max(peak_ref, std::fabs(tick[2].signals.q_ref_rad) * 180 / M_PI);
   }
   RecordProperty("rms_error_deg", std::to_string(Rms(err)));
   EXPECT_LT(Rms(err), 0.5);
@@ -245,9 +245,9 @@ TEST(Experiment1Test, HalvedTorqueConstantStillTracksWithAboutTwiceTheCurrent) {
   ASSERT_TRUE(weak.result.ok) << weak.result.failure_reason;
   std::vector<double> err, i_healthy, i_weak;
   for (size_t k = 0; k < weak.rec.ticks.size(); ++k) {
-    err.push_back((weak.rec.ticks[k][2].q_rad - weak.rec.ticks[k][2].q_ref_rad) * 180 / M_PI);
-    i_healthy.push_back(healthy.rec.ticks[k][2].i_cmd_A);
-    i_weak.push_back(weak.rec.ticks[k][2].i_cmd_A);
+    err.push_back((weak.rec.ticks[k][2].q_rad - weak.rec.ticks[k][2].signals.q_ref_rad) * 180 / M_PI);
+    i_healthy.push_back(healthy.rec.ticks[k][2].signals.i_cmd_A);
+    i_weak.push_back(weak.rec.ticks[k][2].signals.i_cmd_A);
   }
   RecordProperty("rms_error_deg", std::to_string(Rms(err)));
   EXPECT_LT(Rms(err), 0.5);

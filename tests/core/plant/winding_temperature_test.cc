@@ -111,13 +111,11 @@ TEST(WindingTemperature, ThesisExperiment1WarmsTheTopWindingByItsCopperEnergyOve
 TEST(WindingTemperature, TheSensorIsReadOnlyWhereTheModuleHasOne) {
   RobotConfig robot = HeldPendulum();
   const Recording without = Hold(robot, 30, 0.1);
-  EXPECT_TRUE(std::isnan(without.ticks.back()[0].winding_temp_meas_C));
-  EXPECT_TRUE(std::isnan(SignalsOf(without.ticks.back()[0]).winding_temp_C));
+  EXPECT_TRUE(std::isnan(without.ticks.back()[0].signals.winding_temp_C));
   robot.modules[0].winding_temperature_sensor = true;
   const Recording with = Hold(robot, 30, 0.1);
-  EXPECT_EQ(with.ticks.back()[0].winding_temp_meas_C, with.ticks.back()[0].winding_temp_C);
-  EXPECT_EQ(SignalsOf(with.ticks.back()[0]).winding_temp_C, with.ticks.back()[0].winding_temp_C);
-  EXPECT_GE(with.ticks.back()[0].winding_temp_meas_C, 30.0);
+  EXPECT_EQ(with.ticks.back()[0].signals.winding_temp_C, with.ticks.back()[0].winding_temp_C);
+  EXPECT_GE(with.ticks.back()[0].signals.winding_temp_C, 30.0);
 }
 
 TEST(SensorErrors, GainAndOffsetActOnTheTrueValueTheControllerMapsNominally) {
@@ -129,9 +127,9 @@ TEST(SensorErrors, GainAndOffsetActOnTheTrueValueTheControllerMapsNominally) {
   const Recording rec = Hold(robot, 20, 1.0);
   const JointTick& t = rec.ticks.back()[0];
   // The reading is the erroneous value within one ADC step (28 N m / 2047.5).
-  EXPECT_NEAR(t.tau_sensor_Nm, 1.03 * t.tau_true_Nm + 0.5, 28.0 / 2047.5);
+  EXPECT_NEAR(t.signals.tau_sensor_Nm, 1.03 * t.tau_true_Nm + 0.5, 28.0 / 2047.5);
   EXPECT_GT(std::fabs(t.tau_true_Nm), 10.0);
-  EXPECT_NEAR(t.i_supply_meas_A, 0.98 * t.i_supply_A + 0.1, 1e-12);
+  EXPECT_NEAR(t.signals.i_supply_meas_A, 0.98 * t.i_supply_A + 0.1, 1e-12);
 }
 
 }  // namespace
