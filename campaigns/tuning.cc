@@ -9,6 +9,7 @@
 #include "campaigns/campaign_spec.h"
 #include "campaigns/cases.h"
 #include "campaigns/provenance.h"
+#include "campaigns/run_dir.h"
 #include "campaigns/run_record.h"
 #include "campaigns/tune_scoring.h"
 #include "core/base/json_input.h"
@@ -449,18 +450,13 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
   td.results_path = dir / "results.jsonl";
   td.decisions_path = dir / "decisions.jsonl";
   const fs::path& campaign_path = td.campaign_path;
-  const nlohmann::json campaign_file = ReadJsonFile(campaign_path.string());
-  if (!campaign_file.is_object() || !campaign_file.contains("campaign")) {
-    throw InputError(campaign_path.string(), "/campaign", "missing: not a campaign output directory");
-  }
-  // A campaign run from Python with a Python monitor names it ({"type": "python", ...}), which
-  // the command line cannot build; tune needs only the cases and the stored statistics.
-  nlohmann::json campaign_json = campaign_file["campaign"];
-  const nlohmann::json monitor_json = campaign_json.is_object() ? campaign_json.value("monitor", nlohmann::json()) : nlohmann::json();
-  const bool python_monitor = monitor_json.is_object() && monitor_json.value("type", "") == "python";
-  if (python_monitor) campaign_json.erase("monitor");
-  const CampaignSpec campaign = CampaignSpecFromJson(campaign_json, campaign_path.string(), dir.string());
-  const std::string monitor_type = python_monitor ? "python" : campaign.monitor.type;
+  // The spec alone: no trajectory file is read and no monitor built (a Python monitor's, say,
+  // which only the Python package can build); tune needs the cases and the stored statistics.
+  const nlohmann::json campaign_file = ReadCampaignFileJson(dir);
+  const CampaignSpec campaign = CampaignSpecFromJson(campaign_file["campaign"], campaign_path.string(), dir.string());
+  const nlohmann::json monitor_json = campaign_file["campaign"].value("monitor", nlohmann::json());
+  const bool python_monitor = campaign.monitor.type == "python";
+  const std::string monitor_type = campaign.monitor.type;
   // Nothing of another campaign is tuned on: summary.json, when there, must be of this
   // campaign.json, and every line of results.jsonl one of its cases (same run_id and seed).
   const std::string campaign_hash = CampaignHash(campaign_file["campaign"]);

@@ -31,11 +31,33 @@ struct MonitorType {
   BuildMonitorModel build;
 };
 
+// A Python monitor's campaign.json names its factory ({"type": "python", "factory":
+// "module.Class"}, written by the Python package): the spec reads it like any other type (so
+// merge, tune and score read such a directory); only the Python package can build one.
+nlohmann::json ParsePythonSettings(const nlohmann::json& object, const std::string& pointer, const InputContext& context) {
+  try {
+    ObjectReader reader(object, pointer);
+    reader.AllowOnly({"factory"});
+    return {{"factory", reader.RequireString("factory")}};
+  } catch (const InputError& e) {
+    throw e.WithSource(context.source);
+  }
+}
+
+std::shared_ptr<const MonitorModel> BuildPythonModel(const nlohmann::json& settings, const MonitorContext& context,
+                                                     const std::string& pointer) {
+  throw InputError(context.input.source, PointerJoin(pointer, "type"),
+                   "a Python monitor (factory \"" + settings.value("factory", "") +
+                       "\") runs only from the armfault Python package (import armfault; run_campaign(..., monitor=...))");
+}
+
 const MonitorType kMonitorTypes[] = {
     {"power_efficiency", "the thesis's power-efficiency monitor, extended to isolate and size faults (docs/monitor.md)",
      &ParsePowerEfficiencySettings, &BuildPowerEfficiencyModel},
     {"plugin", "a compiled monitor in a shared library, C ABI include/armfault/monitor_plugin.h (docs/monitor-api.md)",
      &ParsePluginSettings, &BuildPluginModel},
+    {"python", "a class written in Python, run by the armfault Python package (docs/monitor-api.md)",
+     &ParsePythonSettings, &BuildPythonModel},
 };
 
 const MonitorType* FindType(const std::string& type) {

@@ -49,6 +49,24 @@ TEST(MonitorRegistry, UnknownTypeNamesTheFieldTheValueAndTheNearestType) {
   EXPECT_THAT(v.message(), HasSubstr("got []"));
 }
 
+TEST(MonitorRegistry, APythonMonitorIsReadAsAnyTypeButBuiltOnlyByThePythonPackage) {
+  const MonitorSpec spec = MonitorSpecFromJson(json{{"type", "python"}, {"factory", "m.M"}}, "/monitor", Context());
+  EXPECT_EQ(spec.type, "python");
+  EXPECT_EQ(spec.ToJson(), (json{{"type", "python"}, {"factory", "m.M"}}));
+  EXPECT_THAT(ErrorOf([] { MonitorSpecFromJson(json{{"type", "python"}}, "/monitor", Context()); }).what(),
+              HasSubstr("c.json: /monitor/factory: required key is missing"));
+  EXPECT_THAT(ErrorOf([] { MonitorSpecFromJson(json{{"type", "python"}, {"factory", "m.M"}, {"x", 1}}, "/monitor",
+                                               Context()); })
+                  .what(),
+              HasSubstr("/monitor/x"));
+  MonitorContext context;
+  context.input = Context();
+  context.robot = RobotPreset("mrr-config1");
+  const InputError e = ErrorOf([&] { MakeMonitorModel(spec, context, "/monitor"); });
+  EXPECT_THAT(e.what(), HasSubstr("c.json: /monitor/type: a Python monitor (factory \"m.M\") runs only from the armfault "
+                                  "Python package"));
+}
+
 TEST(MonitorRegistry, SettingsErrorsKeepTheirPointersAndAFileNamesItself) {
   const InputError e =
       ErrorOf([] { MonitorSpecFromJson(json{{"type", "power_efficiency"}, {"debounce", "x"}}, "/monitor", Context()); });
