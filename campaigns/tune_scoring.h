@@ -13,7 +13,7 @@
 
 #include "core/monitors/detector_statistics.h"
 #include "core/monitors/threshold_statistics.h"
-#include "campaigns/tuning.h"
+#include "campaigns/tune_options.h"
 
 namespace armfault {
 namespace tune {

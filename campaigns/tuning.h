@@ -21,6 +21,7 @@
 #include "core/monitors/detector_statistics.h"
 #include "core/monitors/power_monitor.h"
 #include "campaigns/pod.h"
+#include "campaigns/tune_options.h"
 
 namespace armfault {
 
@@ -44,22 +45,6 @@ using SettingIndex = std::array<int, kDetectorCount + 1>;
 // (source "--sweep") on a bad spec.
 SweepGrid MakeSweepGrid(const MonitorConfig& base, const std::string& spec);
 long SettingCount(const SweepGrid& grid);
-
-struct OperatingRule {
-  enum class Kind { kMaxDetection, kYouden, kMinCost };
-  Kind kind = Kind::kMaxDetection;
-  double false_alarm_ceiling = 0.01;  // kMaxDetection: highest detection with FA <= this
-  double miss_cost = 1.0;             // kMinCost: cost of a missed fault ...
-  double false_alarm_cost = 1.0;      // ... and of a false alarm; minimises miss_cost (1 - DR) + false_alarm_cost FA
-};
-// "max_detection", "youden", "min_cost"; throws InputError.
-OperatingRule::Kind OperatingRuleKind(const std::string& name);
-
-struct TuneOptions {
-  std::string sweep;
-  OperatingRule rule;
-  int threads = 0;  // 0: all cores
-};
 
 struct TuningResult {
   nlohmann::json report;       // DIR/tuning.json

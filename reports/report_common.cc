@@ -201,10 +201,6 @@ std::string CodeSpans(const std::string& text) {
   return in_code ? o + "</code>" : o;
 }
 
-std::string TuneFirst(const ReportData& d) {
-  return "<p class=\"missing\">No tuning results: " + CodeSpans(d.tuning_source) + ".</p>";
-}
-
 std::string WithUnit(const std::string& key) {
   const std::string unit = UnitOf(key);
   return unit.empty() ? key : key + " (" + unit + ")";

@@ -10,7 +10,6 @@
 #include <utility>
 #include <vector>
 
-#include "reports/campaign_report.h"
 
 namespace armfault::report {
 
@@ -67,8 +66,6 @@ std::string MdTable(const std::vector<std::string>& head, const std::vector<std:
 std::string VerdictHtml(bool met);
 // Text with `commands` in backticks as HTML: escaped, the commands in <code>.
 std::string CodeSpans(const std::string& text);
-// A section that needs tuning results and has none: why, and what to run.
-std::string TuneFirst(const ReportData& d);
 // A fault magnitude or monitor threshold key with its unit, for axis labels
 // ("kt_factor (× nominal K_T)"; docs/faults.md, docs/monitor.md); the key alone when unknown.
 std::string WithUnit(const std::string& key);

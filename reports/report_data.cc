@@ -1,7 +1,7 @@
 // Gathering the campaign report's data (reports/campaign_report.h) from an output directory:
 // summary.json, campaign.json, results.jsonl, tuning.json, boundary.json, thesis.json, each
 // checked to be of one campaign, and the plotted run re-simulated.
-#include "reports/campaign_report.h"
+#include "reports/report_data.h"
 
 #include <algorithm>
 #include <cmath>

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "reports/campaign_report.h"
+#include "reports/report_data.h"
 
 namespace armfault::report {
 

@@ -15,6 +15,15 @@ namespace armfault::report {
 using svg::Escape;
 using svg::Fixed;
 
+namespace {
+
+// A section that needs tuning results and has none: why, and what to run.
+std::string TuneFirst(const ReportData& d) {
+  return "<p class=\"missing\">No tuning results: " + CodeSpans(d.tuning_source) + ".</p>";
+}
+
+}  // namespace
+
 std::string OperatingPointSection(const ReportData& d) {
   std::string o = "<section id=\"operating-point\"><h2>Operating point</h2>";
   if (!d.tuning) return o + TuneFirst(d) + "</section>";
