@@ -350,8 +350,6 @@ void AddRunTable(const RunRecord& rec, const nlohmann::json& decision, bool sepa
 // Reads results.jsonl and decisions.jsonl line for line (without the latter, results.jsonl's
 // inline "decision"), each line a case of the campaign (`matcher`), into td.
 void ReadRunTables(const CaseMatcher& matcher, const std::string& sweep, TuneDir* td) {
-  std::ifstream in(td->results_path, std::ios::binary);
-  if (!in) throw InputError(td->results_path.string(), "", "cannot read (run the campaign first)");
   // Each run's statistics are the same line of decisions.jsonl, of the same run; in an older
   // armfault's directory, without that file, the results line's own "decision".
   const bool separate = fs::exists(td->decisions_path);
@@ -360,21 +358,17 @@ void ReadRunTables(const CaseMatcher& matcher, const std::string& sweep, TuneDir
     decisions_in.open(td->decisions_path, std::ios::binary);
     if (!decisions_in) throw InputError(td->decisions_path.string(), "", "cannot read the file");
   }
-  std::string line, decision_line;
+  std::string decision_line;
   long n = 0;
-  while (std::getline(in, line)) {
-    ++n;
+  JsonLinesOptions lines;
+  lines.open_error = "cannot read (run the campaign first)";
+  ReadRunRecords(td->results_path, lines, [&](RunRecord&& rec, long line) {
+    n = line;
     auto where = [&] { return "line " + std::to_string(n) + ": "; };
-    RunRecord rec;
-    try {
-      rec = RunRecordFromJson(nlohmann::json::parse(line));
-      if (const std::string why = matcher.Mismatch(rec); !why.empty()) {
-        throw std::runtime_error(why + ": this results.jsonl is not a run of " + td->campaign_path.string() +
-                                 " (files of different campaigns are not read together); run the campaign into " +
-                                 td->dir_name + " again");
-      }
-    } catch (const std::exception& e) {
-      throw InputError(td->results_path.string(), "", where() + e.what());
+    if (const std::string why = matcher.Mismatch(rec); !why.empty()) {
+      throw std::runtime_error(why + ": this results.jsonl is not a run of " + td->campaign_path.string() +
+                               " (files of different campaigns are not read together); run the campaign into " +
+                               td->dir_name + " again");
     }
     nlohmann::json decision = std::move(rec.decision);
     if (separate) {
@@ -400,12 +394,12 @@ void ReadRunTables(const CaseMatcher& matcher, const std::string& sweep, TuneDir
     }
     if (!rec.ok) {
       ++td->failed;
-      continue;
+      return;
     }
-    if (!rec.injected()) continue;  // its onset condition never fired: no fault to detect
-    if (rec.is_compound()) continue;  // several faults at once: no family or magnitude to fit
+    if (!rec.injected()) return;  // its onset condition never fired: no fault to detect
+    if (rec.is_compound()) return;  // several faults at once: no family or magnitude to fit
     AddRunTable(rec, decision, separate, where(), sweep, td);
-  }
+  });
   if (separate && std::getline(decisions_in, decision_line)) {
     throw InputError(td->decisions_path.string(), "",
                      "line " + std::to_string(n + 1) + ": more lines than the " + std::to_string(n) + " runs of " +

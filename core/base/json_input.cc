@@ -283,6 +283,9 @@ void ReadJsonLines(const std::string& path, const JsonLinesOptions& options,
     if (options.skip_blank && line.find_first_not_of(" \t\r") == std::string::npos) continue;
     try {
       each(nlohmann::json::parse(line), n);
+    } catch (const InputError& e) {
+      if (!e.source().empty()) throw;  // about another file (one read in step): as it is
+      throw InputError(path, "", "line " + std::to_string(n) + ": " + e.what());
     } catch (const std::exception& e) {
       throw InputError(path, "", "line " + std::to_string(n) + ": " + e.what());
     }

@@ -175,7 +175,8 @@ nlohmann::json ReadJsonFile(const std::string& path);
 
 // JSON Lines read strictly: each line of `path` parsed and handed to `each` with its number
 // (from 1). A line that does not parse, or that `each` refuses by throwing, is an InputError
-// "PATH: line N: why"; a file that cannot be opened is "PATH: <open_error>". Lines of only
+// "PATH: line N: why", except an InputError that names a file of its own (one read in step
+// with this one), which passes as it is; a file that cannot be opened is "PATH: <open_error>". Lines of only
 // white space are skipped when `skip_blank` is set, else they are errors like any other.
 struct JsonLinesOptions {
   std::string open_error = "cannot read the file";

@@ -15,6 +15,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
+using ::testing::Not;
 using testing_support::ErrorOf;
 using testing_support::ReadAll;
 using testing_support::ScratchDir;
@@ -68,6 +69,23 @@ TEST(RunDir, ReadRunRecordsIgnoresUnknownKeysAndSaysWhatTheCallerRefuses) {
     });
   });
   EXPECT_THAT(std::string(e.what()), HasSubstr(path + ": line 2: not detected"));
+}
+
+TEST(RunDir, AnErrorAboutAFileReadInStepKeepsItsOwnFile) {
+  ScratchDir dir("run_dir");
+  const std::string path = dir.Write("results.jsonl", Lines({Record(0, true), Record(1, true)}));
+  const InputError other = ErrorOf([&] {
+    ReadRunRecords(path, {}, [&](RunRecord&&, long line) {
+      if (line == 2) throw InputError("decisions.jsonl", "", "line 2: cut");
+    });
+  });
+  EXPECT_EQ(other.source(), "decisions.jsonl");
+  EXPECT_THAT(std::string(other.what()), Not(HasSubstr("results.jsonl")));
+  const InputError own = ErrorOf([&] {
+    ReadRunRecords(path, {}, [&](RunRecord&&, long) { throw InputError("", "/x", "no source"); });
+  });
+  EXPECT_EQ(own.source(), path);
+  EXPECT_THAT(std::string(own.what()), HasSubstr("line 1: "));
 }
 
 TEST(RunDir, ReadRunRecordsSaysTheCallersOpenErrorAndSkipsBlankLinesOnlyWhenAsked) {
