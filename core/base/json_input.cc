@@ -3,6 +3,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 #include "core/base/suggest.h"
@@ -237,26 +238,111 @@ void RequireInRange(double value, double min, double max, const std::string& poi
   }
 }
 
-nlohmann::json ParseJsonText(const std::string& text, const std::string& source) {
-  constexpr int kMaxDepth = 64;
-  auto callback = [&](int d, nlohmann::json::parse_event_t event, nlohmann::json&) {
-    if ((event == nlohmann::json::parse_event_t::object_start ||
-         event == nlohmann::json::parse_event_t::array_start) && d >= kMaxDepth) {
-      throw InputError(source, "", "nesting deeper than " + std::to_string(kMaxDepth) + " levels");
+namespace {
+
+// Builds the document as nlohmann's own parser does (the same values, bit for bit) while it
+// knows the JSON pointer of every value, so that what the parser alone would let through or
+// abort on is an InputError naming the file and the field: a key given twice in one object
+// (nlohmann keeps the last), a number beyond a double (nlohmann throws out_of_range.406, which
+// its callback parser lets escape as std::terminate), nesting deeper than kMaxDepth.
+class PointerSax : public nlohmann::json_sax<nlohmann::json> {
+ public:
+  static constexpr size_t kMaxDepth = 64;
+  explicit PointerSax(std::string source) : source_(std::move(source)) {}
+
+  bool null() override { return Put(nullptr); }
+  bool boolean(bool v) override { return Put(v); }
+  bool number_integer(number_integer_t v) override { return Put(v); }
+  bool number_unsigned(number_unsigned_t v) override { return Put(v); }
+  bool number_float(number_float_t v, const string_t&) override { return Put(v); }
+  bool string(string_t& v) override { return Put(std::move(v)); }
+  bool binary(binary_t& v) override { return Put(nlohmann::json::binary(std::move(v))); }
+  bool start_object(std::size_t) override { return Open(nlohmann::json::object()); }
+  bool start_array(std::size_t) override { return Open(nlohmann::json::array()); }
+  bool end_object() override { return Close(); }
+  bool end_array() override { return Close(); }
+  bool key(string_t& k) override {
+    Frame& f = frames_.back();
+    f.key = k;
+    if (f.value->contains(k)) {
+      return Fail(InputError(source_, ValuePointer(), "the key \"" + k + "\" is given twice in one object"));
     }
     return true;
+  }
+  bool parse_error(std::size_t, const std::string& token, const nlohmann::detail::exception& e) override {
+    if (e.id == 406) {  // out_of_range: a number beyond a double
+      return Fail(InputError(source_, ValuePointer(), "the number " + token + " is beyond the range of a double"));
+    }
+    const std::string what = e.what();
+    // nlohmann's message starts with "[json.exception.parse_error.101] "; keep the rest.
+    const auto pos = what.find("] ");
+    return Fail(InputError(source_, "", "not valid JSON: " + (pos == std::string::npos ? what : what.substr(pos + 2))));
+  }
+
+  nlohmann::json Result() {
+    if (error_) throw *error_;
+    return std::move(root_);
+  }
+
+ private:
+  struct Frame {
+    nlohmann::json* value;
+    std::string pointer;  // of the container
+    std::string key;      // an object's current key
   };
+
+  // The pointer of the value about to be put into the innermost container.
+  std::string ValuePointer() const {
+    if (frames_.empty()) return "";
+    const Frame& f = frames_.back();
+    return f.value->is_array() ? PointerJoin(f.pointer, f.value->size()) : PointerJoin(f.pointer, f.key);
+  }
+  nlohmann::json* Put(nlohmann::json v) {
+    if (frames_.empty()) {
+      root_ = std::move(v);
+      return &root_;
+    }
+    Frame& f = frames_.back();
+    if (f.value->is_array()) {
+      f.value->push_back(std::move(v));
+      return &f.value->back();
+    }
+    nlohmann::json& slot = (*f.value)[f.key];
+    slot = std::move(v);
+    return &slot;
+  }
+  bool Open(nlohmann::json container) {
+    if (frames_.size() >= kMaxDepth) {
+      return Fail(InputError(source_, "", "nesting deeper than " + std::to_string(kMaxDepth) + " levels"));
+    }
+    const std::string pointer = ValuePointer();
+    frames_.push_back({Put(std::move(container)), pointer, ""});
+    return true;
+  }
+  bool Close() {
+    frames_.pop_back();
+    return true;
+  }
+  bool Fail(InputError e) {
+    if (!error_) error_ = std::move(e);
+    return false;
+  }
+
+  std::string source_;
+  nlohmann::json root_;
+  std::vector<Frame> frames_;
+  std::optional<InputError> error_;
+};
+
+}  // namespace
+
+nlohmann::json ParseJsonText(const std::string& text, const std::string& source) {
   if (text.find_first_not_of(" \t\r\n") == std::string::npos) {
     throw InputError(source, "", "the input is empty, expected a JSON document");
   }
-  try {
-    return nlohmann::json::parse(text, callback);
-  } catch (const nlohmann::json::parse_error& e) {
-    std::string what = e.what();
-    // nlohmann's message starts with "[json.exception.parse_error.101] "; keep the rest.
-    auto pos = what.find("] ");
-    throw InputError(source, "", "not valid JSON: " + (pos == std::string::npos ? what : what.substr(pos + 2)));
-  }
+  PointerSax sax(source);
+  nlohmann::json::sax_parse(text, &sax);
+  return sax.Result();
 }
 
 std::string ReadTextFile(const std::string& path) {

@@ -270,6 +270,19 @@ expect_stdout_contains "valid campaign \"ci\": 52 runs"
 printf '{"trajectories": [{"name": "a", "joints": {"3": {"type": "hold"}}}], "faults": [{"family": "kt_degradation", "joint": 3, "kt_factor": [0.9, 1.5]}]}\n' >"$tmp/bad_campaign.json"
 run campaign_bad_value "$armfault" validate "$tmp/bad_campaign.json"
 expect_input_error "$tmp/bad_campaign.json: /faults/0/kt_factor/1: kt_degradation: 1.5 is outside"
+# JSON itself: a number beyond a double and a key given twice are errors naming the field (the
+# number aborted before), in a campaign, a run directory's campaign.json and a --fault.
+printf '{"duration_s": 1e999, "trajectories": [{"name": "a", "joints": {"3": {"type": "hold"}}}]}\n' >"$tmp/huge.json"
+run campaign_huge_number "$armfault" validate "$tmp/huge.json"
+expect_input_error "$tmp/huge.json: /duration_s: the number 1e999 is beyond the range of a double"
+run campaign_huge_number_run "$armfault" run "$tmp/huge.json" -o "$tmp/huge_out" -q
+expect_input_error "$tmp/huge.json: /duration_s: the number 1e999 is beyond the range of a double"
+printf '{"trajectories": [{"name": "a", "name": "b", "joints": {}}]}\n' >"$tmp/twice.json"
+run campaign_key_twice "$armfault" validate "$tmp/twice.json"
+expect_input_error "$tmp/twice.json: /trajectories/0/name: the key \"name\" is given twice in one object"
+run trace_fault_huge "$armfault" trace --fault '{"family": "kt_degradation", "joint": 3, "kt_factor": 0.6, "onset_s": -1e400}'
+expect_status 2
+expect_stderr_contains "/onset_s: the number -1e400 is beyond the range of a double"
 # Every error of a campaign, one line each, in the order found; then exit 2. `run` prints the
 # same and writes nothing.
 printf '%s\n' '{"trajectories": [{"name": "a", "joints": {"3": {"type": "hold", "angle_deg": 500}}}],' \
