@@ -19,7 +19,6 @@
 #include "campaigns/runner.h"
 #include "core/base/json_input.h"
 #include "campaigns/campaign_summary.h"
-#include "campaigns/results_csv.h"
 
 namespace armfault {
 

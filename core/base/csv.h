@@ -7,11 +7,16 @@
 
 namespace armfault {
 
-// A text cell, quoted only when it must be (a comma, a quote or a line break in it).
+// A text cell, quoted only when it must be (a comma, a quote or a line break in it). Text that
+// a spreadsheet would take for a formula (its first character one of = + - @, a tab or a
+// carriage return: a run or trajectory name, a reason) gets a leading apostrophe, as OWASP's
+// rule for CSV injection says, so that it opens as the text it is. Numbers are not text cells.
 inline std::string CsvText(const std::string& s) {
-  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
+  const bool formula = !s.empty() && std::string("=+-@\t\r").find(s[0]) != std::string::npos;
+  const std::string cell = formula ? "'" + s : s;
+  if (cell.find_first_of(",\"\n\r") == std::string::npos) return cell;
   std::string out = "\"";
-  for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  for (char c : cell) out += c == '"' ? std::string("\"\"") : std::string(1, c);
   return out + "\"";
 }
 

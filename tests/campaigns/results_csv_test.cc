@@ -5,6 +5,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "core/base/csv.h"
+
 namespace armfault {
 namespace {
 
@@ -54,6 +56,23 @@ TEST(ResultsCsv, QuotesRunIdsWithCommasAndLeavesNullsEmpty) {
   const std::string h = ResultsCsvRow(healthy);
   EXPECT_EQ(Commas(h), Commas(ResultsCsvHeader()));
   EXPECT_EQ(h, "0,exp1/healthy/0,exp1,,,,,,,0,0,,,ok,,,false,false,,,,,,,,\n");
+}
+
+TEST(ResultsCsv, TextASpreadsheetWouldTakeForAFormulaOpensAsText) {
+  RunRecord r;
+  r.run_id = "=HYPERLINK(\"http://x\",\"y\")/kt#0/j3/r0";
+  r.trajectory = "+1";
+  r.group = "@SUM(A1)";
+  r.family = "-kt";
+  r.joint = 3;
+  r.onset_s = -0.5;  // a number: as it is
+  r.failure_reason = "\tcmd";
+  r.ok = false;
+  const std::string row = ResultsCsvRow(r);
+  EXPECT_THAT(row, ::testing::StartsWith("0,\"'=HYPERLINK(\"\"http://x\"\",\"\"y\"\")/kt#0/j3/r0\",'+1,'@SUM(A1),'-kt,3,-0.5,"));
+  EXPECT_THAT(row, ::testing::HasSubstr(",'\tcmd,"));
+  EXPECT_EQ(CsvText("a=b"), "a=b");  // only the first character counts
+  EXPECT_EQ(CsvText(""), "");
 }
 
 }  // namespace
