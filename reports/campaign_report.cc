@@ -21,6 +21,7 @@ using report::Field;
 using report::LatencyDistributionSection;
 using report::LatencyThresholdSection;
 using report::MdTable;
+using report::MdText;
 using report::MetricDefinitions;
 using report::Num;
 using report::OperatingPointSection;
@@ -143,7 +144,7 @@ std::string RenderReportMarkdown(const ReportData& d) {
   const json& campaign = Field(s, "campaign") ? s["campaign"] : empty;
   const json& overall = Field(s, "overall") ? s["overall"] : empty;
   const json& runs = Field(s, "runs") ? s["runs"] : empty;
-  std::string md = "# armfault report: " + Str(campaign, "name") + "\n\n";
+  std::string md = "# armfault report: " + MdText(Str(campaign, "name")) + "\n\n";
   md += std::to_string(Count(runs, "total")) + " runs (" + std::to_string(Count(runs, "faulty")) + " faulty, " +
         std::to_string(Count(runs, "healthy")) + " healthy, " + std::to_string(Count(runs, "failed")) +
         " failed). Plots: report.html.\n\n" + CampaignHashText(d, false) + "\n\n";
@@ -159,7 +160,7 @@ std::string RenderReportMarkdown(const ReportData& d) {
 
   md += "\n## Operating point\n\n";
   if (!d.tuning) {
-    md += "No tuning results: " + d.tuning_source + ".\n";
+    md += "No tuning results: " + MdText(d.tuning_source) + ".\n";
   } else {
     const json& t = *d.tuning;
     const json& op = Field(t, "operating_point") ? t["operating_point"] : empty;

@@ -10,6 +10,19 @@
 
 namespace armfault::report {
 
+std::string MdText(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    switch (c) {
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '&': out += "&amp;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
 using svg::Escape;
 using svg::Fixed;
 
@@ -18,7 +31,7 @@ namespace {
 // A Markdown table cell: '|' escaped, line breaks as spaces.
 std::string MdCell(const std::string& s) {
   std::string out;
-  for (char c : s) out += c == '|' ? std::string("\\|") : c == '\n' ? std::string(" ") : std::string(1, c);
+  for (char c : MdText(s)) out += c == '|' ? std::string("\\|") : c == '\n' ? std::string(" ") : std::string(1, c);
   return out;
 }
 

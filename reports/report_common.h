@@ -61,6 +61,9 @@ const json* UsableFit(const json& family);
 
 std::string HtmlTable(const std::vector<std::string>& head, const std::vector<std::vector<std::string>>& rows,
                       const std::string& cls = "");
+// Text from the inputs (a campaign's or a trajectory's name, a path) as Markdown text: < > &
+// as entities, so that no name carries raw HTML (a <script>) into a Markdown viewer.
+std::string MdText(const std::string& s);
 std::string MdTable(const std::vector<std::string>& head, const std::vector<std::vector<std::string>>& rows);
 // "met" / "MISSED", coloured.
 std::string VerdictHtml(bool met);

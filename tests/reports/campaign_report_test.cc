@@ -597,6 +597,17 @@ TEST_F(CampaignReportTest, MarkdownHasHeadlineOperatingPointA90AndFloors) {
   EXPECT_THAT(md, HasSubstr("| per_family/torque_sensor_stuck/detection_rate |"));
 }
 
+TEST_F(CampaignReportTest, MarkdownCarriesNoRawHtmlFromTheInputs) {
+  ReportData d = *data_;
+  d.summary["campaign"]["name"] = "<script>alert(1)</script> & co";
+  d.tuning.reset();
+  d.tuning_source = "dir <b>x</b>";
+  const std::string md = RenderReportMarkdown(d);
+  EXPECT_THAT(md, HasSubstr("# armfault report: &lt;script&gt;alert(1)&lt;/script&gt; &amp; co"));
+  EXPECT_THAT(md, HasSubstr("No tuning results: dir &lt;b&gt;x&lt;/b&gt;."));
+  EXPECT_THAT(md, Not(HasSubstr("<script>")));
+}
+
 TEST_F(CampaignReportTest, WritesHtmlAndMarkdownWhereAsked) {
   ReportOptions ro;
   ro.dir = dir_->string();
