@@ -116,6 +116,14 @@ std::vector<std::string_view> SplitFields(std::string_view line) {
   }
 }
 
+// The column (from 1) where `field`, a view into `raw`, starts.
+size_t ColumnOf(std::string_view field, const std::string& raw) {
+  return static_cast<size_t>(field.data() - raw.data()) + 1;
+}
+
+// The largest trajectory file read (a million rows take about 20 MB).
+constexpr size_t kMaxCsvBytes = size_t{64} << 20;
+
 struct Row {
   double time_s;
   double angle_deg;
@@ -136,11 +144,15 @@ std::vector<Row> ParseRows(const std::string& text, const std::string& csv_path)
     if (line_number == 1 && line.substr(0, 3) == "\xEF\xBB\xBF") line.remove_prefix(3);
     line = Trim(line);
     if (line.empty() || line[0] == '#') continue;
+    // Errors name the line and the column, never the file's text (the path may name any file).
     const std::string where = "line " + std::to_string(line_number);
-    const std::string expected = "expected 2 numbers \"time_s,angle_deg\", got " + Quote(line);
+    const std::string expected = "expected 2 numbers \"time_s,angle_deg\"";
 
     const std::vector<std::string_view> fields = SplitFields(line);
-    if (fields.size() != 2) throw InputError(csv_path, where, expected);
+    if (fields.size() != 2) {
+      throw InputError(csv_path, where,
+                       expected + ", got " + std::to_string(fields.size()) + (fields.size() == 1 ? " field" : " fields"));
+    }
     double values[2];
     NumberParse parsed[2];
     for (int i = 0; i < 2; ++i) parsed[i] = ParseNumber(fields[i], &values[i]);
@@ -152,13 +164,10 @@ std::vector<Row> ParseRows(const std::string& text, const std::string& csv_path)
     first_content_line = false;
     if (is_header) continue;
     for (int i = 0; i < 2; ++i) {
-      if (parsed[i] == NumberParse::kNotANumber) {
-        throw InputError(csv_path, where, expected + ": " + Quote(fields[i]) + " is not a number");
-      }
-      if (parsed[i] == NumberParse::kNotFinite) {
-        throw InputError(csv_path, where,
-                         expected + ": " + Quote(fields[i]) + " is not a finite number");
-      }
+      const std::string field = expected + ": field " + std::to_string(i + 1) + " (column " +
+                                std::to_string(ColumnOf(fields[i], raw)) + ")";
+      if (parsed[i] == NumberParse::kNotANumber) throw InputError(csv_path, where, field + " is not a number");
+      if (parsed[i] == NumberParse::kNotFinite) throw InputError(csv_path, where, field + " is not a finite number");
     }
     if (!rows.empty() && !(values[0] > rows.back().time_s)) {
       throw InputError(csv_path, where,
@@ -200,12 +209,18 @@ std::unique_ptr<Trajectory> MakeCsv(ObjectReader& reader, const InputContext& ct
     const fs::file_status status = fs::status(resolved, ec);
     if (!fs::exists(status)) throw InputError("", pointer, named + " does not exist");
     if (fs::is_directory(status)) throw InputError("", pointer, named + " is a directory");
+    // A regular file, read up to a bound: not a device (/dev/zero never ends) or a fifo.
+    if (!fs::is_regular_file(status)) throw InputError("", pointer, named + " is not a regular file");
     std::ifstream file(resolved, std::ios::binary);
-    std::ostringstream text;
-    if (file) text << file.rdbuf();
-    if (!file || file.bad()) throw InputError("", pointer, named + " cannot be read");
+    std::string text(kMaxCsvBytes + 1, '\0');
+    if (file) file.read(text.data(), static_cast<std::streamsize>(text.size()));
+    if (!file && !file.eof()) throw InputError("", pointer, named + " cannot be read");
+    text.resize(static_cast<size_t>(file.gcount()));
+    if (text.size() > kMaxCsvBytes) {
+      throw InputError("", pointer, named + " is larger than " + std::to_string(kMaxCsvBytes >> 20) + " MiB");
+    }
 
-    const std::vector<Row> rows = ParseRows(text.str(), resolved);
+    const std::vector<Row> rows = ParseRows(text, resolved);
     if (rows.size() < 2) {
       throw InputError("", pointer,
                        named + " has " + std::to_string(rows.size()) +
