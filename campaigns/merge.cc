@@ -1,6 +1,8 @@
 #include "campaigns/merge.h"
 
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -8,6 +10,7 @@
 #include "campaigns/run_record.h"
 #include "campaigns/runner.h"
 #include "core/base/json_input.h"
+#include "core/base/output_file.h"
 
 namespace armfault {
 
@@ -355,17 +358,17 @@ MergedPaths MergedPathsIn(const fs::path& out) {
 // the runs written.
 long MergeLines(std::vector<ShardInput>& shards, const std::vector<int>& owner, long cases, const MergedPaths& paths) {
   const int n = static_cast<int>(owner.size());
-  std::FILE* merged = std::fopen(paths.results_tmp.string().c_str(), "wb");
-  if (!merged) throw InputError(paths.results_tmp.string(), "", "cannot open the file for writing");
-  std::FILE* merged_decisions = std::fopen(paths.decisions_tmp.string().c_str(), "wb");
+  std::FILE* merged = OpenForWriting(paths.results_tmp, "wb");
+  std::FILE* merged_decisions = nullptr;
+  // Each line checked as it goes: a full disk stops the merge with the system's reason.
   auto write = [](std::FILE* f, const std::string& text, const fs::path& path) {
     if (std::fwrite(text.data(), 1, text.size(), f) != text.size()) {
-      throw InputError(path.string(), "", "error while writing");
+      throw InputError(path.string(), "", std::string("cannot write: ") + std::strerror(errno ? errno : EIO));
     }
   };
   long runs = 0;
   try {
-    if (!merged_decisions) throw InputError(paths.decisions_tmp.string(), "", "cannot open the file for writing");
+    merged_decisions = OpenForWriting(paths.decisions_tmp, "wb");
     std::string line, decision_line;
     for (long c = 0; c < cases; ++c) {
       ReadCase(shards[static_cast<size_t>(owner[static_cast<size_t>(c % n)])], c, n, &line, &decision_line);

@@ -9,6 +9,7 @@
 
 #include "campaigns/results_csv.h"
 #include "core/base/json_input.h"
+#include "core/base/output_file.h"
 
 namespace armfault {
 
@@ -59,20 +60,28 @@ namespace {
 // temporary file renamed at the end, so a crash never leaves half of one.
 class ResultsCsvOutput : public RecordOutput {
  public:
-  explicit ResultsCsvOutput(const fs::path& dir) : dir_(dir), tmp_(dir / (std::string(run_dir::kResultsCsv) + ".tmp")) {
-    csv_.open(tmp_, std::ios::binary | std::ios::trunc);
-    csv_ << ResultsCsvHeader();
+  explicit ResultsCsvOutput(const fs::path& dir)
+      : dir_(dir), tmp_(dir / (std::string(run_dir::kResultsCsv) + ".tmp")), csv_(OpenForWriting(tmp_, "wb")) {
+    Write(ResultsCsvHeader());
   }
-  void Add(const RunRecord& record) override { csv_ << ResultsCsvRow(record); }
+  ~ResultsCsvOutput() override {
+    if (!csv_) return;
+    std::fclose(csv_);  // not finished (an error): no half file left behind
+    std::error_code ec;
+    fs::remove(tmp_, ec);
+  }
+  void Add(const RunRecord& record) override { Write(ResultsCsvRow(record)); }
   void Finish(const SummaryBuilder&) override {
-    csv_.close();
-    if (!csv_) throw InputError(tmp_.string(), "", "cannot write the file");
+    std::FILE* csv = csv_;
+    csv_ = nullptr;
+    CloseChecked(csv, tmp_);
     fs::rename(tmp_, dir_ / run_dir::kResultsCsv);
   }
 
  private:
+  void Write(const std::string& text) { WriteChecked(csv_, text, tmp_); }
   fs::path dir_, tmp_;
-  std::ofstream csv_;
+  std::FILE* csv_;
 };
 
 // summary.json, with an early-stopped run's decisions (early_stop.json) beside the rates.
@@ -180,7 +189,7 @@ nlohmann::json CampaignFileJson(const CampaignSpec& campaign, const ShardSpec& s
 OutputLock::OutputLock(const fs::path& dir, const std::string& command) {
   fs::create_directories(dir);
   const fs::path path = dir / run_dir::kLock;
-  fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
   if (fd_ < 0) throw InputError(path.string(), "", "cannot open the directory's lock file");
   if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
     std::string holder(512, '\0');
@@ -210,13 +219,17 @@ OutputLock::~OutputLock() {
 
 void WriteAtomically(const fs::path& path, const std::string& text) {
   const fs::path tmp = path.string() + ".tmp";
-  {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    f << text;
-    f.flush();
-    if (!f) throw InputError(tmp.string(), "", "cannot write the file");
+  std::FILE* f = OpenForWriting(tmp, "wb");  // never through a link placed at the .tmp name
+  try {
+    WriteChecked(f, text, tmp);
+  } catch (const InputError&) {
+    std::fclose(f);
+    std::error_code ec;
+    fs::remove(tmp, ec);  // no half file left behind
+    throw;
   }
-  fs::rename(tmp, path);
+  CloseChecked(f, tmp);
+  fs::rename(tmp, path);  // replaces a link at `path` itself, never its target
 }
 
 }  // namespace armfault

@@ -14,6 +14,7 @@
 #include <system_error>
 
 #include "campaigns/early_stop.h"
+#include "core/base/output_file.h"
 
 namespace armfault {
 
@@ -39,7 +40,8 @@ std::vector<std::streamoff> AcceptedLineEnds(const fs::path& path, size_t limit,
 
 // Cuts `path` (created if missing) after its first `lines` lines, whose ends are `ends`.
 void KeepLines(const fs::path& path, const std::vector<std::streamoff>& ends, size_t lines) {
-  if (!fs::exists(path)) std::ofstream(path, std::ios::binary);
+  RefuseSymlink(path);  // resize_file would cut the link's target
+  if (!fs::exists(path)) CloseChecked(OpenForWriting(path, "wb"), path);
   fs::resize_file(path, lines == 0 ? 0 : static_cast<uintmax_t>(ends[lines - 1]));
 }
 
@@ -170,9 +172,9 @@ void StartFresh(const RunState& run) {
   std::error_code ec;
   fs::remove(run.early_path, ec);
   WriteAtomically(run.campaign_path, run.campaign_file.dump(2) + "\n");
-  std::ofstream(run.results_path, std::ios::binary | std::ios::trunc);
-  std::ofstream(run.decisions_path, std::ios::binary | std::ios::trunc);
-  std::ofstream(run.cost_path, std::ios::binary | std::ios::trunc);
+  for (const fs::path& path : {run.results_path, run.decisions_path, run.cost_path}) {
+    CloseChecked(OpenForWriting(path, "wb"), path);
+  }
 }
 
 // --resume of an ordinary run: keeps the complete prefix of lines that are exactly the expected
@@ -263,19 +265,15 @@ void ReadFinishedEarlyStop(const RunState& run, RunnerResult* out) {
 // A file the writer stage appends to, closed on every path: by Close, which says whether every
 // write reached the file, or else (an exception) when it goes out of scope.
 struct AppendFile {
-  explicit AppendFile(const fs::path& p) : path(p), file(std::fopen(p.string().c_str(), "ab")) {
-    if (!file) throw InputError(path.string(), "", "cannot open for appending");
-  }
+  explicit AppendFile(const fs::path& p) : path(p), file(OpenForWriting(p, "ab")) {}
   AppendFile(const AppendFile&) = delete;
   AppendFile& operator=(const AppendFile&) = delete;
   ~AppendFile() {
     if (file) std::fclose(file);
   }
-  // One write per line, flushed at once: a kill leaves at most one partial line.
-  void Write(const std::string& line) {
-    std::fwrite(line.data(), 1, line.size(), file);
-    std::fflush(file);
-  }
+  // One write per line, flushed at once: a kill leaves at most one partial line; a write the
+  // file does not take (a full disk) stops the run with the system's reason.
+  void Write(const std::string& line) { WriteChecked(file, line, path); }
   bool Close() {
     const bool closed = std::fclose(file) == 0;
     file = nullptr;

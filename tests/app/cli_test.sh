@@ -283,6 +283,13 @@ expect_input_error "$tmp/twice.json: /trajectories/0/name: the key \"name\" is g
 run trace_fault_huge "$armfault" trace --fault '{"family": "kt_degradation", "joint": 3, "kt_factor": 0.6, "onset_s": -1e400}'
 expect_status 2
 expect_stderr_contains "/onset_s: the number -1e400 is beyond the range of a double"
+# Output files are never written through a symbolic link: the run is refused, the target intact.
+mkdir -p "$tmp/linked"
+printf 'precious\n' >"$tmp/precious.txt"
+ln -s "$tmp/precious.txt" "$tmp/linked/results.jsonl"
+run run_through_link "$armfault" run "$src/campaigns/files/ci.json" -o "$tmp/linked" -q
+expect_input_error "$tmp/linked/results.jsonl: (document root): is a symbolic link: armfault does not write through links"
+[[ "$(cat "$tmp/precious.txt")" == precious ]] && pass || fail "the link's target was written"
 # Every error of a campaign, one line each, in the order found; then exit 2. `run` prints the
 # same and writes nothing.
 printf '%s\n' '{"trajectories": [{"name": "a", "joints": {"3": {"type": "hold", "angle_deg": 500}}}],' \

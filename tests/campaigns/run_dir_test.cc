@@ -162,5 +162,21 @@ TEST(RunDir, AnEarlyStoppedRunsDecisionsGoIntoTheSummary) {
   EXPECT_THAT(ReadAll(dir.path() / "summary.json"), HasSubstr("\"early_stop\""));
 }
 
+TEST(RunDir, WriteAtomicallyNeverWritesThroughALinkAndLeavesNoHalfFile) {
+  ScratchDir dir("run_dir");
+  const std::string target = dir.Write("precious.txt", "precious\n");
+  fs::create_symlink(target, dir.path() / "summary.json.tmp");
+  EXPECT_THAT(ErrorOf([&] { WriteAtomically(dir.path() / "summary.json", "{}\n"); }).message(),
+              HasSubstr("is a symbolic link"));
+  EXPECT_EQ(ReadAll(target), "precious\n");
+  // A link at the name itself is replaced, not written through.
+  fs::remove(dir.path() / "summary.json.tmp");
+  fs::create_symlink(target, dir.path() / "summary.json");
+  WriteAtomically(dir.path() / "summary.json", "{}\n");
+  EXPECT_FALSE(fs::is_symlink(dir.path() / "summary.json"));
+  EXPECT_EQ(ReadAll(target), "precious\n");
+  EXPECT_EQ(ReadAll(dir.path() / "summary.json"), "{}\n");
+}
+
 }  // namespace
 }  // namespace armfault
