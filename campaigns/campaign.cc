@@ -37,7 +37,7 @@ std::vector<std::string> CampaignWarnings(const Campaign& c) {
         still.insert(j);
         continue;
       }
-      const AngleRange range = SampleRange(*it->second, c.duration_s);
+      const MotionEnvelope range = SampleMotion(*it->second, c.duration_s);
       if (range.max_rad - range.min_rad < kMinTravelToExcite_rad) still.insert(j);
     }
     auto warn = [&](const std::string& pointer, const std::string& family, int j) {

@@ -9,6 +9,50 @@
 
 namespace armfault {
 
+JointMotionLimits MotionLimitsOf(const ModuleParams& m) {
+  JointMotionLimits limits;
+  limits.control_period_s = 1.0 / m.controller.rate_Hz;
+  limits.max_speed_rad_s = m.inverter.bus_voltage_V / (m.motor.kt_Nm_per_A * m.drive.ratio);
+  limits.max_acceleration_rad_s2 =
+      m.motor.kt_Nm_per_A * m.inverter.command_limit_A / (m.motor.rotor_inertia_kg_m2 * m.drive.ratio);
+  return limits;
+}
+
+void CheckMotionFeasible(const Trajectory& trajectory, const MotionEnvelope& envelope, const ModuleParams& m,
+                         int joint, const std::string& pointer) {
+  const std::string of_joint = "joint " + std::to_string(joint);
+  const JointMotionLimits limits = MotionLimitsOf(m);
+  const double shortest_s = trajectory.shortest_period_s();
+  if (!(shortest_s >= kMinControlStepsPerPeriod * limits.control_period_s)) {
+    throw InputError("", pointer, "a period of " + FormatNumber(shortest_s) + " s in the motion is shorter than " +
+                                      FormatNumber(kMinControlStepsPerPeriod) + " control periods of " + of_joint +
+                                      " (" + FormatNumber(kMinControlStepsPerPeriod * limits.control_period_s) +
+                                      " s at " + FormatNumber(m.controller.rate_Hz) + " Hz)");
+  }
+  if (!envelope.finite) {
+    throw InputError("", pointer, "the trajectory gives an angle, velocity or acceleration that is not a finite number");
+  }
+  const double lo = envelope.min_rad * 180 / M_PI, hi = envelope.max_rad * 180 / M_PI;
+  if (lo < m.min_angle_deg || hi > m.max_angle_deg) {
+    std::ostringstream msg;
+    msg << "the trajectory spans [" << lo << ", " << hi << "] deg, beyond " << of_joint << "'s range ["
+        << m.min_angle_deg << ", " << m.max_angle_deg << "] deg";
+    throw InputError("", pointer, msg.str());
+  }
+  if (envelope.peak_speed_rad_s > limits.max_speed_rad_s) {
+    throw InputError("", pointer, "the trajectory reaches " + FormatNumber(envelope.peak_speed_rad_s) +
+                                      " rad/s, beyond " + of_joint + "'s no-load speed of " +
+                                      FormatNumber(limits.max_speed_rad_s) +
+                                      " rad/s (bus voltage / (K_T x gear ratio))");
+  }
+  if (envelope.peak_acceleration_rad_s2 > limits.max_acceleration_rad_s2) {
+    throw InputError("", pointer, "the trajectory reaches " + FormatNumber(envelope.peak_acceleration_rad_s2) +
+                                      " rad/s^2, beyond what " + of_joint + "'s motor can give its own rotor, " +
+                                      FormatNumber(limits.max_acceleration_rad_s2) +
+                                      " rad/s^2 (K_T x current limit / (rotor inertia x gear ratio))");
+  }
+}
+
 std::map<int, std::shared_ptr<const Trajectory>> JointTrajectoriesFromJson(
     const nlohmann::json& joints, const std::string& pointer, const RobotConfig& robot, double duration_s,
     const InputContext& context) {
@@ -31,15 +75,7 @@ std::map<int, std::shared_ptr<const Trajectory>> JointTrajectoriesFromJson(
                                       std::to_string(n) + ")");
       }
       std::shared_ptr<const Trajectory> trajectory = MakeTrajectory(it.value(), ptr, context);
-      const ModuleParams& m = robot.modules[joint - 1];
-      const AngleRange range = SampleRange(*trajectory, duration_s);
-      const double lo = range.min_rad * 180 / M_PI, hi = range.max_rad * 180 / M_PI;
-      if (lo < m.min_angle_deg || hi > m.max_angle_deg) {
-        std::ostringstream msg;
-        msg << "the trajectory spans [" << lo << ", " << hi << "] deg, beyond joint " << joint << "'s range ["
-            << m.min_angle_deg << ", " << m.max_angle_deg << "] deg";
-        throw InputError("", ptr, msg.str());
-      }
+      CheckMotionFeasible(*trajectory, SampleMotion(*trajectory, duration_s), robot.modules[joint - 1], joint, ptr);
       out[joint] = std::move(trajectory);
     });
   }

@@ -33,8 +33,26 @@ struct RunConfig {
 // The monitor a run file names, built for its robot (no tolerances stated, no commissioning).
 std::shared_ptr<const MonitorModel> MakeRunMonitor(const RunConfig& run);
 
+// What a joint's hardware can follow at most, from its datasheet values (docs/campaign-format.md):
+// the control period [s]; the no-load speed [rad/s, link side], where the line back-EMF
+// K_T omega_m equals the bus voltage: U_d / (K_T N); the acceleration [rad/s^2, link side] the
+// motor gives its own rotor alone at the current limit, K_T I_max / (J_rotor N): no link,
+// gravity or friction, so no real joint reaches it.
+struct JointMotionLimits {
+  double control_period_s = 0;
+  double max_speed_rad_s = 0;
+  double max_acceleration_rad_s2 = 0;
+};
+JointMotionLimits MotionLimitsOf(const ModuleParams& module);
+
+// Throws InputError at `pointer` when a joint's trajectory is not a motion its hardware can
+// follow: a non-finite sample, a period shorter than kMinControlStepsPerPeriod control periods,
+// an angle outside the joint's range, a speed or an acceleration beyond MotionLimitsOf().
+void CheckMotionFeasible(const Trajectory& trajectory, const MotionEnvelope& envelope, const ModuleParams& module,
+                         int joint, const std::string& pointer);
+
 // Parses the "joints" object of a run or campaign trajectory and checks each trajectory
-// against the joint's range over [0, duration_s]. Throws InputError with JSON pointers.
+// over [0, duration_s] with CheckMotionFeasible. Throws InputError with JSON pointers.
 std::map<int, std::shared_ptr<const Trajectory>> JointTrajectoriesFromJson(
     const nlohmann::json& joints, const std::string& pointer, const RobotConfig& robot, double duration_s,
     const InputContext& context);

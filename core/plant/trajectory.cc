@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -67,26 +68,36 @@ std::vector<std::string> TrajectoryTypeNames() {
   return names;
 }
 
-AngleRange SampleRange(const Trajectory& trajectory, double duration_s) {
-  const double q0 = trajectory.At(0.0).q_rad;
-  AngleRange range{q0, q0};
-  auto add = [&range](double q) {
-    range.min_rad = std::min(range.min_rad, q);
-    range.max_rad = std::max(range.max_rad, q);
+double Trajectory::shortest_period_s() const { return std::numeric_limits<double>::infinity(); }
+
+MotionEnvelope SampleMotion(const Trajectory& trajectory, double duration_s) {
+  MotionEnvelope envelope;
+  bool first = true;
+  auto add = [&](const TrajectoryPoint& p) {
+    if (!std::isfinite(p.q_rad) || !std::isfinite(p.qd_rad_s) || !std::isfinite(p.qdd_rad_s2)) {
+      envelope.finite = false;
+      return;
+    }
+    envelope.min_rad = first ? p.q_rad : std::min(envelope.min_rad, p.q_rad);
+    envelope.max_rad = first ? p.q_rad : std::max(envelope.max_rad, p.q_rad);
+    envelope.peak_speed_rad_s = std::max(envelope.peak_speed_rad_s, std::fabs(p.qd_rad_s));
+    envelope.peak_acceleration_rad_s2 = std::max(envelope.peak_acceleration_rad_s2, std::fabs(p.qdd_rad_s2));
+    first = false;
   };
   // A non-finite duration would sample forever: a caller's bug, not a user input error.
   if (!std::isfinite(duration_s)) {
-    throw std::invalid_argument("SampleRange: duration must be finite");
+    throw std::invalid_argument("SampleMotion: duration must be finite");
   }
-  if (duration_s <= 0.0) return range;  // only t = 0 lies in [0, duration]
+  add(trajectory.At(0.0));
+  if (duration_s <= 0.0) return envelope;  // only t = 0 lies in [0, duration]
   // t = k / 1000 from an integer counter, so no rounding error accumulates over long runs.
   for (long long k = 1;; ++k) {
     const double t = static_cast<double>(k) / 1000.0;
     if (t > duration_s) break;
-    add(trajectory.At(t).q_rad);
+    add(trajectory.At(t));
   }
-  add(trajectory.At(duration_s).q_rad);  // the end, when not a multiple of 1 ms
-  return range;
+  add(trajectory.At(duration_s));  // the end, when not a multiple of 1 ms
+  return envelope;
 }
 
 }  // namespace armfault

@@ -28,7 +28,13 @@ class Trajectory {
   virtual TrajectoryPoint At(double t_s) const = 0;
   // The type name as written in JSON ("sine_pair", ...).
   virtual const char* type() const = 0;
+  // The period [s] of the fastest periodic component of the motion (infinity if none), checked
+  // against the control period: a reference the controller samples fewer than
+  // kMinControlStepsPerPeriod times per period is not a motion it can follow.
+  virtual double shortest_period_s() const;
 };
+
+inline constexpr double kMinControlStepsPerPeriod = 10;
 
 // Builds a trajectory from its JSON object ({"type": "...", ...}). `pointer` is the JSON
 // pointer of that object, used in errors. Throws InputError for an unknown type, unknown or
@@ -39,11 +45,16 @@ std::unique_ptr<Trajectory> MakeTrajectory(const nlohmann::json& spec, const std
 // The registered type names, in table order (for help texts and the JSON schema).
 std::vector<std::string> TrajectoryTypeNames();
 
-// Minimum and maximum of q_rad over [0, duration_s], sampled every 1 ms (and at the end).
-struct AngleRange {
+// What a trajectory demands over [0, duration_s], sampled every 1 ms (and at the end): the
+// extremes of q_rad and the peaks of |qd| and |qdd|. `finite` is false if any sample of q, qd
+// or qdd was not a finite number (the extremes then cover only the finite samples).
+struct MotionEnvelope {
   double min_rad = 0.0;
   double max_rad = 0.0;
+  double peak_speed_rad_s = 0.0;
+  double peak_acceleration_rad_s2 = 0.0;
+  bool finite = true;
 };
-AngleRange SampleRange(const Trajectory& trajectory, double duration_s);
+MotionEnvelope SampleMotion(const Trajectory& trajectory, double duration_s);
 
 }  // namespace armfault

@@ -11,7 +11,7 @@ namespace {
 class CosineRamp final : public Trajectory {
  public:
   CosineRamp(double amplitude_rad, double period_s, double offset_rad)
-      : a_(amplitude_rad), w_(2.0 * trajectory_detail::kPi / period_s), offset_(offset_rad) {}
+      : a_(amplitude_rad), w_(2.0 * trajectory_detail::kPi / period_s), offset_(offset_rad), period_s_(period_s) {}
 
   TrajectoryPoint At(double t_s) const override {
     const double wt = w_ * t_s;
@@ -22,11 +22,13 @@ class CosineRamp final : public Trajectory {
     return p;
   }
   const char* type() const override { return "cosine_ramp"; }
+  double shortest_period_s() const override { return period_s_; }
 
  private:
   const double a_;       // [rad]
   const double w_;       // 2 pi / T [rad/s]
   const double offset_;  // [rad]
+  const double period_s_;
 };
 
 }  // namespace

@@ -22,6 +22,7 @@ class SinePair final : public Trajectory {
     return p;
   }
   const char* type() const override { return "sine_pair"; }
+  double shortest_period_s() const override { return trajectory_detail::kPi / w_; }  // of sin(2 w t)
 
  private:
   const double a_;       // [rad]

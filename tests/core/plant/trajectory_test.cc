@@ -195,22 +195,22 @@ TEST(Hold, ConstantAtRest) {
   ExpectDerivativesMatchFiniteDifferences(*traj, 2.0);
 }
 
-// ---------------------------------------------------------------- SampleRange
+// ---------------------------------------------------------------- SampleMotion
 
-TEST(SampleRange, FindsExtremaOfCosineRamp) {
+TEST(SampleMotion, FindsExtremaOfCosineRamp) {
   auto traj = Make({{"type", "cosine_ramp"}, {"amplitude_deg", 10}, {"period_s", 2},
                     {"offset_deg", 5}});
-  const AngleRange r = SampleRange(*traj, 2.0);
+  const MotionEnvelope r = SampleMotion(*traj, 2.0);
   EXPECT_DOUBLE_EQ(r.min_rad, Rad(5));
   EXPECT_NEAR(r.max_rad, Rad(25), 1e-12);  // t = 1.0 is a 1 ms sample
 }
 
-TEST(SampleRange, IncludesTheEndBetweenSamples) {
+TEST(SampleMotion, IncludesTheEndBetweenSamples) {
   // Rising ramp: the maximum over [0, 0.0015] is at 0.0015, between 1 ms samples.
   auto traj = Make({{"type", "min_jerk"}, {"waypoints", {{0, 0}, {1, 90}}}});
-  EXPECT_DOUBLE_EQ(SampleRange(*traj, 0.0015).max_rad, traj->At(0.0015).q_rad);
-  EXPECT_DOUBLE_EQ(SampleRange(*traj, 0.0015).min_rad, 0.0);
-  const AngleRange at_start = SampleRange(*traj, 0.0);
+  EXPECT_DOUBLE_EQ(SampleMotion(*traj, 0.0015).max_rad, traj->At(0.0015).q_rad);
+  EXPECT_DOUBLE_EQ(SampleMotion(*traj, 0.0015).min_rad, 0.0);
+  const MotionEnvelope at_start = SampleMotion(*traj, 0.0);
   EXPECT_DOUBLE_EQ(at_start.min_rad, 0.0);
   EXPECT_DOUBLE_EQ(at_start.max_rad, 0.0);
 }
