@@ -33,10 +33,7 @@ std::unique_ptr<Fault> MakeBrakeLock(ObjectReader& reader, const RobotConfig& ro
   const FaultCommon common = ReadFaultCommon(reader, robot, {"drag_fraction"}, &errors);
   double f = 1.0;
   errors.Try([&] {
-    if (!reader.ShouldRead("drag_fraction")) return;
-    f = reader.RequireNumber("drag_fraction");
-    RequireInRange(f, 0.0, 1.0, reader.PointerTo("drag_fraction"));
-    RequireAbove(f, 0.0, reader.PointerTo("drag_fraction"));
+    ReadMagnitude(reader, "brake_lock", &f);
   });
   errors.ThrowIfAny();
   return std::make_unique<BrakeLock>(common, f, robot.modules[common.joint_index].brake.holding_torque_Nm);

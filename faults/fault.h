@@ -107,6 +107,18 @@ std::vector<std::unique_ptr<Fault>> MakeFaults(const nlohmann::json& specs, cons
 std::vector<std::string> FaultFamilyNames();
 // The parameter that sizes a fault of `family` ("kt_factor" ...), "" if none or unknown.
 std::string FaultMagnitudeKey(const std::string& family);
+// The values a family's magnitude may take: [min, max], min itself excluded when min_exclusive,
+// 0 excluded when zero_excluded (a drift of 0 is no drift).
+struct FaultMagnitudeRange {
+  double min = 0, max = 0;
+  bool min_exclusive = false;
+  bool zero_excluded = false;
+};
+// The range of `family`'s magnitude; false for a family without one (or unknown).
+bool FaultMagnitudeRangeOf(const std::string& family, FaultMagnitudeRange* range);
+// The range as docs/faults.md writes it: "0 < `kt_factor` ≤ 1", "−100 ≤ `drift_Nm_per_s` ≤ 100, ≠ 0";
+// "" for a family without one.
+std::string FaultMagnitudeRangeText(const std::string& family);
 // The unit of a magnitude key ("kt_factor": "× nominal K_T"), "" if unknown.
 std::string FaultMagnitudeUnit(const std::string& magnitude_key);
 // Severity of a magnitude, the distance from healthy (> 0) in which detection should rise, by

@@ -42,9 +42,7 @@ std::unique_ptr<Fault> MakeFrictionIncrease(ObjectReader& reader, const RobotCon
   const FaultCommon common = ReadFaultCommon(reader, robot, {"friction_factor"}, &errors);
   double f = 1.0;
   errors.Try([&] {
-    if (!reader.ShouldRead("friction_factor")) return;
-    f = reader.RequireNumber("friction_factor");
-    RequireInRange(f, 1.0, 100.0, reader.PointerTo("friction_factor"));
+    ReadMagnitude(reader, "friction_increase", &f);
   });
   errors.ThrowIfAny();
   return std::make_unique<FrictionIncrease>(common, f);

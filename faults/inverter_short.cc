@@ -75,8 +75,7 @@ std::unique_ptr<Fault> MakeInverterShort(ObjectReader& reader, const RobotConfig
   });
   double ohm = 0.1;
   errors.Try([&] {
-    reader.OptionalNumber("resistance_ohm", &ohm);
-    RequireInRange(ohm, 0.001, 1000.0, reader.PointerTo("resistance_ohm"));
+    ReadMagnitude(reader, "inverter_short", &ohm, /*required=*/false);
   });
   errors.ThrowIfAny();
   return std::make_unique<InverterShort>(common, value, kind, ohm);

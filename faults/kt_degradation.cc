@@ -36,10 +36,7 @@ std::unique_ptr<Fault> MakeKtDegradation(ObjectReader& reader, const RobotConfig
   const FaultCommon common = ReadFaultCommon(reader, robot, {"kt_factor"}, &errors);
   double n = 1.0;
   errors.Try([&] {
-    if (!reader.ShouldRead("kt_factor")) return;
-    n = reader.RequireNumber("kt_factor");
-    RequireAbove(n, 0.0, reader.PointerTo("kt_factor"));
-    RequireInRange(n, 0.0, 1.0, reader.PointerTo("kt_factor"));
+    ReadMagnitude(reader, "kt_degradation", &n);
   });
   errors.ThrowIfAny();
   return std::make_unique<KtDegradation>(common, n);

@@ -1,4 +1,6 @@
 // The fault families: one line each. A new family is a new file plus a line here.
+#include <stdexcept>
+
 #include "core/base/suggest.h"
 #include "faults/family_support.h"
 
@@ -23,19 +25,20 @@ struct Family {
   bool needs_motion;           // its signature shows only while the joint moves (fault.h)
   bool discrete;               // present or absent (a lead, a short), not graded by a magnitude
   const char* color;           // the family's colour in every plot of the report
+  FaultMagnitudeRange range;   // of the magnitude (unused without a magnitude key)
 };
 
 const Family kFamilies[] = {
-    {"kt_degradation", &MakeKtDegradation, "kt_factor", "× nominal K_T", Severity::kLoss, true, false, "#1f77b4"},
+    {"kt_degradation", &MakeKtDegradation, "kt_factor", "× nominal K_T", Severity::kLoss, true, false, "#1f77b4", {0, 1, true, false}},
     {"friction_increase", &MakeFrictionIncrease, "friction_factor", "× nominal friction", Severity::kGain, true, false,
-     "#ff7f0e"},
-    {"brake_lock", &MakeBrakeLock, "drag_fraction", "× brake holding torque", Severity::kMagnitude, true, false, "#2ca02c"},
-    {"torque_sensor_stuck", &MakeTorqueSensorStuck, "", "", Severity::kMagnitude, false, true, "#d62728"},
-    {"inverter_short", &MakeInverterShort, "resistance_ohm", "Ω", Severity::kInverse, false, true, "#9467bd"},
+     "#ff7f0e", {1, 100, false, false}},
+    {"brake_lock", &MakeBrakeLock, "drag_fraction", "× brake holding torque", Severity::kMagnitude, true, false, "#2ca02c", {0, 1, true, false}},
+    {"torque_sensor_stuck", &MakeTorqueSensorStuck, "", "", Severity::kMagnitude, false, true, "#d62728", {}},
+    {"inverter_short", &MakeInverterShort, "resistance_ohm", "Ω", Severity::kInverse, false, true, "#9467bd", {0.001, 1000, false, false}},
     {"winding_resistance", &MakeWindingResistance, "resistance_factor", "× nominal winding resistance", Severity::kGain,
-     false, false, "#8c564b"},
+     false, false, "#8c564b", {1, 20, false, false}},
     {"torque_sensor_drift", &MakeTorqueSensorDrift, "drift_Nm_per_s", "N m/s", Severity::kMagnitude, false, false,
-     "#e377c2"},
+     "#e377c2", {-100, 100, false, true}},
 };
 
 // The family sized by `magnitude_key`; nullptr if none.
@@ -59,6 +62,36 @@ std::string FaultMagnitudeKey(const std::string& family) {
     if (family == f.name) return f.magnitude_key;
   }
   return "";
+}
+
+bool FaultMagnitudeRangeOf(const std::string& family, FaultMagnitudeRange* range) {
+  for (const Family& f : kFamilies) {
+    if (family != f.name || *f.magnitude_key == '\0') continue;
+    *range = f.range;
+    return true;
+  }
+  return false;
+}
+
+std::string FaultMagnitudeRangeText(const std::string& family) {
+  FaultMagnitudeRange r;
+  if (!FaultMagnitudeRangeOf(family, &r)) return "";
+  // Typographic minus, as the docs write a negative bound.
+  auto number = [](double x) { return x < 0 ? "−" + FormatNumber(-x) : FormatNumber(x); };
+  return number(r.min) + (r.min_exclusive ? " < `" : " ≤ `") + FaultMagnitudeKey(family) + "` ≤ " +
+         number(r.max) + (r.zero_excluded ? ", ≠ 0" : "");
+}
+
+void ReadMagnitude(ObjectReader& reader, const char* family, double* value, bool required) {
+  FaultMagnitudeRange r;
+  if (!FaultMagnitudeRangeOf(family, &r)) throw std::logic_error(std::string(family) + " has no magnitude");
+  const std::string key = FaultMagnitudeKey(family);
+  if (required ? !reader.ShouldRead(key) : !reader.Has(key)) return;
+  const double x = reader.RequireNumber(key);
+  RequireInRange(x, r.min, r.max, reader.PointerTo(key));
+  if (r.min_exclusive) RequireAbove(x, r.min, reader.PointerTo(key));
+  if (r.zero_excluded && x == 0.0) throw InputError("", reader.PointerTo(key), "0 is no change");
+  *value = x;
 }
 
 std::string FaultMagnitudeUnit(const std::string& magnitude_key) {

@@ -31,10 +31,7 @@ std::unique_ptr<Fault> MakeTorqueSensorDrift(ObjectReader& reader, const RobotCo
   const FaultCommon common = ReadFaultCommon(reader, robot, {"drift_Nm_per_s"}, &errors);
   double rate = 1.0;
   errors.Try([&] {
-    if (!reader.ShouldRead("drift_Nm_per_s")) return;
-    rate = reader.RequireNumber("drift_Nm_per_s");
-    RequireInRange(rate, -100.0, 100.0, reader.PointerTo("drift_Nm_per_s"));
-    if (rate == 0.0) throw InputError("", reader.PointerTo("drift_Nm_per_s"), "0 is no drift");
+    ReadMagnitude(reader, "torque_sensor_drift", &rate);
   });
   errors.ThrowIfAny();
   return std::make_unique<TorqueSensorDrift>(common, rate);

@@ -30,9 +30,7 @@ std::unique_ptr<Fault> MakeWindingResistance(ObjectReader& reader, const RobotCo
   const FaultCommon common = ReadFaultCommon(reader, robot, {"resistance_factor"}, &errors);
   double f = 1.0;
   errors.Try([&] {
-    if (!reader.ShouldRead("resistance_factor")) return;
-    f = reader.RequireNumber("resistance_factor");
-    RequireInRange(f, 1.0, 20.0, reader.PointerTo("resistance_factor"));
+    ReadMagnitude(reader, "winding_resistance", &f);
   });
   errors.ThrowIfAny();
   return std::make_unique<WindingResistance>(common, f);
