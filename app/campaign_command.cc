@@ -273,8 +273,10 @@ int RunCampaignCommand(const CampaignRunOptions& o) {
   return status;
 }
 
-int ValidateCommand(const std::string& campaign_file) {
-  const Campaign campaign = ReadCampaignFile(campaign_file);
+int ValidateCommand(const ValidateOptions& o) {
+  const std::string& campaign_file = o.campaign_file;
+  const Campaign campaign =
+      ReadCampaignFile(campaign_file, o.load_plugins ? MonitorLoading::kBuild : MonitorLoading::kSkipUserCode);
   PrintWarnings(campaign_file, campaign);
   std::printf("%s: valid campaign \"%s\": %ld runs (%zu trajectories, %zu fault entries, %d healthy per trajectory, %d repetitions)\n",
               campaign_file.c_str(), campaign.name.c_str(), CaseCount(campaign), campaign.trajectories.size(),
@@ -284,6 +286,11 @@ int ValidateCommand(const std::string& campaign_file) {
     for (const FaultEntry& e : campaign.faults) cells += e.joints.size() * campaign.trajectories.size();
     std::printf("%s: search (armfault boundary): %zu cells, batches of %d, at most %d runs a cell\n", campaign_file.c_str(),
                 cells, campaign.search.batch, campaign.search.max_runs);
+  }
+  if (!campaign.monitor_model && MonitorRunsUserCode(campaign.monitor.type)) {
+    std::printf("%s: monitor \"%s\" not loaded: loading it runs its code with your rights; "
+                "--load-plugins loads it and checks its settings\n",
+                campaign_file.c_str(), campaign.monitor.type.c_str());
   }
   return 0;
 }

@@ -97,7 +97,11 @@ int ScoreCommand(const ScoreCommandOptions& options);
 // exit status.
 struct CampaignSpec;
 int FinishCampaignOutputs(const std::string& dir, const CampaignSpec& campaign, bool summary_only = false);
-int ValidateCommand(const std::string& campaign_file);
+struct ValidateOptions {
+  std::string campaign_file;
+  bool load_plugins = false;  // build a monitor that runs the user's code (a plugin library)
+};
+int ValidateCommand(const ValidateOptions& o);
 
 struct MergeOptions {
   std::vector<std::string> input_dirs;  // output directories of `armfault run --shard K/N`

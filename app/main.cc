@@ -96,9 +96,11 @@ Command AddScoreCommand(CLI::App& app) {
 }
 
 Command AddValidateCommand(CLI::App& app) {
-  auto o = std::make_shared<std::string>();
+  auto o = std::make_shared<armfault::ValidateOptions>();
   CLI::App* cmd = app.add_subcommand("validate", "check a campaign file and print its run count");
-  cmd->add_option("campaign", *o, "campaign JSON file")->required();
+  cmd->add_option("campaign", o->campaign_file, "campaign JSON file")->required();
+  cmd->add_flag("--load-plugins", o->load_plugins,
+                "also load the monitor's plugin library and check its settings (this runs the library's code)");
   return {cmd, [o] { return armfault::ValidateCommand(*o); }};
 }
 

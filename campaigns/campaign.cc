@@ -7,9 +7,11 @@
 
 namespace armfault {
 
-Campaign CampaignFromJson(const nlohmann::json& value, const std::string& source, const std::string& base_dir) {
+Campaign CampaignFromJson(const nlohmann::json& value, const std::string& source, const std::string& base_dir,
+                          MonitorLoading loading) {
   Campaign c;
   static_cast<CampaignSpec&>(c) = CampaignSpecFromJson(value, source, base_dir, &c.loaded_trajectories);
+  if (loading == MonitorLoading::kSkipUserCode && MonitorRunsUserCode(c.monitor.type)) return c;
   try {
     c.monitor_model = MakeMonitorModel(c.monitor, MonitorContextOf(c), "/monitor");
   } catch (const InputError& e) {
@@ -18,10 +20,10 @@ Campaign CampaignFromJson(const nlohmann::json& value, const std::string& source
   return c;
 }
 
-Campaign ReadCampaignFile(const std::string& path) {
+Campaign ReadCampaignFile(const std::string& path, MonitorLoading loading) {
   std::string base = std::filesystem::path(path).parent_path().string();
   if (base.empty()) base = ".";
-  return CampaignFromJson(ReadJsonFile(path), path, base);
+  return CampaignFromJson(ReadJsonFile(path), path, base, loading);
 }
 
 std::vector<std::string> CampaignWarnings(const Campaign& c) {

@@ -28,8 +28,13 @@ struct Campaign : CampaignSpec {
 
 // Parses and validates a campaign and builds it for running; every error names the file, the
 // JSON pointer and the value (a trajectory's with the spec's, then the monitor's).
-Campaign CampaignFromJson(const nlohmann::json& value, const std::string& source, const std::string& base_dir);
-Campaign ReadCampaignFile(const std::string& path);
+// Whether reading a campaign builds a monitor that runs the user's own code (a plugin library,
+// MonitorRunsUserCode): kSkipUserCode leaves monitor_model null for such a monitor (the spec and
+// the library's path are still checked), so `validate` runs no code it was not asked to.
+enum class MonitorLoading { kBuild, kSkipUserCode };
+Campaign CampaignFromJson(const nlohmann::json& value, const std::string& source, const std::string& base_dir,
+                          MonitorLoading loading = MonitorLoading::kBuild);
+Campaign ReadCampaignFile(const std::string& path, MonitorLoading loading = MonitorLoading::kBuild);
 // The built-in quick thesis sweep (`armfault run` without a file).
 Campaign DefaultCampaign();
 

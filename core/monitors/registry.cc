@@ -29,6 +29,7 @@ struct MonitorType {
   const char* description;
   ParseMonitorSettings parse;
   BuildMonitorModel build;
+  bool runs_user_code;  // building the model runs code the campaign names
 };
 
 // A Python monitor's campaign.json names its factory ({"type": "python", "factory":
@@ -53,11 +54,11 @@ std::shared_ptr<const MonitorModel> BuildPythonModel(const nlohmann::json& setti
 
 const MonitorType kMonitorTypes[] = {
     {"power_efficiency", "the thesis's power-efficiency monitor, extended to isolate and size faults (docs/monitor.md)",
-     &ParsePowerEfficiencySettings, &BuildPowerEfficiencyModel},
+     &ParsePowerEfficiencySettings, &BuildPowerEfficiencyModel, false},
     {"plugin", "a compiled monitor in a shared library, C ABI include/armfault/monitor_plugin.h (docs/monitor-api.md)",
-     &ParsePluginSettings, &BuildPluginModel},
+     &ParsePluginSettings, &BuildPluginModel, true},
     {"python", "a class written in Python, run by the armfault Python package (docs/monitor-api.md)",
-     &ParsePythonSettings, &BuildPythonModel},
+     &ParsePythonSettings, &BuildPythonModel, true},
 };
 
 const MonitorType* FindType(const std::string& type) {
@@ -151,6 +152,11 @@ std::shared_ptr<const MonitorModel> MakeMonitorModel(const MonitorSpec& spec, co
   const MonitorType* type = FindType(spec.type);
   if (!type) throw InputError(context.input.source, pointer, "unknown monitor type \"" + spec.type + "\"");
   return type->build(spec.settings, context, pointer);
+}
+
+bool MonitorRunsUserCode(const std::string& type) {
+  const MonitorType* t = FindType(type);
+  return t != nullptr && t->runs_user_code;
 }
 
 std::vector<MonitorTypeInfo> MonitorTypes() {

@@ -66,6 +66,10 @@ MonitorSpec MonitorSpecFromJson(const nlohmann::json& value, const std::string& 
 std::shared_ptr<const MonitorModel> MakeMonitorModel(const MonitorSpec& spec, const MonitorContext& context,
                                                      const std::string& pointer = "/monitor");
 
+// True for a type whose model runs the user's own code when built (a plugin library's
+// constructors and armfault_monitor_create, a Python class): `validate` builds it only when asked.
+bool MonitorRunsUserCode(const std::string& type);
+
 // The registered types, in table order, with a one-line description each.
 struct MonitorTypeInfo {
   std::string type;

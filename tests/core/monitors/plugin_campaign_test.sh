@@ -128,5 +128,24 @@ PY
 }
 check tuned_scores_as_predicted tuned_scores_as_predicted
 
+# `validate` runs no code of the campaign's unless asked: a library whose constructor leaves a
+# mark is not loaded (the mark stays absent, the output says why); --load-plugins loads it.
+validate_loads_no_code() {
+  printf '#include <stdio.h>\n__attribute__((constructor)) static void mark(void) { FILE* f = fopen(MARK, "w"); if (f) fclose(f); }\n' >"$tmp/mark.c"
+  cc -shared -fPIC -DMARK="\"$tmp/ran\"" -o "$tmp/libmark.so" "$tmp/mark.c" || return 1
+  with_monitor marked '{"type": "plugin", "library": "libmark.so"}'
+  "$armfault" validate "$tmp/marked.json" >"$tmp/validate_out" || return 1
+  [[ ! -e "$tmp/ran" ]] || { echo "validate ran the library's constructor"; return 1; }
+  grep -qF 'monitor "plugin" not loaded: loading it runs its code with your rights; --load-plugins loads it' "$tmp/validate_out" ||
+    { cat "$tmp/validate_out"; return 1; }
+  local status=0
+  "$armfault" validate --load-plugins "$tmp/marked.json" 2>"$tmp/validate_err" || status=$?
+  [[ -e "$tmp/ran" ]] || { echo "--load-plugins did not load the library"; return 1; }
+  # It exports no monitor functions: with the library loaded, that is the error.
+  [[ $status -eq 2 ]] && grep -qF "does not export armfault_monitor_abi_version" "$tmp/validate_err" ||
+    { echo "status $status: $(cat "$tmp/validate_err")"; return 1; }
+}
+check validate_loads_no_code validate_loads_no_code
+
 echo "$passed passed, $failed failed"
 [[ $failed -eq 0 ]]
