@@ -194,12 +194,24 @@ void CheckVector(const std::array<double, 3>& v, const std::string& pointer, con
   if (Norm(v) < kMinVectorNorm) throw InputError("", pointer, std::string("the ") + what + " must not be the zero vector");
 }
 
-void CheckMoments(const std::array<double, 3>& moments, const std::string& pointer) {
+// `mass_kg`: the link's own mass, already checked.
+void CheckMoments(const std::array<double, 3>& moments, double mass_kg, const std::string& pointer) {
   ErrorList errors;
   for (size_t i = 0; i < 3; ++i) {
     errors.Try([&] { RequireInRange(moments[i], kMinMoment_kg_m2, kMaxMoment_kg_m2, PointerJoin(pointer, i)); });
   }
   errors.ThrowIfAny();
+  // No body of a link's mass is more compact than the smallest cylinder the radius floor
+  // allows: a disc of radius kMinLinkRadius_m about a diameter, m r^2 / 4.
+  const double min_moment = mass_kg * kMinLinkRadius_m * kMinLinkRadius_m / 4;
+  for (size_t i = 0; i < 3; ++i) {
+    if (moments[i] < min_moment) {
+      throw InputError("", PointerJoin(pointer, i),
+                       FormatNumber(moments[i]) + " kg m^2 is below " + FormatNumber(min_moment) +
+                           " kg m^2, the smallest moment of a " + FormatNumber(mass_kg) +
+                           " kg link (a disc of radius 1 mm about a diameter)");
+    }
+  }
   // A rigid body's principal moments obey I_a <= I_b + I_c (equal for a flat plate); a part in
   // a million of slack for decimal values such as 0.01 + 0.02 = 0.03.
   for (size_t i = 0; i < 3; ++i) {
@@ -291,7 +303,7 @@ LinkParams LinkFromJson(const nlohmann::json& value, const std::string& pointer,
   errors->Try([&] {
     if (const auto* v = reader.Find("inertia_kg_m2")) {
       const std::array<double, 3> moments = ReadVector3(*v, reader.PointerTo("inertia_kg_m2"));
-      CheckMoments(moments, reader.PointerTo("inertia_kg_m2"));
+      CheckMoments(moments, link.mass_kg, reader.PointerTo("inertia_kg_m2"));
       link.inertia_kg_m2 = moments;
       link.has_inertia = true;
     }
@@ -517,7 +529,7 @@ void Validate(const RobotConfig& r, const std::string& pointer) {
     ok &= errors.Try([&] { CheckComFraction(l.com_fraction, PointerJoin(lp, "com_fraction")); });
     ok &= errors.Try([&] { CheckVector(l.direction, PointerJoin(lp, "direction"), "link direction"); });
     ok &= errors.Try([&] { CheckVector(l.joint_axis, PointerJoin(lp, "joint_axis"), "joint axis"); });
-    if (l.has_inertia) ok &= errors.Try([&] { CheckMoments(l.inertia_kg_m2, PointerJoin(lp, "inertia_kg_m2")); });
+    if (l.has_inertia && ok) ok &= errors.Try([&] { CheckMoments(l.inertia_kg_m2, l.mass_kg, PointerJoin(lp, "inertia_kg_m2")); });
     if (!ok) continue;
     const bool last = i + 1 == r.links.size();
     const double payload = last && payload_ok ? r.payload_kg : 0.0;

@@ -369,6 +369,7 @@ with tempfile.TemporaryDirectory(prefix="armfault_schema_test.") as tmp:
         ("controller rate not dividing the physics rate", module(controller={"rate_Hz": 300})),
         ("zero link direction", link(direction=[0, 0, 0])),
         ("principal moments breaking the triangle inequality", link(inertia_kg_m2=[1, 0.001, 0.001])),
+        ("a ton with a micromotor's moments", link(mass_kg=1000, inertia_kg_m2=[1e-9, 1e-9, 1e-9])),
         ("a 1 g, 1 mm cylinder (moments below 1e-9 kg m^2)", link(mass_kg=0.001, radius_m=0.001, length_m=0)),
         ("no runs", lambda d: (d.pop("faults"), d.update({"healthy": 0}))),
     ]

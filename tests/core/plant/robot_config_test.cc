@@ -454,6 +454,11 @@ TEST(RobotConfigErrors, PhysicalLimitsOfLinksAndBase) {
       {{{"inertia_kg_m2", {1, 1e-6, 1e-6}}},
        "/links/1/inertia_kg_m2/0",
        "1 kg m^2 exceeds the sum of the other two principal moments (2e-06 kg m^2): no rigid body has these moments"},
+      // A ton with the moments of a micromotor's rotor (this one aborted in ODE as a run).
+      {{{"mass_kg", 1000}, {"inertia_kg_m2", {1e-9, 1e-9, 1e-9}}},
+       "/links/1/inertia_kg_m2/0",
+       "1e-09 kg m^2 is below 0.00025 kg m^2, the smallest moment of a 1000 kg link (a disc of radius 1 mm about a "
+       "diameter)"},
       // Each value in range, the body they make is not: a 1 g, 1 mm cylinder.
       {{{"mass_kg", 0.001}, {"radius_m", 0.001}, {"length_m", 0}},
        "/links/1/radius_m",
