@@ -14,6 +14,18 @@ namespace {
 // Commissioning: 16 s, enough for several reversals of the slowest joint.
 constexpr double kCommissioningDuration_s = 16.0;
 
+// The model of a unit's or a run's robot: the campaign's robot (checked when the campaign was
+// read) with draws applied, `what` naming them. A draw can take a body below a floor (a rotor
+// inertia drawn under core/plant/mass_properties.h's): the InputError then fails this run
+// alone, and says that the draws did it.
+std::shared_ptr<const ArmModel> DrawnModel(const RobotConfig& robot, const std::string& what) {
+  try {
+    return std::make_shared<const ArmModel>(robot);
+  } catch (const InputError& e) {
+    throw e.Edited([&](std::string*, std::string*, std::string* message) { *message = what + ": " + *message; });
+  }
+}
+
 }  // namespace
 
 nlohmann::json CommissioningMotion(const RobotConfig& robot) {
@@ -36,7 +48,8 @@ UnitMonitor CommissionUnit(const Campaign& campaign, const CaseSpec& spec) {
   UnitMonitor out;
   try {
     const RobotConfig robot = UnitRobot(campaign, spec);
-    const ArmModel model(robot);
+    const std::shared_ptr<const ArmModel> model_of_unit = DrawnModel(robot, "with this unit's tolerance draws");
+    const ArmModel& model = *model_of_unit;
     InputContext context;
     context.source = "<commissioning>";
     RunSpec run;
@@ -249,7 +262,7 @@ PreparedRun PrepareCase(const Campaign& campaign, const CaseSpec& cs, UnitMonito
     return p;
   }
   p.monitor = unit.model;
-  p.model = std::make_shared<const ArmModel>(CaseRobot(campaign, cs));
+  p.model = DrawnModel(CaseRobot(campaign, cs), "with this run's tolerance draws and payload");
   p.faults = PrepareFaults(campaign, cs, *p.model, &p.record);
   p.spec = CaseRunSpec(campaign, cs, *p.model);
   if (!p.faults.empty()) p.spec.hardware = std::make_shared<FaultSchedule>(p.faults);

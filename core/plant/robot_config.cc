@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "core/base/json_input.h"
+#include "core/plant/mass_properties.h"
 
 namespace armfault {
 
@@ -32,7 +33,8 @@ const Fields<MotorParams>& MotorFields() {
       {"phase_resistance_ohm", &MotorParams::phase_resistance_ohm, 0, 100, true, false},
       {"phase_inductance_H", &MotorParams::phase_inductance_H, 0, 1, true, false},
       {"pole_pairs", &MotorParams::pole_pairs, 1, 50, false, true},
-      {"rotor_inertia_kg_m2", &MotorParams::rotor_inertia_kg_m2, 0, 1, true, false},
+      // Floor: the rotor body's moment of inertia (mass_properties.h, docs/assumptions.md).
+      {"rotor_inertia_kg_m2", &MotorParams::rotor_inertia_kg_m2, kMinMoment_kg_m2, 1, false, false},
       {"thermal_resistance_K_per_W", &MotorParams::thermal_resistance_K_per_W, 0, 1000, false, false},
       {"thermal_time_constant_s", &MotorParams::thermal_time_constant_s, 0, 1e6, true, false},
   };
@@ -58,7 +60,9 @@ const Fields<InverterParams>& InverterFields() {
 }
 const Fields<HarmonicDriveParams>& DriveFields() {
   static const Fields<HarmonicDriveParams> f = {
-      {"ratio", &HarmonicDriveParams::ratio, 1, 10000, false, false},
+      // At least 2: the rotor is a planet on a sun wheel of radius (ratio - 1)/ratio, which vanishes at 1
+      // (ODE asserts radii > 0); joint reducers have ratios of 30 and more (docs/assumptions.md).
+      {"ratio", &HarmonicDriveParams::ratio, 2, 10000, false, false},
       {"mesh_loss_fraction", &HarmonicDriveParams::mesh_loss_fraction, 0, 0.9, false, false},
   };
   return f;
@@ -167,6 +171,64 @@ std::array<double, 3> ReadVector3(const nlohmann::json& v, const std::string& po
 
 double Norm(const std::array<double, 3>& v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
 
+// Physical limits of a link and of the base (docs/assumptions.md, "Physical limits of the robot
+// input"): far beyond any arm armfault models, tight enough that every derived number (anchors,
+// inertias, squared norms) stays finite. The floors of masses and moments: mass_properties.h.
+constexpr double kMaxLinkMass_kg = 1000;      // a ton on one joint module
+constexpr double kMaxLinkLength_m = 10;
+constexpr double kMinLinkRadius_m = 1e-3;     // a 1 mm rod
+constexpr double kMaxLinkRadius_m = 1;
+constexpr double kMaxMoment_kg_m2 = 1e5;      // above a 1000 kg, 10 m rod about its end (3.3e4)
+constexpr double kMaxVectorComponent = 1e6;   // direction and joint_axis: the squared norm stays finite
+constexpr double kMinVectorNorm = 1e-9;       // ... and normalises
+constexpr double kMaxBasePosition_m = 1000;   // per coordinate
+
+// One check per link value, used by LinkFromJson (on the file's values) and by Validate (on any
+// robot, including one built in code); each throws InputError naming `pointer` and the value.
+void CheckVector(const std::array<double, 3>& v, const std::string& pointer, const char* what) {
+  ErrorList errors;
+  for (size_t i = 0; i < 3; ++i) {
+    errors.Try([&] { RequireInRange(v[i], -kMaxVectorComponent, kMaxVectorComponent, PointerJoin(pointer, i)); });
+  }
+  errors.ThrowIfAny();
+  if (Norm(v) < kMinVectorNorm) throw InputError("", pointer, std::string("the ") + what + " must not be the zero vector");
+}
+
+// `mass_kg`: the link's own mass, already checked.
+void CheckMoments(const std::array<double, 3>& moments, double mass_kg, const std::string& pointer) {
+  ErrorList errors;
+  for (size_t i = 0; i < 3; ++i) {
+    errors.Try([&] { RequireInRange(moments[i], kMinMoment_kg_m2, kMaxMoment_kg_m2, PointerJoin(pointer, i)); });
+  }
+  errors.ThrowIfAny();
+  // No body of a link's mass is more compact than the smallest cylinder the radius floor
+  // allows: a disc of radius kMinLinkRadius_m about a diameter, m r^2 / 4.
+  const double min_moment = mass_kg * kMinLinkRadius_m * kMinLinkRadius_m / 4;
+  for (size_t i = 0; i < 3; ++i) {
+    if (moments[i] < min_moment) {
+      throw InputError("", PointerJoin(pointer, i),
+                       FormatNumber(moments[i]) + " kg m^2 is below " + FormatNumber(min_moment) +
+                           " kg m^2, the smallest moment of a " + FormatNumber(mass_kg) +
+                           " kg link (a disc of radius 1 mm about a diameter)");
+    }
+  }
+  // A rigid body's principal moments obey I_a <= I_b + I_c (equal for a flat plate); a part in
+  // a million of slack for decimal values such as 0.01 + 0.02 = 0.03.
+  for (size_t i = 0; i < 3; ++i) {
+    const double others = moments[(i + 1) % 3] + moments[(i + 2) % 3];
+    if (moments[i] > others * (1 + 1e-6)) {
+      throw InputError("", PointerJoin(pointer, i),
+                       FormatNumber(moments[i]) + " kg m^2 exceeds the sum of the other two principal moments (" +
+                           FormatNumber(others) + " kg m^2): no rigid body has these moments");
+    }
+  }
+}
+
+void CheckLinkMass(double v, const std::string& p) { RequireInRange(v, kMinBodyMass_kg, kMaxLinkMass_kg, p); }
+void CheckLinkLength(double v, const std::string& p) { RequireInRange(v, 0, kMaxLinkLength_m, p); }
+void CheckLinkRadius(double v, const std::string& p) { RequireInRange(v, kMinLinkRadius_m, kMaxLinkRadius_m, p); }
+void CheckComFraction(double v, const std::string& p) { RequireInRange(v, 0, 1, p); }
+
 // Records its errors in `errors` and returns what it could read (the type's defaults where a
 // value is bad), so the robot's cross-field checks still see one module per joint. Throws only
 // when `value` is not an object.
@@ -204,52 +266,48 @@ ModuleParams ModuleFromJson(const nlohmann::json& value, const std::string& poin
   return m;
 }
 
-// Like ModuleFromJson: errors go to `errors`, defaults stand in for bad values.
+// Like ModuleFromJson: errors go to `errors`, defaults stand in for bad values (so Validate's
+// checks of the built bodies see only values that passed their own checks).
 LinkParams LinkFromJson(const nlohmann::json& value, const std::string& pointer, ErrorList* errors) {
   ObjectReader reader(value, pointer);
   errors->Try([&] {
     reader.AllowOnly({"mass_kg", "length_m", "radius_m", "com_fraction", "direction", "joint_axis", "inertia_kg_m2"});
   });
   LinkParams link;
+  auto number = [&](const char* key, double* out, void (*check)(double, const std::string&)) {
+    errors->Try([&] {
+      double v = *out;
+      reader.OptionalNumber(key, &v);
+      check(v, reader.PointerTo(key));
+      *out = v;
+    });
+  };
+  number("mass_kg", &link.mass_kg, &CheckLinkMass);
+  number("length_m", &link.length_m, &CheckLinkLength);
+  number("radius_m", &link.radius_m, &CheckLinkRadius);
+  number("com_fraction", &link.com_fraction, &CheckComFraction);
   errors->Try([&] {
-    reader.OptionalNumber("mass_kg", &link.mass_kg);
-    RequireAbove(link.mass_kg, 0, reader.PointerTo("mass_kg"));
+    if (const auto* v = reader.Find("direction")) {
+      const std::array<double, 3> d = ReadVector3(*v, reader.PointerTo("direction"));
+      CheckVector(d, reader.PointerTo("direction"), "link direction");
+      link.direction = d;
+    }
   });
   errors->Try([&] {
-    reader.OptionalNumber("length_m", &link.length_m);
-    RequireAtLeast(link.length_m, 0, reader.PointerTo("length_m"));
-  });
-  errors->Try([&] {
-    reader.OptionalNumber("radius_m", &link.radius_m);
-    RequireAbove(link.radius_m, 0, reader.PointerTo("radius_m"));
-  });
-  errors->Try([&] {
-    reader.OptionalNumber("com_fraction", &link.com_fraction);
-    RequireInRange(link.com_fraction, 0, 1, reader.PointerTo("com_fraction"));
-  });
-  const bool direction_read = errors->Try([&] {
-    if (const auto* v = reader.Find("direction")) link.direction = ReadVector3(*v, reader.PointerTo("direction"));
-  });
-  const bool axis_read = errors->Try([&] {
-    if (const auto* v = reader.Find("joint_axis")) link.joint_axis = ReadVector3(*v, reader.PointerTo("joint_axis"));
+    if (const auto* v = reader.Find("joint_axis")) {
+      const std::array<double, 3> a = ReadVector3(*v, reader.PointerTo("joint_axis"));
+      CheckVector(a, reader.PointerTo("joint_axis"), "joint axis");
+      link.joint_axis = a;
+    }
   });
   errors->Try([&] {
     if (const auto* v = reader.Find("inertia_kg_m2")) {
-      link.inertia_kg_m2 = ReadVector3(*v, reader.PointerTo("inertia_kg_m2"));
+      const std::array<double, 3> moments = ReadVector3(*v, reader.PointerTo("inertia_kg_m2"));
+      CheckMoments(moments, link.mass_kg, reader.PointerTo("inertia_kg_m2"));
+      link.inertia_kg_m2 = moments;
       link.has_inertia = true;
-      ErrorList moments;  // each moment on its own
-      for (size_t i = 0; i < 3; ++i) {
-        moments.Try([&] { RequireAbove(link.inertia_kg_m2[i], 0, PointerJoin(reader.PointerTo("inertia_kg_m2"), i)); });
-      }
-      moments.ThrowIfAny();
     }
   });
-  if (direction_read && Norm(link.direction) < 1e-9) {
-    errors->Add(InputError("", reader.PointerTo("direction"), "the link direction must not be the zero vector"));
-  }
-  if (axis_read && Norm(link.joint_axis) < 1e-9) {
-    errors->Add(InputError("", reader.PointerTo("joint_axis"), "the joint axis must not be the zero vector"));
-  }
   return link;
 }
 
@@ -422,7 +480,13 @@ void Validate(const RobotConfig& r, const std::string& pointer) {
                           std::to_string(r.links.size()) + " links for " + std::to_string(r.modules.size()) +
                               " modules: give one link per joint module"));
   }
-  errors.Try([&] { RequireInRange(r.payload_kg, 0, 100, PointerJoin(pointer, "payload_kg")); });
+  const bool payload_ok = errors.Try([&] { RequireInRange(r.payload_kg, 0, 100, PointerJoin(pointer, "payload_kg")); });
+  for (size_t i = 0; i < 3; ++i) {
+    errors.Try([&] {
+      RequireInRange(r.base_position_m[i], -kMaxBasePosition_m, kMaxBasePosition_m,
+                     PointerJoin(PointerJoin(pointer, "base_position_m"), i));
+    });
+  }
   errors.Try([&] { RequireInRange(r.gravity_m_s2, 0, 100, PointerJoin(pointer, "gravity_m_s2")); });
   const bool rate_ok = errors.Try([&] { RequireInRange(r.physics_rate_Hz, 100, 1e5, PointerJoin(pointer, "physics_rate_Hz")); });
   errors.Try([&] { RequireInRange(r.electrical_substeps, 1, 1000, PointerJoin(pointer, "electrical_substeps")); });
@@ -438,6 +502,14 @@ void Validate(const RobotConfig& r, const std::string& pointer) {
       errors.Try([&] { RequireInRange(m.min_angle_deg, -360, 0, PointerJoin(mp, "min_angle_deg")); });
       errors.Try([&] { RequireInRange(m.max_angle_deg, 0, 360, PointerJoin(mp, "max_angle_deg")); });
     }
+    // The rotor body ODE gets: its inertia after any tolerance draw (a campaign's unit), which
+    // the field table's floor does not see.
+    const double im = m.motor.rotor_inertia_kg_m2;
+    const std::string rotor_problem = BodyMassProblem(kRotorMass_kg, im * Eigen::Matrix3d::Identity());
+    if (!rotor_problem.empty()) {
+      errors.Add(InputError("", PointerJoin(PointerJoin(mp, "motor"), "rotor_inertia_kg_m2"),
+                            "the rotor body's " + rotor_problem));
+    }
     // The controller runs every k physics steps: the rates must divide (needs a valid physics rate).
     double k = r.physics_rate_Hz / m.controller.rate_Hz;
     if (rate_ok && (std::fabs(k - std::round(k)) > 1e-9 || k < 1)) {
@@ -445,6 +517,34 @@ void Validate(const RobotConfig& r, const std::string& pointer) {
                             FormatNumber(m.controller.rate_Hz) + " Hz must divide the physics rate " +
                                 FormatNumber(r.physics_rate_Hz) + " Hz"));
     }
+  }
+  // Every link's values (a robot built in code has not been through LinkFromJson), then its
+  // body as ODE gets it (the payload lumped into the last): mass and inertia above the floors.
+  for (size_t i = 0; i < r.links.size(); ++i) {
+    const LinkParams& l = r.links[i];
+    const std::string lp = PointerJoin(PointerJoin(pointer, "links"), i);
+    bool ok = errors.Try([&] { CheckLinkMass(l.mass_kg, PointerJoin(lp, "mass_kg")); });
+    ok &= errors.Try([&] { CheckLinkLength(l.length_m, PointerJoin(lp, "length_m")); });
+    ok &= errors.Try([&] { CheckLinkRadius(l.radius_m, PointerJoin(lp, "radius_m")); });
+    ok &= errors.Try([&] { CheckComFraction(l.com_fraction, PointerJoin(lp, "com_fraction")); });
+    ok &= errors.Try([&] { CheckVector(l.direction, PointerJoin(lp, "direction"), "link direction"); });
+    ok &= errors.Try([&] { CheckVector(l.joint_axis, PointerJoin(lp, "joint_axis"), "joint axis"); });
+    if (l.has_inertia && ok) ok &= errors.Try([&] { CheckMoments(l.inertia_kg_m2, l.mass_kg, PointerJoin(lp, "inertia_kg_m2")); });
+    if (!ok) continue;
+    const bool last = i + 1 == r.links.size();
+    const double payload = last && payload_ok ? r.payload_kg : 0.0;
+    const Eigen::Vector3d dir = Eigen::Vector3d(l.direction[0], l.direction[1], l.direction[2]).normalized();
+    const Eigen::Vector3d axis = Eigen::Vector3d(l.joint_axis[0], l.joint_axis[1], l.joint_axis[2]).normalized();
+    const BodyMass body = LinkBody(l, Eigen::Vector3d::Zero(), dir, axis, payload);
+    const std::string problem = BodyMassProblem(body.mass_kg, body.inertia_kg_m2);
+    if (problem.empty()) continue;
+    // Only the cylinder's moments can fall below the floor when every value is in range.
+    const std::string what = l.has_inertia ? "the given principal moments"
+                                           : "a solid cylinder of " + FormatNumber(l.mass_kg) + " kg, radius " +
+                                                 FormatNumber(l.radius_m) + " m and length " + FormatNumber(l.length_m) + " m";
+    errors.Add(InputError("", PointerJoin(lp, l.has_inertia ? "inertia_kg_m2" : "radius_m"),
+                          "link " + std::to_string(i + 1) + "'s body (" + what + (payload > 0 ? ", with the payload" : "") +
+                              "): " + problem));
   }
   errors.ThrowIfAny();
 }

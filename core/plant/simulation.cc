@@ -4,11 +4,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <mutex>
 #include <sstream>
 
 #include "core/plant/brake.h"
 #include "core/plant/encoder.h"
 #include "core/plant/friction.h"
+#include "core/plant/mass_properties.h"
 #include "core/base/json_input.h"
 #include "core/plant/ode_runtime.h"
 #include "core/base/rng.h"
@@ -25,37 +27,13 @@ constexpr double kMagnetLossPerK = 0.001;
 
 Eigen::Vector3d Vec(const std::array<double, 3>& a) { return Eigen::Vector3d(a[0], a[1], a[2]); }
 
-// Inertia of a link about its centre of mass in zero-pose world axes.
-Eigen::Matrix3d LinkInertia(const LinkParams& l, const Eigen::Vector3d& dir, const Eigen::Vector3d& axis) {
-  double along, perp1, perp2;
-  if (l.has_inertia) {
-    along = l.inertia_kg_m2[0];
-    perp1 = l.inertia_kg_m2[1];
-    perp2 = l.inertia_kg_m2[2];
-  } else {  // solid cylinder
-    along = 0.5 * l.mass_kg * l.radius_m * l.radius_m;
-    perp1 = perp2 = l.mass_kg * (3.0 * l.radius_m * l.radius_m + l.length_m * l.length_m) / 12.0;
-  }
-  // perp1 along the joint axis component orthogonal to the link, perp2 completes the frame.
-  Eigen::Vector3d e1 = axis - axis.dot(dir) * dir;
-  if (e1.norm() < 1e-9) e1 = dir.unitOrthogonal();
-  e1.normalize();
-  const Eigen::Vector3d e2 = dir.cross(e1);
-  return along * dir * dir.transpose() + perp1 * e1 * e1.transpose() + perp2 * e2 * e2.transpose();
-}
-
-Eigen::Matrix3d PointInertia(double mass, const Eigen::Vector3d& r) {
-  return mass * (r.squaredNorm() * Eigen::Matrix3d::Identity() - r * r.transpose());
-}
-
 Eigen::Vector3d ToEigen(const dReal* v) { return Eigen::Vector3d(v[0], v[1], v[2]); }
 
 // Rotor body geometry (see core/plant/simulation.h): the planet's axis is this far from the joint
 // axis; only the ratio of the wheel radii matters to the dynamics, the offset just has to
 // keep the gear row well scaled. The token mass (ODE needs one) and the offset move the
 // link's inertia by m e^2 = 2.5e-6 kg m^2 and its gravity moment by 5e-4 N m: negligible.
-constexpr double kRotorOffset_m = 0.05;
-constexpr double kRotorMass_kg = 0.001;
+constexpr double kRotorOffset_m = 0.05;  // kRotorMass_kg: core/plant/mass_properties.h
 
 void SetBodyPose(dBodyID b, const Eigen::Vector3d& pos, const Eigen::Matrix3d& rot) {
   dBodySetPosition(b, pos.x(), pos.y(), pos.z());
@@ -70,15 +48,51 @@ void SetBodyPose(dBodyID b, const Eigen::Vector3d& pos, const Eigen::Matrix3d& r
 // The ODE side of one run: its own world and threading implementation; per joint a link
 // body with its hinge to the parent, and a rotor body with its hinge to the link, its gear
 // (transmission) to the parent and its dry-friction row (AMotor) against the parent.
+// Owns a world (its bodies and joints) and the threading implementation it steps with: the
+// first member of OdeWorld, so both are released even when ODE fails (OdeError,
+// core/plant/ode_runtime.h) while OdeWorld's constructor is still building the bodies.
+// A step that ODE left by an OdeError leaves the jobs it never ran queued in the threading
+// implementation, whose destructor asserts that none are (~dxtemplateJobListContainer, an
+// abort from a destructor): that implementation is not freed but kept (KeepInterrupted), with
+// the step's 64 KiB memory arena its jobs hold. The world itself is destroyed (no ODE object
+// refers to it; memory-safe under ASan). About 66 KB per such failure, a last resort.
+void KeepInterrupted(dThreadingImplementationID threading) {
+  // Held, not lost: a leak checker sees them as reachable.
+  static std::mutex mutex;
+  static auto* kept = new std::vector<dThreadingImplementationID>;
+  std::lock_guard<std::mutex> lock(mutex);
+  kept->push_back(threading);
+}
+
+struct OwnedWorld {
+  dWorldID world = nullptr;
+  dThreadingImplementationID threading = nullptr;
+  bool stepping = false;  // inside dWorldStep: still true if it was left by an OdeError
+  OwnedWorld() {
+    EnsureOdeThreadData();
+    world = dWorldCreate();
+    threading = dThreadingAllocateSelfThreadedImplementation();
+    dWorldSetStepThreadingImplementation(world, dThreadingImplementationGetFunctions(threading), threading);
+  }
+  ~OwnedWorld() {
+    dWorldDestroy(world);  // destroys its bodies and joints
+    if (stepping) KeepInterrupted(threading);
+    else dThreadingFreeImplementation(threading);
+  }
+  void Step(double dt) {
+    stepping = true;
+    dWorldStep(world, dt);
+    stepping = false;
+  }
+  OwnedWorld(const OwnedWorld&) = delete;
+  OwnedWorld& operator=(const OwnedWorld&) = delete;
+};
+
 class OdeWorld {
  public:
   OdeWorld(const ArmModel& model, const std::vector<double>& q0, const std::vector<double>& qd0) {
-    EnsureOdeThreadData();
-    world_ = dWorldCreate();
     const double g = model.config().gravity_m_s2;
     dWorldSetGravity(world_, 0, 0, -g);
-    threading_ = dThreadingAllocateSelfThreadedImplementation();
-    dWorldSetStepThreadingImplementation(world_, dThreadingImplementationGetFunctions(threading_), threading_);
     // Joint 1's stator and sun wheel: the world, as a body the transmission can attach to.
     ground_ = dBodyCreate(world_);
     dBodySetKinematic(ground_);
@@ -174,14 +188,11 @@ class OdeWorld {
       drags_[i] = drag;
     }
   }
-  ~OdeWorld() {
-    dWorldDestroy(world_);  // destroys its bodies and joints
-    dThreadingFreeImplementation(threading_);
-  }
   OdeWorld(const OdeWorld&) = delete;
   OdeWorld& operator=(const OdeWorld&) = delete;
 
   dWorldID world() const { return world_; }
+  void Step(double dt) { owned_.Step(dt); }
   dBodyID body(int i) const { return bodies_[i]; }
   dBodyID rotor(int i) const { return rotors_[i]; }
   dBodyID parent(int i) const { return i == 0 ? nullptr : bodies_[i - 1]; }  // null: the world
@@ -228,8 +239,8 @@ class OdeWorld {
     return e;
   }
 
-  dWorldID world_ = nullptr;
-  dThreadingImplementationID threading_ = nullptr;
+  OwnedWorld owned_;
+  dWorldID world_ = owned_.world;
   dBodyID ground_ = nullptr;
   std::vector<dBodyID> bodies_, rotors_;
   std::vector<dJointID> joints_, rotor_hinges_, drags_;
@@ -481,20 +492,22 @@ ArmModel::ArmModel(RobotConfig config) : config_(std::move(config)) {
     jm.rotor_centre_m = anchor + kRotorOffset_m * jm.axis.unitOrthogonal();
     const Eigen::Vector3d dir = Vec(l.direction).normalized();
     jm.anchor_m = anchor;
-    const Eigen::Vector3d end = anchor + l.length_m * dir;
-    Eigen::Vector3d com = anchor + l.com_fraction * l.length_m * dir;
-    Eigen::Matrix3d inertia = LinkInertia(l, dir, jm.axis);
-    double mass = l.mass_kg;
-    if (i == n - 1 && config_.payload_kg > 0) {
-      const double mp = config_.payload_kg;
-      const Eigen::Vector3d c = (mass * com + mp * end) / (mass + mp);
-      inertia += PointInertia(mass, com - c) + PointInertia(mp, end - c);
-      mass += mp;
-      com = c;
+    const BodyMass body = LinkBody(l, anchor, dir, jm.axis, i == n - 1 ? config_.payload_kg : 0.0);
+    jm.mass_kg = body.mass_kg;
+    jm.com_m = body.com_m;
+    jm.inertia_kg_m2 = body.inertia_kg_m2;
+    // What ODE is given, checked once more on the built numbers (Validate checked the same
+    // derivation): ODE asserts on a body that is not positive definite, aborting the process.
+    const std::string problem = BodyMassProblem(jm.mass_kg, jm.inertia_kg_m2);
+    if (!problem.empty()) {
+      throw InputError("", "/links/" + std::to_string(i), "link " + std::to_string(i + 1) + "'s body: " + problem);
     }
-    jm.mass_kg = mass;
-    jm.com_m = com;
-    jm.inertia_kg_m2 = inertia;
+    const std::string rotor_problem =
+        BodyMassProblem(kRotorMass_kg, jm.rotor_inertia_kg_m2 * Eigen::Matrix3d::Identity());
+    if (!rotor_problem.empty()) {
+      throw InputError("", "/modules/" + std::to_string(i) + "/motor/rotor_inertia_kg_m2", "the rotor body's " + rotor_problem);
+    }
+    const Eigen::Vector3d end = anchor + l.length_m * dir;
     joints_.push_back(jm);
     anchor = end;
   }
@@ -523,13 +536,9 @@ RunResult Simulate(const ArmModel& model, const RunSpec& spec, const TickObserve
     rt[j].brake_engaged = !o.powered && !o.brake_held_released;
   }
 
-  OdeWorld ode(model, q0, qd0);
   const double g = model.config().gravity_m_s2;
   RunResult result;
   result.energy.resize(n);
-  result.kinetic_start_J = ode.KineticEnergy();
-  result.potential_start_J = ode.PotentialEnergy(g);
-
   std::vector<HardwareCondition> conditions(n);
   std::vector<JointTick> ticks(n);
   const double dt = model.physics_dt_s();
@@ -538,37 +547,53 @@ RunResult Simulate(const ArmModel& model, const RunSpec& spec, const TickObserve
   const int substeps = model.config().electrical_substeps;
   const long total_ticks = std::lround(spec.duration_s / tc);
   const double ambient_C = spec.ambient_C;
+  double t_ode = 0;  // the time ODE was last asked to reach (its failure's time)
 
-  for (long k = 0;; ++k) {
-    const double t = k * tc;
-    // --- controller tick: sensors -> controllers -> commands, and the tick record ---
-    if (spec.hardware) spec.hardware->Apply(t, &conditions);  // a sensor fault acts from its onset tick
-    for (int j = 0; j < n; ++j) {
-      ControllerTick(model.joint(j), options[j], conditions[j], t, k == 0, steps, &rt[j], &ticks[j]);
-      BookPeriod(dt, &rt[j], &result.energy[j]);
-    }
-    result.end_time_s = t;
-    if (observer) observer(Tick{t, &ticks});
-    for (int j = 0; j < n; ++j) {
-      if (!std::isfinite(rt[j].q) || !std::isfinite(rt[j].qd) || std::fabs(rt[j].qd) > kMaxLinkSpeed_rad_s) {
-        result.ok = false;
-        result.failure_reason = FormatFailure(t, j, "velocity [rad/s]", rt[j].qd);
-        return result;
+  try {
+    OdeWorld ode(model, q0, qd0);
+    result.kinetic_start_J = ode.KineticEnergy();
+    result.potential_start_J = ode.PotentialEnergy(g);
+
+    for (long k = 0;; ++k) {
+      const double t = k * tc;
+      // --- controller tick: sensors -> controllers -> commands, and the tick record ---
+      if (spec.hardware) spec.hardware->Apply(t, &conditions);  // a sensor fault acts from its onset tick
+      for (int j = 0; j < n; ++j) {
+        ControllerTick(model.joint(j), options[j], conditions[j], t, k == 0, steps, &rt[j], &ticks[j]);
+        BookPeriod(dt, &rt[j], &result.energy[j]);
+      }
+      result.end_time_s = t;
+      if (observer) observer(Tick{t, &ticks});
+      for (int j = 0; j < n; ++j) {
+        if (!std::isfinite(rt[j].q) || !std::isfinite(rt[j].qd) || std::fabs(rt[j].qd) > kMaxLinkSpeed_rad_s) {
+          result.ok = false;
+          result.failure_reason = FormatFailure(t, j, "velocity [rad/s]", rt[j].qd);
+          return result;
+        }
+      }
+      if (k >= total_ticks || (spec.stop && spec.stop())) break;
+
+      // --- physics steps until the next tick ---
+      for (int s = 0; s < steps; ++s) {
+        const double ts = t + s * dt;
+        t_ode = ts + dt;
+        if (spec.hardware && s > 0) spec.hardware->Apply(ts, &conditions);  // s = 0: applied at the tick
+        for (int j = 0; j < n; ++j) DriveJoint(model.joint(j), conditions[j], substeps, dt, ambient_C, &ode, j, &rt[j]);
+        ode.Step(dt);
+        for (int j = 0; j < n; ++j) ReadBackJoint(model.joint(j), ode, j, &rt[j]);
       }
     }
-    if (k >= total_ticks || (spec.stop && spec.stop())) break;
-
-    // --- physics steps until the next tick ---
-    for (int s = 0; s < steps; ++s) {
-      const double ts = t + s * dt;
-      if (spec.hardware && s > 0) spec.hardware->Apply(ts, &conditions);  // s = 0: applied at the tick
-      for (int j = 0; j < n; ++j) DriveJoint(model.joint(j), conditions[j], substeps, dt, ambient_C, &ode, j, &rt[j]);
-      dWorldStep(ode.world(), dt);
-      for (int j = 0; j < n; ++j) ReadBackJoint(model.joint(j), ode, j, &rt[j]);
-    }
+    result.kinetic_end_J = ode.KineticEnergy();
+    result.potential_end_J = ode.PotentialEnergy(g);
+  } catch (const OdeError& e) {
+    // ODE's last resort (core/plant/ode_runtime.h): the world is destroyed by now; the thread's
+    // ODE data is renewed so that its next run is as on a fresh thread. This run fails.
+    RenewOdeThreadData();
+    result.ok = false;
+    std::ostringstream reason;
+    reason << "ODE failed in the step to t=" << t_ode << " s: " << e.what();
+    result.failure_reason = reason.str();
   }
-  result.kinetic_end_J = ode.KineticEnergy();
-  result.potential_end_J = ode.PotentialEnergy(g);
   return result;
 }
 

@@ -325,6 +325,17 @@ with tempfile.TemporaryDirectory(prefix="armfault_schema_test.") as tmp:
         ("com fraction 2", link(com_fraction=2)),
         ("direction of two numbers", link(direction=[1, 0])),
         ("inertia 0", link(inertia_kg_m2=[0, 1, 1])),
+        # Physical limits (docs/assumptions.md): values that aborted the process inside ODE.
+        ("link mass 5e-324", link(mass_kg=5e-324)),
+        ("link mass 2000", link(mass_kg=2000)),
+        ("link length 100", link(length_m=100)),
+        ("link radius 1e-300", link(radius_m=1e-300)),
+        ("joint axis 1.7e308", link(joint_axis=[1.7e308, 0, 0])),
+        ("direction 1e200", link(direction=[0, 1e200, 0])),
+        ("inertia 1e-300", link(inertia_kg_m2=[1e-300, 1e-300, 1e-300])),
+        ("rotor inertia 1e-300", module(motor={"rotor_inertia_kg_m2": 1e-300})),
+        ("gear ratio 1", module(drive={"ratio": 1})),
+        ("base position 1e300", robot({"modules": [{}], "links": [{}], "base_position_m": [1e300, 0, 0]})),
         ("unknown link key", link(mass=2)),
         ("payload 500", robot({"modules": [{}], "links": [{}], "payload_kg": 500})),
         ("physics rate 50", robot({"modules": [{}], "links": [{}], "physics_rate_Hz": 50})),
@@ -357,6 +368,9 @@ with tempfile.TemporaryDirectory(prefix="armfault_schema_test.") as tmp:
         ("empty joint range", module(min_angle_deg=0, max_angle_deg=0)),
         ("controller rate not dividing the physics rate", module(controller={"rate_Hz": 300})),
         ("zero link direction", link(direction=[0, 0, 0])),
+        ("principal moments breaking the triangle inequality", link(inertia_kg_m2=[1, 0.001, 0.001])),
+        ("a ton with a micromotor's moments", link(mass_kg=1000, inertia_kg_m2=[1e-9, 1e-9, 1e-9])),
+        ("a 1 g, 1 mm cylinder (moments below 1e-9 kg m^2)", link(mass_kg=0.001, radius_m=0.001, length_m=0)),
         ("no runs", lambda d: (d.pop("faults"), d.update({"healthy": 0}))),
     ]
 

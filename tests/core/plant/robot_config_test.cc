@@ -3,6 +3,7 @@
 #include "core/base/json_input.h"
 #include "tests/core/test_support.h"
 #include "core/run_config.h"
+#include "core/plant/simulation.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -201,7 +202,9 @@ TEST(RobotConfigErrors, EveryGroupChecksItsRanges) {
   } cases[] = {
       {"inverter", "bus_voltage_V", -70, "-70 must be greater than 0"},
       {"inverter", "diode_drop_V", -0.1, "-0.1 is outside [0, 10]"},
-      {"drive", "ratio", 0.5, "0.5 is outside [1, 10000]"},
+      {"drive", "ratio", 0.5, "0.5 is outside [2, 10000]"},
+      {"drive", "ratio", 1, "1 is outside [2, 10000]"},  // ODE's gear asserts radii > 0 at 1
+      {"motor", "rotor_inertia_kg_m2", 1e-300, "1e-300 is outside [1e-09, 1]"},
       {"drive", "mesh_loss_fraction", 1, "1 is outside [0, 0.9]"},
       {"friction", "viscous_Nm_s_per_rad", -1, "-1 is outside [0, 10]"},
       {"brake", "holding_torque_Nm", -1, "-1 is outside [0, 1000]"},
@@ -277,7 +280,7 @@ TEST(RobotConfigErrors, EveryBadModuleLinkAndFieldIsReported) {
                           "/robot/modules/0/inverter/pwm_frequency_Hz: 0 must be greater than 0",
                           "/robot/modules/1/type: unknown module type \"MRR3\" (known: MRR1, MRR2)",
                           "/robot/modules/1/encoder/counts_per_rev: expected a whole number, got 2.5",
-                          "/robot/links/1/mass_kg: 0 must be greater than 0",
+                          "/robot/links/1/mass_kg: 0 is outside [0.001, 1000]",
                           "/robot/links/1/direction: the link direction must not be the zero vector",
                           // The cross-field checks still run: bad values left their defaults.
                           "/robot/payload_kg: 500 is outside [0, 100]"));
@@ -335,7 +338,7 @@ TEST(RobotConfigErrors, LinkValues) {
   j["links"][1] = {{"mass_kg", 0}};
   InputError e = RobotError(j);
   EXPECT_EQ(e.pointer(), "/links/1/mass_kg");
-  EXPECT_EQ(e.message(), "0 must be greater than 0");
+  EXPECT_EQ(e.message(), "0 is outside [0.001, 1000]");
 
   j["links"][1] = {{"com_fraction", 1.5}};
   EXPECT_EQ(RobotError(j).pointer(), "/links/1/com_fraction");
@@ -360,7 +363,7 @@ TEST(RobotConfigErrors, LinkValues) {
   j["links"][1] = {{"inertia_kg_m2", {0.1, 0, 0.1}}};
   e = RobotError(j);
   EXPECT_EQ(e.pointer(), "/links/1/inertia_kg_m2/1");
-  EXPECT_EQ(e.message(), "0 must be greater than 0");
+  EXPECT_EQ(e.message(), "0 is outside [1e-09, 100000]");
 }
 
 TEST(RobotConfigErrors, TopLevelValues) {
@@ -428,6 +431,90 @@ TEST(RobotConfigErrors, ValidateChecksAHandBuiltConfig) {
   r = RobotPreset("mrr-config1");
   r.modules[2].controller.rate_Hz = 400;
   EXPECT_EQ(ErrorOf([&] { Validate(r, ""); }).pointer(), "/modules/2/controller/rate_Hz");
+}
+
+// Values inside the old ranges that aborted the process inside ODE (issue 24): each is now an
+// error naming its field and value, with a physical floor or ceiling (docs/assumptions.md).
+TEST(RobotConfigErrors, PhysicalLimitsOfLinksAndBase) {
+  const struct {
+    json link;
+    const char* pointer;
+    const char* message;
+  } cases[] = {
+      {{{"mass_kg", 5e-324}}, "/links/1/mass_kg", "4.94065645841e-324 is outside [0.001, 1000]"},  // was dMassCheck's abort
+      {{{"mass_kg", 1e-300}}, "/links/1/mass_kg", "1e-300 is outside [0.001, 1000]"},
+      {{{"mass_kg", 1e300}}, "/links/1/mass_kg", "1e+300 is outside [0.001, 1000]"},
+      {{{"length_m", 1e300}}, "/links/1/length_m", "1e+300 is outside [0, 10]"},
+      {{{"radius_m", 1e-300}}, "/links/1/radius_m", "1e-300 is outside [0.001, 1]"},
+      {{{"radius_m", 2}}, "/links/1/radius_m", "2 is outside [0.001, 1]"},
+      {{{"joint_axis", {1.7e308, 0, 0}}}, "/links/1/joint_axis/0", "1.7e+308 is outside [-1000000, 1000000]"},
+      {{{"direction", {0, -1e200, 0}}}, "/links/1/direction/1", "-1e+200 is outside [-1000000, 1000000]"},
+      {{{"direction", {1e-12, 0, 0}}}, "/links/1/direction", "the link direction must not be the zero vector"},
+      {{{"inertia_kg_m2", {1e-300, 0.01, 0.01}}}, "/links/1/inertia_kg_m2/0", "1e-300 is outside [1e-09, 100000]"},
+      {{{"inertia_kg_m2", {1, 1e-6, 1e-6}}},
+       "/links/1/inertia_kg_m2/0",
+       "1 kg m^2 exceeds the sum of the other two principal moments (2e-06 kg m^2): no rigid body has these moments"},
+      // A ton with the moments of a micromotor's rotor (this one aborted in ODE as a run).
+      {{{"mass_kg", 1000}, {"inertia_kg_m2", {1e-9, 1e-9, 1e-9}}},
+       "/links/1/inertia_kg_m2/0",
+       "1e-09 kg m^2 is below 0.00025 kg m^2, the smallest moment of a 1000 kg link (a disc of radius 1 mm about a "
+       "diameter)"},
+      // Each value in range, the body they make is not: a 1 g, 1 mm cylinder.
+      {{{"mass_kg", 0.001}, {"radius_m", 0.001}, {"length_m", 0}},
+       "/links/1/radius_m",
+       "link 2's body (a solid cylinder of 0.001 kg, radius 0.001 m and length 0 m): smallest principal moment of "
+       "inertia 2.5e-10 kg m^2 is below 1e-09 kg m^2"},
+  };
+  for (const auto& c : cases) {
+    json j = TwoJoints();
+    j["links"][1] = c.link;
+    const InputError e = RobotError(j);
+    EXPECT_EQ(e.count(), 1u) << c.link.dump();
+    EXPECT_EQ(e.pointer(), c.pointer) << c.link.dump();
+    EXPECT_EQ(e.message(), c.message) << c.link.dump();
+  }
+  json j = TwoJoints();
+  j["base_position_m"] = {0, 1e300, 0};
+  EXPECT_EQ(RobotError(j).pointer(), "/base_position_m/1");
+  EXPECT_EQ(RobotError(j).message(), "1e+300 is outside [-1000, 1000]");
+}
+
+TEST(RobotConfigErrors, ValuesOnTheFloorsAndCeilingsAreAccepted) {
+  json j = TwoJoints();
+  j["modules"][0]["motor"] = {{"rotor_inertia_kg_m2", 1e-9}};
+  j["modules"][0]["drive"] = {{"ratio", 2}};
+  j["modules"][1]["drive"] = {{"ratio", 10000}};
+  j["links"][0] = {{"mass_kg", 0.001}, {"inertia_kg_m2", {1e-9, 1e-9, 1e-9}}, {"direction", {1e6, -1e6, 0}}};
+  j["links"][1] = {{"mass_kg", 1000}, {"length_m", 10}, {"radius_m", 1}, {"inertia_kg_m2", {0.01, 0.02, 0.03}}};
+  j["base_position_m"] = {-1000, 1000, 0};
+  j["payload_kg"] = 100;
+  RobotConfig robot;
+  ASSERT_NO_THROW(robot = RobotFromJson(j, ""));
+  // ODE takes the bodies; the run may diverge (a failed run), but the process goes on.
+  const ArmModel model(robot);
+  RunSpec spec;
+  spec.duration_s = 0.2;
+  EXPECT_NO_THROW(Simulate(model, spec, nullptr));
+}
+
+// A robot built in code (or changed by a campaign's tolerance draws) is checked by Validate,
+// which ArmModel calls: what ODE would assert on never reaches it.
+TEST(RobotConfigErrors, ValidateChecksTheBodiesOdeGets) {
+  RobotConfig r = RobotPreset("mrr-config1");
+  r.modules[2].motor.rotor_inertia_kg_m2 = 0.5e-9;  // a rotor drawn 50 % under the floor
+  InputError e = ErrorOf([&] { Validate(r, ""); });
+  EXPECT_EQ(e.pointer(), "/modules/2/motor/rotor_inertia_kg_m2");
+  EXPECT_EQ(e.message(), "the rotor body's smallest principal moment of inertia 5e-10 kg m^2 is below 1e-09 kg m^2");
+  r = RobotPreset("mrr-config1");
+  r.links[0].mass_kg = 5e-324;
+  EXPECT_EQ(ErrorOf([&] { Validate(r, ""); }).pointer(), "/links/0/mass_kg");
+  r = RobotPreset("mrr-config1");
+  r.links[1].joint_axis = {0, 0, 0};
+  EXPECT_EQ(ErrorOf([&] { Validate(r, ""); }).message(), "the joint axis must not be the zero vector");
+  r = RobotPreset("mrr-config1");
+  r.links[2].has_inertia = true;
+  r.links[2].inertia_kg_m2 = {1e-300, 1e-300, 1e-300};
+  EXPECT_EQ(ErrorOf([&] { Validate(r, ""); }).pointer(), "/links/2/inertia_kg_m2/0");
 }
 
 // ---------------------------------------------------------------- round trip

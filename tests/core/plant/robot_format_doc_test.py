@@ -143,6 +143,25 @@ for g in groups:
               ("whole number" in row["allowed"]) == (prop.get("type") == "integer"))
         check("%s/%s range as in the schema" % (g, key), ok, "doc %s, schema %s" % (row["allowed"], prop))
 
+# The allowed ranges of the top-level and link values, as the schema states them: the first
+# "[a, b]" or "(a, b]" of the row (of each number for a 3-number key) against the schema's
+# minimum and maximum (of its items for an array). Rows without a range are skipped.
+defs = json.load(open(os.path.join(SRC, "campaigns", "campaign.schema.json")))["$defs"]
+for section, schema_props in (("Top level", defs["robotObject"]["properties"]), ("Link", defs["link"]["properties"])):
+    for key, row in tables.get(section, {}).items():
+        m = re.search(r"([\[(])([^,\]]+), ([^\]]+)\]", row.get("allowed", ""))
+        if m is None:
+            continue
+        prop = schema_props.get(key, {})
+        if prop.get("type") == "array":
+            prop = prop.get("items", {})
+        exclusive = m.group(1) == "("
+        low = prop.get("exclusiveMinimum" if exclusive else "minimum")
+        high = prop.get("maximum")
+        ok = (low is not None and high is not None and abs(number(m.group(2)) - low) <= 1e-12 * max(1, abs(low)) and
+              abs(number(m.group(3)) - high) <= 1e-12 * max(1, abs(high)))
+        check("%s %s range as in the schema" % (section.lower(), key), ok, "doc %s, schema %s" % (row["allowed"], prop))
+
 # The preset's own values: top level and links.
 for key, row in tables.get("Top level", {}).items():
     if key in ("modules", "links"):

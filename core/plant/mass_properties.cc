@@ -1,0 +1,68 @@
+#include "core/plant/mass_properties.h"
+
+#include <cmath>
+
+#include "core/base/json_input.h"
+
+namespace armfault {
+
+Eigen::Matrix3d LinkInertia(const LinkParams& l, const Eigen::Vector3d& dir, const Eigen::Vector3d& axis) {
+  double along, perp1, perp2;
+  if (l.has_inertia) {
+    along = l.inertia_kg_m2[0];
+    perp1 = l.inertia_kg_m2[1];
+    perp2 = l.inertia_kg_m2[2];
+  } else {  // solid cylinder
+    along = 0.5 * l.mass_kg * l.radius_m * l.radius_m;
+    perp1 = perp2 = l.mass_kg * (3.0 * l.radius_m * l.radius_m + l.length_m * l.length_m) / 12.0;
+  }
+  // perp1 along the joint axis component orthogonal to the link, perp2 completes the frame.
+  Eigen::Vector3d e1 = axis - axis.dot(dir) * dir;
+  if (e1.norm() < 1e-9) e1 = dir.unitOrthogonal();
+  e1.normalize();
+  const Eigen::Vector3d e2 = dir.cross(e1);
+  return along * dir * dir.transpose() + perp1 * e1 * e1.transpose() + perp2 * e2 * e2.transpose();
+}
+
+namespace {
+
+Eigen::Matrix3d PointInertia(double mass, const Eigen::Vector3d& r) {
+  return mass * (r.squaredNorm() * Eigen::Matrix3d::Identity() - r * r.transpose());
+}
+
+}  // namespace
+
+BodyMass LinkBody(const LinkParams& l, const Eigen::Vector3d& anchor_m, const Eigen::Vector3d& dir,
+                  const Eigen::Vector3d& axis, double payload_kg) {
+  BodyMass b;
+  const Eigen::Vector3d end = anchor_m + l.length_m * dir;
+  b.com_m = anchor_m + l.com_fraction * l.length_m * dir;
+  b.inertia_kg_m2 = LinkInertia(l, dir, axis);
+  b.mass_kg = l.mass_kg;
+  if (payload_kg > 0) {
+    const double m = l.mass_kg;
+    const Eigen::Vector3d c = (m * b.com_m + payload_kg * end) / (m + payload_kg);
+    b.inertia_kg_m2 += PointInertia(m, b.com_m - c) + PointInertia(payload_kg, end - c);
+    b.mass_kg += payload_kg;
+    b.com_m = c;
+  }
+  return b;
+}
+
+std::string BodyMassProblem(double mass_kg, const Eigen::Matrix3d& inertia) {
+  if (!std::isfinite(mass_kg) || !inertia.allFinite()) {
+    return "mass or inertia is not a finite number";
+  }
+  if (mass_kg < kMinBodyMass_kg) {
+    return "mass " + FormatNumber(mass_kg) + " kg is below " + FormatNumber(kMinBodyMass_kg) + " kg";
+  }
+  if (!inertia.isApprox(inertia.transpose(), 1e-12)) return "inertia tensor is not symmetric";
+  const double smallest = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(inertia, Eigen::EigenvaluesOnly).eigenvalues()(0);
+  if (!(smallest >= kMinMoment_kg_m2 * (1 - 1e-6))) {
+    return "smallest principal moment of inertia " + FormatNumber(smallest) + " kg m^2 is below " +
+           FormatNumber(kMinMoment_kg_m2) + " kg m^2";
+  }
+  return "";
+}
+
+}  // namespace armfault
