@@ -30,8 +30,8 @@ FaultCommon ReadFaultCommon(ObjectReader& reader, const RobotConfig& robot, std:
 int ReadJointIndex(ObjectReader& reader, const RobotConfig& robot);
 
 // Reads `family`'s magnitude key (registry.cc's table names the key and its range) into *value,
-// checking the range (a missing key: an error when `required`, else *value stays): "1.7 is outside [0, 1]", then
-// "0 must be greater than 0" for an excluded minimum, "0 is no change" for an excluded zero.
+// checking the range (a missing key: an error when `required`, else *value stays): "0 must be greater
+// than 0" for an excluded minimum, then "1.7 is outside [0, 1]", "0 is no change" for an excluded zero.
 void ReadMagnitude(ObjectReader& reader, const char* family, double* value, bool required = true);
 
 // Ticks after onset + settle_s count as "faulty"; before onset as "healthy".

@@ -88,8 +88,8 @@ void ReadMagnitude(ObjectReader& reader, const char* family, double* value, bool
   const std::string key = FaultMagnitudeKey(family);
   if (required ? !reader.ShouldRead(key) : !reader.Has(key)) return;
   const double x = reader.RequireNumber(key);
-  RequireInRange(x, r.min, r.max, reader.PointerTo(key));
   if (r.min_exclusive) RequireAbove(x, r.min, reader.PointerTo(key));
+  RequireInRange(x, r.min, r.max, reader.PointerTo(key));
   if (r.zero_excluded && x == 0.0) throw InputError("", reader.PointerTo(key), "0 is no change");
   *value = x;
 }
