@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "core/base/output_file.h"
 #include "app/commands.h"
 #include "campaigns/thesis.h"
 #include "core/base/json_input.h"
@@ -12,12 +13,7 @@ namespace armfault {
 
 namespace {
 
-void WriteFile(const std::filesystem::path& path, const std::string& text) {
-  std::ofstream f(path, std::ios::binary);
-  f << text;
-  f.close();
-  if (!f) throw InputError(path.string(), "", "cannot write the file");
-}
+void WriteFile(const std::filesystem::path& path, const std::string& text) { WriteAtomically(path, text); }
 
 }  // namespace
 

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "core/base/output_file.h"
 #include "app/commands.h"
 #include "app/suggest.h"
 #include "campaigns/campaign.h"
@@ -104,21 +105,18 @@ int TraceCampaignCase(const TraceOptions& o) {
   const std::vector<CaseSpec> cases = ExpandCases(campaign);
   const CaseSpec& spec = FindCase(cases, o.run_id);
 
-  std::ofstream file(o.output, std::ios::binary);
-  if (!file) throw InputError(o.output, "", "cannot open the trace file for writing");
-  TraceCsvWriter writer(&file, static_cast<int>(campaign.robot.modules.size()));
+  AtomicOutputFile file(o.output);  // the trace appears whole, or not at all
+  TraceCsvWriter writer([&file](std::string_view text) { file.Write(text); },
+                        static_cast<int>(campaign.robot.modules.size()));
   // The run's own monitor's output, for --monitor-out.
   MonitorOutput output;
   const RunRecord record = RunCase(campaign, spec, [&](const Tick& tick) { writer.Write(tick); }, nullptr, &output);
-  file.close();
-  if (!file) throw InputError(o.output, "", "error while writing the trace file");
+  file.Commit();
 
   if (!o.monitor_output.empty()) {
     nlohmann::json out = ToJson(output);
     out["record"] = ToJson(record);
-    std::ofstream mf(o.monitor_output, std::ios::binary);
-    mf << out.dump(1) << "\n";
-    if (!mf) throw InputError(o.monitor_output, "", "cannot write the monitor output");
+    WriteAtomically(o.monitor_output, out.dump(1) + "\n");
   }
   if (!o.quiet) {
     std::printf("campaign %s: run %s (case %ld of %zu), seed %llu -> %s\n", campaign.name.c_str(), spec.run_id.c_str(),

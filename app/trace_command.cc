@@ -4,6 +4,7 @@
 #include <fstream>
 #include <iostream>
 
+#include "core/base/output_file.h"
 #include "app/commands.h"
 #include "campaigns/run_pipeline.h"
 #include "core/base/json_input.h"
@@ -112,9 +113,8 @@ int RunTrace(const TraceOptions& o) {
   std::vector<std::shared_ptr<const Fault>> faults;
   for (auto& fault : made) faults.push_back(std::move(fault));
   if (!faults.empty()) spec.hardware = std::make_shared<FaultSchedule>(faults);
-  std::ofstream file(o.output, std::ios::binary);
-  if (!file) throw InputError(o.output, "", "cannot open the trace file for writing");
-  TraceCsvWriter writer(&file, n);
+  AtomicOutputFile file(o.output);  // the trace appears whole, or not at all
+  TraceCsvWriter writer([&file](std::string_view text) { file.Write(text); }, n);
   std::vector<JointStats> stats(n);
   std::shared_ptr<const MonitorModel> monitor_model;
   try {
@@ -143,8 +143,7 @@ int RunTrace(const TraceOptions& o) {
   }
   const RunResult& result = run_out.result;
   const HealthMonitor& monitor = *run_out.monitor;
-  file.close();
-  if (!file) throw InputError(o.output, "", "error while writing the trace file");
+  file.Commit();
 
   if (!o.quiet) {
     std::printf("run: robot %s, %.3g s, seed %llu -> %s\n", run.robot.name.c_str(), run.duration_s,
@@ -183,9 +182,7 @@ int RunTrace(const TraceOptions& o) {
     }
   }
   if (!o.monitor_output.empty()) {
-    std::ofstream mf(o.monitor_output, std::ios::binary);
-    mf << ToJson(monitor.output()).dump(1) << "\n";
-    if (!mf) throw InputError(o.monitor_output, "", "cannot write the monitor output");
+    WriteAtomically(o.monitor_output, ToJson(monitor.output()).dump(1) + "\n");
   }
   if (!o.quiet) PrintMonitorSummary(monitor);
   if (!result.ok) {

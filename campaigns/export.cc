@@ -2,9 +2,12 @@
 
 #include <tbb/parallel_pipeline.h>
 #include <tbb/task_arena.h>
+#include <unistd.h>
 #include <zlib.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -13,6 +16,7 @@
 #include <sstream>
 
 #include "core/base/csv.h"
+#include "core/base/output_file.h"
 #include "core/base/rng.h"
 #include "core/monitors/monitor.h"
 #include "core/plant/simulation.h"
@@ -48,16 +52,26 @@ std::string CaseFileName(long case_index) {
   return buf;
 }
 
-// Streams one run's signals into a gzip file through a temporary name (renamed when complete).
+// Streams one run's signals into a gzip file through a temporary name (renamed when complete;
+// removed when not), never through a link, every write checked: the first failure throws with
+// the system's reason.
 class SignalsWriter {
  public:
   SignalsWriter(const fs::path& path, int joints) : path_(path), tmp_(path.string() + ".tmp") {
-    file_ = gzopen(tmp_.c_str(), "wb6");
-    if (!file_) throw InputError(tmp_.string(), "", "cannot write the file");
+    const int fd = OpenDescriptorForWriting(tmp_);
+    file_ = gzdopen(fd, "wb6");
+    if (!file_) {
+      ::close(fd);
+      Abandon();
+      throw InputError(tmp_.string(), "", "cannot write: out of memory for the gzip stream");
+    }
     Append(SignalsCsvHeader(joints));
   }
   ~SignalsWriter() {
-    if (file_) gzclose(file_);
+    if (file_) {
+      gzclose(file_);
+      Abandon();  // not finished (an error): no half file left behind
+    }
   }
   void Write(const Tick& tick) {
     std::string& row = row_;
@@ -77,21 +91,34 @@ class SignalsWriter {
   }
   long ticks() const { return ticks_; }
   void Close() {
-    const int status = gzclose(file_);
+    gzFile file = file_;
     file_ = nullptr;
-    if (status != Z_OK || !ok_) throw InputError(tmp_.string(), "", "error while writing the file");
-    fs::rename(tmp_, path_);
+    errno = 0;
+    if (gzclose(file) != Z_OK) {
+      const int error = errno ? errno : EIO;
+      Abandon();
+      throw InputError(tmp_.string(), "", std::string("cannot write: ") + std::strerror(error));
+    }
+    RenameChecked(tmp_, path_);
   }
 
  private:
   void Append(const std::string& text) {
-    if (gzwrite(file_, text.data(), static_cast<unsigned>(text.size())) != static_cast<int>(text.size())) ok_ = false;
+    errno = 0;
+    if (gzwrite(file_, text.data(), static_cast<unsigned>(text.size())) == static_cast<int>(text.size())) return;
+    int code = 0;
+    const char* why = gzerror(file_, &code);
+    throw InputError(tmp_.string(), "",
+                     std::string("cannot write: ") + (code == Z_ERRNO ? std::strerror(errno ? errno : EIO) : why));
+  }
+  void Abandon() {
+    std::error_code ec;
+    fs::remove(tmp_, ec);
   }
   fs::path path_, tmp_;
   gzFile file_ = nullptr;
   std::string row_;
   long ticks_ = 0;
-  bool ok_ = true;
 };
 
 std::string Num(const nlohmann::json& v) {
@@ -125,20 +152,6 @@ std::string ManifestCsvRow(const nlohmann::json& m) {
   }
   return row + "\n";
 }
-
-// Opens `path` for writing through `path`.tmp (see Commit): a crash never leaves half a file.
-struct TmpFile {
-  explicit TmpFile(const fs::path& p) : path(p), tmp(p.string() + ".tmp"), out(tmp, std::ios::binary | std::ios::trunc) {
-    if (!out) throw InputError(tmp.string(), "", "cannot write the file");
-  }
-  void Commit() {
-    out.close();
-    if (!out) throw InputError(tmp.string(), "", "error while writing the file");
-    fs::rename(tmp, path);
-  }
-  fs::path path, tmp;
-  std::ofstream out;
-};
 
 }  // namespace
 
@@ -189,9 +202,9 @@ ExportResult ExportCampaign(const Campaign& campaign, const ExportOptions& o) {
   fs::create_directories(dir / "runs");
   const long mine = o.shard.Size(CaseCount(campaign));  // cases by index: nothing held per case
   const int joints = static_cast<int>(campaign.robot.modules.size());
-  TmpFile manifest(dir / "manifest.jsonl");
-  TmpFile manifest_csv(dir / "manifest.csv");
-  manifest_csv.out << ManifestCsvHeader();
+  AtomicOutputFile manifest(dir / "manifest.jsonl");
+  AtomicOutputFile manifest_csv(dir / "manifest.csv");
+  manifest_csv.Write(ManifestCsvHeader());
   ExportResult out;
   long done = 0;
   if (o.progress) o.progress(0, mine);
@@ -231,8 +244,8 @@ ExportResult ExportCampaign(const Campaign& campaign, const ExportOptions& o) {
                   return m;
                 }) &
             tbb::make_filter<nlohmann::json, void>(tbb::filter_mode::serial_in_order, [&](const nlohmann::json& m) {
-              manifest.out << m.dump() << "\n";
-              manifest_csv.out << ManifestCsvRow(m);
+              manifest.Write(m.dump() + "\n");
+              manifest_csv.Write(ManifestCsvRow(m));
               if (m["status"] != "ok") ++out.failed;
               ++out.runs;
               ++done;

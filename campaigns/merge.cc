@@ -11,6 +11,7 @@
 #include "campaigns/runner.h"
 #include "core/base/json_input.h"
 #include "core/base/output_file.h"
+#include "core/base/output_file.h"
 
 namespace armfault {
 
@@ -420,8 +421,8 @@ MergeResult MergeShards(const std::vector<std::string>& input_dirs, const std::s
   result.runs = MergeLines(shards, owner, shards[0].cases, paths);
   // As an unsharded run writes it (the same function, shard 0/1).
   WriteAtomically(out / run_dir::kCampaign, CampaignFileJson(result.campaign, ShardSpec{}).dump(2) + "\n");
-  fs::rename(paths.decisions_tmp, paths.decisions);
-  fs::rename(paths.results_tmp, paths.results);
+  RenameChecked(paths.decisions_tmp, paths.decisions);
+  RenameChecked(paths.results_tmp, paths.results);
   return result;
 }
 

@@ -1,5 +1,7 @@
 #include "campaigns/monitor_cost.h"
 
+#include "core/base/output_file.h"
+
 #include <malloc.h>
 
 #include <algorithm>
@@ -128,21 +130,17 @@ bool MergeMonitorCost(const std::vector<std::string>& shard_dirs, const std::fil
       }
     }
   }
-  const fs::path tmp = out / "monitor_cost.jsonl.tmp";
-  {
-    std::ofstream merged(tmp, std::ios::binary | std::ios::trunc);
-    for (bool more = true; more;) {
-      more = false;
-      for (auto& in : inputs) {
-        std::string line;
-        if (!std::getline(*in, line)) continue;
-        merged << line << '\n';
-        more = true;
-      }
+  AtomicOutputFile merged(out / "monitor_cost.jsonl");
+  for (bool more = true; more;) {
+    more = false;
+    for (auto& in : inputs) {
+      std::string line;
+      if (!std::getline(*in, line)) continue;
+      merged.Write(line + '\n');
+      more = true;
     }
-    if (!merged) throw InputError(tmp.string(), "", "cannot write the file");
   }
-  fs::rename(tmp, out / "monitor_cost.jsonl");
+  merged.Commit();
   WriteAtomically(out / "monitor_cost.json",
                   SummarizeMonitorCost(out / "monitor_cost.jsonl", heap, floor_us_per_tick, monitor_type).dump(2) + "\n");
   return true;

@@ -60,28 +60,12 @@ namespace {
 // temporary file renamed at the end, so a crash never leaves half of one.
 class ResultsCsvOutput : public RecordOutput {
  public:
-  explicit ResultsCsvOutput(const fs::path& dir)
-      : dir_(dir), tmp_(dir / (std::string(run_dir::kResultsCsv) + ".tmp")), csv_(OpenForWriting(tmp_, "wb")) {
-    Write(ResultsCsvHeader());
-  }
-  ~ResultsCsvOutput() override {
-    if (!csv_) return;
-    std::fclose(csv_);  // not finished (an error): no half file left behind
-    std::error_code ec;
-    fs::remove(tmp_, ec);
-  }
-  void Add(const RunRecord& record) override { Write(ResultsCsvRow(record)); }
-  void Finish(const SummaryBuilder&) override {
-    std::FILE* csv = csv_;
-    csv_ = nullptr;
-    CloseChecked(csv, tmp_);
-    fs::rename(tmp_, dir_ / run_dir::kResultsCsv);
-  }
+  explicit ResultsCsvOutput(const fs::path& dir) : csv_(dir / run_dir::kResultsCsv) { csv_.Write(ResultsCsvHeader()); }
+  void Add(const RunRecord& record) override { csv_.Write(ResultsCsvRow(record)); }
+  void Finish(const SummaryBuilder&) override { csv_.Commit(); }
 
  private:
-  void Write(const std::string& text) { WriteChecked(csv_, text, tmp_); }
-  fs::path dir_, tmp_;
-  std::FILE* csv_;
+  AtomicOutputFile csv_;  // not finished (an error): no half file left behind
 };
 
 // summary.json, with an early-stopped run's decisions (early_stop.json) beside the rates.
@@ -217,19 +201,5 @@ OutputLock::~OutputLock() {
   if (fd_ >= 0) ::close(fd_);  // releases the flock
 }
 
-void WriteAtomically(const fs::path& path, const std::string& text) {
-  const fs::path tmp = path.string() + ".tmp";
-  std::FILE* f = OpenForWriting(tmp, "wb");  // never through a link placed at the .tmp name
-  try {
-    WriteChecked(f, text, tmp);
-  } catch (const InputError&) {
-    std::fclose(f);
-    std::error_code ec;
-    fs::remove(tmp, ec);  // no half file left behind
-    throw;
-  }
-  CloseChecked(f, tmp);
-  fs::rename(tmp, path);  // replaces a link at `path` itself, never its target
-}
 
 }  // namespace armfault

@@ -28,6 +28,7 @@
 #include "campaigns/campaign_spec.h"
 #include "campaigns/campaign_summary.h"
 #include "campaigns/run_record.h"
+#include "core/base/output_file.h"  // WriteAtomically, AtomicOutputFile
 
 namespace armfault {
 
@@ -124,9 +125,5 @@ class OutputLock {
  private:
   int fd_ = -1;
 };
-
-// Writes `text` to `path` through a temporary file and a rename: a crash leaves the old file
-// or the new one, never half of one. Throws InputError if it cannot write.
-void WriteAtomically(const std::filesystem::path& path, const std::string& text);
 
 }  // namespace armfault

@@ -59,11 +59,15 @@ std::vector<std::string> TraceCsvColumns(int joint_count) {
   return names;
 }
 
-TraceCsvWriter::TraceCsvWriter(std::ostream* out, int joint_count) : out_(out) {
+TraceCsvWriter::TraceCsvWriter(std::function<void(std::string_view)> sink, int joint_count) : sink_(std::move(sink)) {
   std::string header;
   for (const std::string& name : TraceCsvColumns(joint_count)) header += (header.empty() ? "" : ",") + name;
-  *out_ << header << '\n';
+  sink_(header + '\n');
 }
+
+TraceCsvWriter::TraceCsvWriter(std::ostream* out, int joint_count)
+    : TraceCsvWriter([out](std::string_view text) { out->write(text.data(), static_cast<std::streamsize>(text.size())); },
+                     joint_count) {}
 
 void TraceCsvWriter::Write(const Tick& tick) {
   std::string line;
@@ -76,7 +80,7 @@ void TraceCsvWriter::Write(const Tick& tick) {
     }
   }
   line += '\n';
-  *out_ << line;
+  sink_(line);
 }
 
 }  // namespace armfault

@@ -3,7 +3,9 @@
 // list is in docs/trace-format.md). Attach Observer() to Simulate().
 #pragma once
 
+#include <functional>
 #include <ostream>
+#include <string_view>
 #include <vector>
 
 #include "core/plant/simulation.h"
@@ -12,6 +14,8 @@ namespace armfault {
 
 class TraceCsvWriter {
  public:
+  // Each piece of text (the header, then one line per tick) goes to `sink`.
+  TraceCsvWriter(std::function<void(std::string_view)> sink, int joint_count);
   TraceCsvWriter(std::ostream* out, int joint_count);
   void Write(const Tick& tick);
   TickObserver Observer() {
@@ -19,7 +23,7 @@ class TraceCsvWriter {
   }
 
  private:
-  std::ostream* out_;
+  std::function<void(std::string_view)> sink_;
 };
 
 // The column names, in order, for `joint_count` joints ("t", then per joint "q_ref_1", ...).
