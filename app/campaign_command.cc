@@ -117,6 +117,18 @@ ShardSpec ResolveShard(const CampaignRunOptions& o) {
 
 namespace {
 
+// Runs `step`; a write that failed (a full disk: "cannot write: No space left on device") gets
+// the command that continues once there is room, since every complete line stays.
+template <class Step>
+auto ContinuableWith(const std::string& resume, Step step) {
+  try {
+    return step();
+  } catch (const InputError& e) {
+    if (e.message().rfind("cannot write", 0) != 0 && e.message().rfind("cannot open for writing", 0) != 0) throw;
+    throw InputError(e.source(), e.pointer(), e.message(), "what is written is kept; once there is room, continue with: " + resume);
+  }
+}
+
 void PrintWarnings(const std::string& campaign_file, const Campaign& campaign) {
   for (const std::string& w : CampaignWarnings(campaign)) {
     std::fprintf(stderr, "armfault: warning: %s: %s\n", campaign_file.c_str(), w.c_str());
@@ -215,24 +227,24 @@ int RunCampaignCommand(const CampaignRunOptions& o) {
                                           (ro.shard.count > 1 ? " --shard " + std::to_string(ro.shard.index) + "/" +
                                                                     std::to_string(ro.shard.count)
                                                               : ""));
-  const RunnerResult r = RunCampaign(campaign, ro);
+  // Everything written so far is complete lines: --resume picks up from there.
+  std::string resume = "armfault run";
+  if (!o.campaign_file.empty()) resume += " " + ShellQuote(o.campaign_file);
+  resume += " -o " + ShellQuote(o.output_dir) + " --resume";
+  if (o.threads > 0) resume += " -j " + std::to_string(o.threads);
+  if (ro.shard.count > 1) resume += " --shard " + std::to_string(ro.shard.index) + "/" + std::to_string(ro.shard.count);
+  const RunnerResult r = ContinuableWith(resume, [&] { return RunCampaign(campaign, ro); });
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (r.interrupted) {
-    // Everything written so far is complete lines: --resume picks up from there.
-    std::string resume = "armfault run";
-    if (!o.campaign_file.empty()) resume += " " + ShellQuote(o.campaign_file);
-    resume += " -o " + ShellQuote(o.output_dir) + " --resume";
-    if (o.threads > 0) resume += " -j " + std::to_string(o.threads);
-    if (ro.shard.count > 1) resume += " --shard " + std::to_string(ro.shard.index) + "/" + std::to_string(ro.shard.count);
     std::fprintf(stderr, "\ninterrupted: kept %ld of %ld runs in %s/results.jsonl (no summary written)\nresume with: %s\n",
                  r.resumed + r.ran, r.total, o.output_dir.c_str(), resume.c_str());
     return 130;
   }
   std::printf("ran %ld runs in %.1f s (%ld resumed, %ld failed)\n", r.ran, seconds, r.resumed, r.failed);
   if (!r.early_stop.is_null()) std::printf("%s\n", EarlyStopSummaryLine(r.early_stop).c_str());
-  int status = FinishCampaignOutputs(o.output_dir, campaign, o.summary_only);
+  int status = ContinuableWith(resume, [&] { return FinishCampaignOutputs(o.output_dir, campaign, o.summary_only); });
   // What the monitor cost (campaigns/monitor_cost.h): a measurement, in files of its own.
   if (const fs::path cost_path = fs::path(o.output_dir) / run_dir::kMonitorCost; fs::exists(cost_path)) {
     const std::optional<double> heap = ProbeMonitorHeapBytes(campaign);

@@ -139,7 +139,7 @@ run duration_zero "$armfault" trace --duration 0 -q -o "$tmp/x.csv"
 expect_input_error "/duration_s: 0 is outside [0.002, 3600]"
 
 run unwritable_output "$armfault" trace --duration 0.01 -q -o "$tmp/no/such/dir/t.csv"
-expect_input_error "$tmp/no/such/dir/t.csv: (document root): cannot open the trace file for writing"
+expect_input_error "$tmp/no/such/dir/t.csv.tmp: (document root): cannot open for writing: No such file or directory"
 
 # ------------------------------------------------------------------ trace output
 
