@@ -99,7 +99,7 @@ if [ "$fuzz" = 1 ] && [ "$seconds" -gt 0 ]; then
     if [ "$status" = 0 ]; then
       echo "fuzz_$t: ${share} s, ${runs:-?} inputs, ${rate:-?}/s, no crash"
     else
-      grep -E '^(==[0-9]+==ERROR|SUMMARY|.*runtime error|.*Test unit written to|.*uncaught exception|terminate called|what\(\))' "$log" | head -8 || true
+      grep -E '^(ODE |==[0-9]+==ERROR|SUMMARY|.*runtime error|.*Test unit written to|.*uncaught exception|terminate called|what\(\))' "$log" | head -8 || true
       echo "fuzz_$t: CRASH after ${runs:-?} inputs (log: $log); keep its input in tests/fuzz/regressions/$t/ once fixed"
       failed+=("fuzz_$t")
     fi
