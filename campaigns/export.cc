@@ -326,6 +326,32 @@ Verdict VerdictFromJson(const nlohmann::json& j, std::string* run_id) {
 
 }  // namespace
 
+void ReadVerdicts(std::istream& in, const std::string& path, const VerdictLimits& limits,
+                  const std::function<std::string(const std::string& run_id)>& run_known,
+                  const std::function<void(const std::string& run_id, const Verdict& verdict)>& each) {
+  std::string line;
+  long n = 0;
+  while (std::getline(in, line)) {
+    ++n;
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    auto fail = [&](const std::string& message) {
+      throw InputError(path, "", "line " + std::to_string(n) + ": " + message);
+    };
+    std::string run_id;
+    Verdict v;
+    try {
+      v = VerdictFromJson(ParseJsonText(line, ""), &run_id);
+    } catch (const InputError& e) {
+      fail((e.pointer().empty() ? "" : e.pointer() + ": ") + e.message());
+    } catch (const std::exception& e) {
+      fail(e.what());
+    }
+    if (const std::string why = run_known(run_id); !why.empty()) fail(why);
+    if (const std::string why = CheckVerdict(v, limits.joints, limits.duration_s, limits.families); !why.empty()) fail(why);
+    each(run_id, v);
+  }
+}
+
 ScoreResult ScoreExternalVerdicts(const CampaignSpec& campaign, const std::string& dir_name, const std::string& verdicts_path,
                                   const std::string& output_dir) {
   const fs::path dir(dir_name);
@@ -354,29 +380,16 @@ ScoreResult ScoreExternalVerdicts(const CampaignSpec& campaign, const std::strin
   {
     std::ifstream in(verdicts_path, std::ios::binary);
     if (!in) throw InputError(verdicts_path, "", "cannot read the file");
-    std::string line;
-    long n = 0;
-    while (std::getline(in, line)) {
-      ++n;
-      if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-      auto fail = [&](const std::string& message) {
-        throw InputError(verdicts_path, "", "line " + std::to_string(n) + ": " + message);
-      };
-      std::string run_id;
-      Verdict v;
-      try {
-        v = VerdictFromJson(nlohmann::json::parse(line), &run_id);
-      } catch (const InputError& e) {
-        fail((e.pointer().empty() ? "" : e.pointer() + ": ") + e.message());
-      } catch (const std::exception& e) {
-        fail(e.what());
-      }
-      const auto it = by_id.find(run_id);
-      if (it == by_id.end()) fail("unknown run_id \"" + run_id + "\" (not a run of " + truth_path.string() + ")");
-      if (const std::string why = CheckVerdict(v, joints, campaign.duration_s, families); !why.empty()) fail(why);
-      outputs[it->second].verdicts.push_back(v);
-      ++result.verdicts;
-    }
+    ReadVerdicts(
+        in, verdicts_path, {joints, campaign.duration_s, families},
+        [&](const std::string& run_id) {
+          return by_id.count(run_id) ? std::string()
+                                     : "unknown run_id \"" + run_id + "\" (not a run of " + truth_path.string() + ")";
+        },
+        [&](const std::string& run_id, const Verdict& v) {
+          outputs[by_id.at(run_id)].verdicts.push_back(v);
+          ++result.verdicts;
+        });
   }
 
   const fs::path out_dir(output_dir);

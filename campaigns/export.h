@@ -20,6 +20,7 @@
 #pragma once
 
 #include <functional>
+#include <istream>
 #include <string>
 #include <vector>
 
@@ -66,6 +67,22 @@ struct ScoreResult {
   long verdicts = 0;
   long runs_without_verdicts = 0;
 };
+// Reads a verdicts file (JSON Lines, as `armfault score` takes it) from `in`: each line parsed
+// strictly (core/base ParseJsonText: a duplicate key or a number beyond a double is an error
+// naming its field), read as a verdict, its run_id looked up by `run_known` (which returns why an
+// id is refused, or "" for a run it knows), checked against the run (CheckVerdict: `joints`,
+// `duration_s`, the fault `families`) and handed to `each` with its run_id. Lines of only white
+// space are skipped. The first bad line throws InputError(path, "", "line N: [pointer: ]why").
+// What the fuzzer (tests/fuzz/fuzz_verdicts.cc) drives with arbitrary bytes.
+struct VerdictLimits {
+  int joints = 0;
+  double duration_s = 0;
+  std::vector<std::string> families;
+};
+void ReadVerdicts(std::istream& in, const std::string& path, const VerdictLimits& limits,
+                  const std::function<std::string(const std::string& run_id)>& run_known,
+                  const std::function<void(const std::string& run_id, const Verdict& verdict)>& each);
+
 ScoreResult ScoreExternalVerdicts(const CampaignSpec& campaign, const std::string& dir, const std::string& verdicts_path,
                                   const std::string& output_dir);
 

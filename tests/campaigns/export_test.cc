@@ -200,6 +200,12 @@ TEST(Score, BadVerdictLinesNameTheLine) {
   EXPECT_THAT(error(json{{"run_id", id}, {"t_s", 2.0}, {"joint", 1}, {"family", ""}, {"alarm", "yes"}, {"magnitude", 0}}.dump()),
               HasSubstr("line 2: /alarm: expected true or false"));
   EXPECT_THAT(error("{not json"), HasSubstr("line 2: "));
+  // Read strictly (core/base ParseJsonText): a key given twice and a number beyond a double
+  // name their field.
+  EXPECT_THAT(error("{\"run_id\": \"" + id + "\", \"t_s\": 1, \"t_s\": 2, \"joint\": 3, \"alarm\": false}"),
+              HasSubstr("line 2: /t_s: the key \"t_s\" is given twice"));
+  EXPECT_THAT(error("{\"run_id\": \"" + id + "\", \"t_s\": 1e999, \"joint\": 3, \"alarm\": false}"),
+              HasSubstr("line 2: /t_s: the number 1e999 is beyond the range of a double"));
   EXPECT_THAT(error(json{{"run_id", id}, {"t_s", 2.0}, {"joint", 1}, {"alarm", false}, {"magnitud", 0}}.dump()),
               HasSubstr("line 2: /magnitud"));
   // Nothing written in place of a good output.
