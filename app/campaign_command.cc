@@ -176,12 +176,17 @@ int FinishCampaignOutputs(const std::string& dir_name, const CampaignSpec& campa
 namespace {
 
 std::atomic<bool> g_stop{false};
+ExitGate g_exit_gate;
+std::string g_exit_message;  // set before the handlers are installed, read by them only
 
-// The first Ctrl-C asks the runner to stop after the runs in flight; a second one kills.
+// A second Ctrl-C (or TERM): ends the process at once, but never inside a run's lines.
+extern "C" void OnSecondInterrupt(int) { g_exit_gate.RequestExit(130, g_exit_message.data(), g_exit_message.size()); }
+
+// The first Ctrl-C asks the runner to stop after the runs in flight.
 extern "C" void OnInterrupt(int) {
   g_stop.store(true);
-  std::signal(SIGINT, SIG_DFL);
-  std::signal(SIGTERM, SIG_DFL);
+  std::signal(SIGINT, OnSecondInterrupt);
+  std::signal(SIGTERM, OnSecondInterrupt);
 }
 
 std::string ShellQuote(const std::string& s) {
@@ -218,10 +223,6 @@ int RunCampaignCommand(const CampaignRunOptions& o) {
               ro.shard.count > 1 ? (", shard " + std::to_string(ro.shard.index) + "/" + std::to_string(ro.shard.count)).c_str() : "",
               o.output_dir.c_str());
   const auto start = std::chrono::steady_clock::now();
-  g_stop.store(false);
-  ro.stop = &g_stop;
-  std::signal(SIGINT, OnInterrupt);
-  std::signal(SIGTERM, OnInterrupt);
   // One writer per directory: a second `run` into it would interleave its lines with ours.
   const OutputLock lock(o.output_dir, "armfault run " + (o.campaign_file.empty() ? std::string("(built-in)") : o.campaign_file) +
                                           (ro.shard.count > 1 ? " --shard " + std::to_string(ro.shard.index) + "/" +
@@ -233,6 +234,13 @@ int RunCampaignCommand(const CampaignRunOptions& o) {
   resume += " -o " + ShellQuote(o.output_dir) + " --resume";
   if (o.threads > 0) resume += " -j " + std::to_string(o.threads);
   if (ro.shard.count > 1) resume += " --shard " + std::to_string(ro.shard.index) + "/" + std::to_string(ro.shard.count);
+  g_exit_message = "\ninterrupted again: stopped at once; every run written so far is kept whole in " + o.output_dir +
+                   "/results.jsonl (no summary written)\nresume with: " + resume + "\n";
+  g_stop.store(false);
+  ro.stop = &g_stop;
+  ro.exit_gate = &g_exit_gate;
+  std::signal(SIGINT, OnInterrupt);
+  std::signal(SIGTERM, OnInterrupt);
   const RunnerResult r = ContinuableWith(resume, [&] { return RunCampaign(campaign, ro); });
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);

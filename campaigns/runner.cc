@@ -283,6 +283,19 @@ struct AppendFile {
   std::FILE* file;
 };
 
+// Holds an ExitGate (if any) for the scope: a run's lines are written whole or not at all.
+struct GateHeld {
+  explicit GateHeld(ExitGate* gate) : gate(gate) {
+    if (gate) gate->Enter();
+  }
+  ~GateHeld() {
+    if (gate) gate->Leave();
+  }
+  GateHeld(const GateHeld&) = delete;
+  GateHeld& operator=(const GateHeld&) = delete;
+  ExitGate* gate;
+};
+
 // The run's three line files, opened for appending in this order (a failed open closes those
 // already open). Close closes all three, then names the first that lost a write.
 struct RunFiles {
@@ -349,6 +362,7 @@ void RunCases(RunState& run, size_t next, RunFiles& files, RunnerResult* out) {
       run.early->Add(item.record);
     }
     // The decision first: results.jsonl is never ahead of decisions.jsonl.
+    const GateHeld held(o.exit_gate);
     files.decisions.Write(item.decision);
     files.costs.Write(item.cost);
     files.results.Write(item.result);

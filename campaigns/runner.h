@@ -21,6 +21,7 @@
 #include "campaigns/run_dir.h"
 #include "campaigns/run_pipeline.h"
 #include "campaigns/run_record.h"
+#include "core/base/exit_gate.h"
 #include "core/plant/simulation.h"
 
 namespace armfault {
@@ -36,6 +37,9 @@ struct RunnerOptions {
   // Set (from a signal handler, say) to stop: no run starts after it, the runs in flight
   // finish and are written, and the result says `interrupted`. May be null.
   const std::atomic<bool>* stop = nullptr;
+  // Held while a run's lines are written, so that a signal handler ending the process at once
+  // (a second Ctrl-C) never cuts them. May be null.
+  ExitGate* exit_gate = nullptr;
   // Stop as soon as every floor is decided (campaigns/early_stop.h); not with a shard.
   std::optional<EarlyStopOptions> early_stop;
 };

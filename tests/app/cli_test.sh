@@ -508,6 +508,34 @@ expect_status 0
 expect_stdout_contains "($lines resumed, 0 failed)"
 same_outputs resume_after_ctrl_c "$tmp/ci_full" "$dir"
 
+# A second Ctrl-C: stops at once (the runs in flight are dropped), yet never inside a run's
+# lines: every line is whole, the three files agree, and --resume gives the same bytes.
+current=ctrl_c_twice
+dir="$tmp/ci_int2"
+"$armfault" run "$ci" -o "$dir" -q -j 2 >"$tmp/int2_out" 2>"$tmp/int2_err" &
+pid=$!
+for ((i = 0; i < 1000; i++)); do
+  [[ -f "$dir/results.jsonl" && $(wc -l <"$dir/results.jsonl") -ge 5 ]] && break
+  sleep 0.01
+done
+kill -INT "$pid"
+sleep 0.05
+kill -INT "$pid" 2>/dev/null
+wait "$pid"
+status=$?
+lines=$(wc -l <"$dir/results.jsonl")
+if [[ $status -eq 130 ]]; then pass; else fail "exit status $status after two SIGINTs, expected 130"; fi
+if grep -qF "interrupted again: stopped at once; every run written so far is kept whole in $dir/results.jsonl" "$tmp/int2_err" ||
+   grep -qF "interrupted: kept $lines of 52 runs" "$tmp/int2_err"; then pass; else fail "stderr: $(cat "$tmp/int2_err")"; fi
+if grep -qF "resume with: armfault run $ci -o $dir --resume -j 2" "$tmp/int2_err"; then pass; else fail "no resume command: $(cat "$tmp/int2_err")"; fi
+for f in results.jsonl decisions.jsonl monitor_cost.jsonl; do
+  if [[ ! -s "$dir/$f" || $(tail -c 1 "$dir/$f" | od -An -c | tr -d ' ') == '\n' ]]; then pass; else fail "the last line of $f is cut"; fi
+done
+if [[ $(wc -l <"$dir/decisions.jsonl") -eq $lines ]]; then pass; else fail "decisions.jsonl has $(wc -l <"$dir/decisions.jsonl") lines, results.jsonl $lines"; fi
+run resume_after_ctrl_c_twice "$armfault" run "$ci" -o "$dir" -q -j 2 --resume
+expect_status 0
+same_outputs resume_after_ctrl_c_twice "$tmp/ci_full" "$dir"
+
 # One case of the campaign re-run alone: its record is its results.jsonl line, byte for byte.
 id='p2p/friction_increase#1/friction_factor=3,onset_s=U[1,3]/j3/r1'
 run trace_campaign_case "$armfault" trace "$ci" --run "$id" -o "$tmp/case.csv" --monitor-out "$tmp/case.json"
