@@ -23,10 +23,24 @@ double Median(std::vector<double> v) {
   return n % 2 == 1 ? v[n / 2] : (v[n / 2 - 1] + v[n / 2]) / 2;
 }
 
+// Bytes the process holds on the heap now. A sanitizer build (tools/sanitizers.sh) replaces
+// malloc, and glibc's mallinfo2 then reads 0, so it asks the sanitizer's allocator instead.
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#define ARMFAULT_SANITIZER_ALLOCATOR 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
+#define ARMFAULT_SANITIZER_ALLOCATOR 1
+#endif
+#endif
+#ifdef ARMFAULT_SANITIZER_ALLOCATOR
+extern "C" size_t __sanitizer_get_current_allocated_bytes();
+double HeapBytes() { return static_cast<double>(__sanitizer_get_current_allocated_bytes()); }
+#else
 double HeapBytes() {
   const struct mallinfo2 m = mallinfo2();
   return static_cast<double>(m.uordblks + m.hblkhd);
 }
+#endif
 
 }  // namespace
 

@@ -187,7 +187,9 @@ TEST(Score, BadVerdictLinesNameTheLine) {
     const std::string good = json{{"run_id", id}, {"t_s", 1.5}, {"joint", 3}, {"family", "kt_degradation"},
                                   {"alarm", true}, {"magnitude", 0.6}}.dump();
     const std::string path = dir.Write("v.jsonl", good + "\n" + bad + "\n");
-    return ErrorOf([&] { ScoreExternalVerdicts(c, (dir.path() / "x").string(), path, (dir.path() / "s").string()); }).what();
+    // A copy: what() points into the exception, which is gone at the end of this statement.
+    return std::string(
+        ErrorOf([&] { ScoreExternalVerdicts(c, (dir.path() / "x").string(), path, (dir.path() / "s").string()); }).what());
   };
   EXPECT_THAT(error(R"({"run_id": "nope", "t_s": 1, "joint": 3, "family": "", "alarm": false, "magnitude": 0})"),
               HasSubstr("v.jsonl: line 2: unknown run_id \"nope\""));
