@@ -484,14 +484,19 @@ done
 
 # Ctrl-C: the runs in flight finish and are kept, no summary is written, the resume command is
 # printed, and running it gives the same bytes as the uninterrupted run.
+# start_ci_run DIR ERR: `run` of ci.json in the background (its pid in $pid), returning once
+# five runs are written.
+start_ci_run() {
+  "$armfault" run "$ci" -o "$1" -q -j 2 >/dev/null 2>"$2" &
+  pid=$!
+  for ((i = 0; i < 1000; i++)); do
+    [[ -f "$1/results.jsonl" && $(wc -l <"$1/results.jsonl") -ge 5 ]] && break
+    sleep 0.01
+  done
+}
 current=ctrl_c
 dir="$tmp/ci_int"
-"$armfault" run "$ci" -o "$dir" -q -j 2 >"$tmp/int_out" 2>"$tmp/int_err" &
-pid=$!
-for ((i = 0; i < 1000; i++)); do
-  [[ -f "$dir/results.jsonl" && $(wc -l <"$dir/results.jsonl") -ge 5 ]] && break
-  sleep 0.01
-done
+start_ci_run "$dir" "$tmp/int_err"
 kill -INT "$pid"
 wait "$pid"
 status=$?
@@ -512,12 +517,7 @@ same_outputs resume_after_ctrl_c "$tmp/ci_full" "$dir"
 # lines: every line is whole, the three files agree, and --resume gives the same bytes.
 current=ctrl_c_twice
 dir="$tmp/ci_int2"
-"$armfault" run "$ci" -o "$dir" -q -j 2 >"$tmp/int2_out" 2>"$tmp/int2_err" &
-pid=$!
-for ((i = 0; i < 1000; i++)); do
-  [[ -f "$dir/results.jsonl" && $(wc -l <"$dir/results.jsonl") -ge 5 ]] && break
-  sleep 0.01
-done
+start_ci_run "$dir" "$tmp/int2_err"
 kill -INT "$pid"
 sleep 0.05
 kill -INT "$pid" 2>/dev/null

@@ -53,4 +53,12 @@ int RejectCleanly(F&& body) {
   return 0;
 }
 
+// Where a target's input file "is": relative paths in it name nothing (kNoDir).
+inline InputContext Context() {
+  InputContext input;
+  input.source = kSource;
+  input.base_dir = kNoDir;
+  return input;
+}
+
 }  // namespace armfault::fuzz

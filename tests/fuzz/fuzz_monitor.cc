@@ -48,9 +48,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   return fuzz::RejectCleanly([&] {
     const nlohmann::json value = ParseJsonText(fuzz::Text(data, size), fuzz::kSource);
     if (fuzz::MentionsPlugin(value)) return;
-    InputContext input;
-    input.source = fuzz::kSource;
-    input.base_dir = fuzz::kNoDir;
+    const InputContext input = fuzz::Context();
     const MonitorSpec spec = MonitorSpecFromJson(value, "", input);
     MonitorContext context;
     context.robot = RobotPreset("mrr-config1");

@@ -16,9 +16,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   return fuzz::RejectCleanly([&] {
     const nlohmann::json value = ParseJsonText(fuzz::Text(data, size), fuzz::kSource);
     if (fuzz::MentionsPlugin(value)) return;
-    InputContext input;
-    input.source = fuzz::kSource;
-    input.base_dir = fuzz::kNoDir;
+    const InputContext input = fuzz::Context();
     const RunConfig run = RunConfigFromJson(value, "", input);
     MakeFaults(run.faults_json, "/faults", run.robot);
     const auto monitor_model = MakeRunMonitor(run);  // outlives its monitor, which borrows it
