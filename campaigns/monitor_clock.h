@@ -22,6 +22,10 @@ class MonitorClock {
   void Start() { start_ = std::chrono::steady_clock::now(); }
   void StopTick() { Add(Elapsed()); }
   void StopFinish() { finish_us_ = Elapsed(); }
+  // A tick that took `us` (what StopTick adds; tests give their own).
+  void Add(float us);
+  // Histogram bins in use: bounded by the range of the ticks' times, not by their number.
+  size_t bins() const { return bins_.size(); }
   // {"ticks", "mean_us", "median_us", "p99_us", "max_us", "finish_us"}; null statistics when
   // there was no tick.
   nlohmann::json ToJson() const;
@@ -30,7 +34,6 @@ class MonitorClock {
   float Elapsed() const {
     return std::chrono::duration<float, std::micro>(std::chrono::steady_clock::now() - start_).count();
   }
-  void Add(float us);
   // The middle of the histogram's bin holding the tick of rank `k` (0-based, in time order).
   double ValueAtRank(long k) const;
   std::chrono::steady_clock::time_point start_;
