@@ -3,16 +3,22 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <sys/resource.h>
+#include <sys/wait.h>
 #include <time.h>
+#include <unistd.h>
 
 #include <array>
 #include <chrono>
 #include <cstdio>
 #include <functional>
 #include <limits>
+#include <vector>
 
 #include "app/commands.h"
 #include "campaigns/campaign.h"
+#include "campaigns/cases.h"
+#include "campaigns/run_pipeline.h"
 #include "campaigns/runner.h"
 #include "core/monitors/detector_statistics.h"
 #include "core/monitors/power_monitor.h"
@@ -46,7 +52,102 @@ std::array<double, N> LeastCpuSeconds(int repeats, const std::array<std::functio
   return least;
 }
 
+// One healthy case of mrr-config1 with all three joints moving, `duration_s` long: the
+// length benchmark's run (each joint at its own frequency, so the windows and the coupling
+// terms of every joint are exercised).
+Campaign LengthCampaign(double duration_s) {
+  const nlohmann::json j = {
+      {"name", "bench-length"},
+      {"seed", 7},
+      {"robot", "mrr-config1"},
+      {"duration_s", duration_s},
+      {"trajectories",
+       {{{"name", "all3"},
+         {"joints",
+          {{"1", {{"type", "sine_pair"}, {"amplitude_deg", 30}, {"omega_rad_s", 0.8}}},
+           {"2", {{"type", "sine_pair"}, {"amplitude_deg", 20}, {"omega_rad_s", 1.0}}},
+           {"3", {{"type", "sine_pair"}, {"amplitude_deg", 25}, {"omega_rad_s", 1.2732}}}}}}}},
+      {"faults", nlohmann::json::array()},
+      {"healthy", 1},
+      {"monitor", nlohmann::json::object()}};
+  return CampaignFromJson(j, "<bench --duration>", ".");
+}
+
+struct LengthFigures {
+  double cpu_s = 0;    // least CPU time of one run
+  double peak_kB = 0;  // the process's peak resident set
+};
+
+// Runs the length's repeats in a forked child (so that its peak RSS is its own) and reads the
+// figures back through a pipe. Returns false when the child failed.
+bool MeasureLength(double duration_s, int repeats, LengthFigures* out) {
+  int fds[2];
+  if (pipe(fds) != 0) return false;
+  const pid_t pid = fork();
+  if (pid < 0) return false;
+  if (pid == 0) {
+    close(fds[0]);
+    LengthFigures f;
+    f.cpu_s = std::numeric_limits<double>::infinity();
+    try {
+      const Campaign campaign = LengthCampaign(duration_s);
+      const CaseSpec cs = CaseAt(campaign, 0);
+      for (int r = 0; r < repeats; ++r) {
+        const double start = ThreadCpuSeconds();
+        const RunRecord record = RunCase(campaign, cs);
+        f.cpu_s = std::min(f.cpu_s, ThreadCpuSeconds() - start);
+        if (!record.ok) _exit(3);
+      }
+    } catch (const std::exception&) {
+      _exit(3);
+    }
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    f.peak_kB = static_cast<double>(u.ru_maxrss);
+    const ssize_t n = write(fds[1], &f, sizeof f);
+    _exit(n == static_cast<ssize_t>(sizeof f) ? 0 : 3);
+  }
+  close(fds[1]);
+  const ssize_t n = read(fds[0], out, sizeof *out);
+  close(fds[0]);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  return n == static_cast<ssize_t>(sizeof *out) && WIFEXITED(status) && WEXITSTATUS(status) == 0;
+}
+
 }  // namespace
+
+int BenchLengthCommand(const std::vector<double>& durations_s, int repeats) {
+  std::printf("healthy mrr-config1 runs, all joints moving, through the campaign pipeline; least CPU time of %d "
+              "runs, peak RSS of a process of its own per length\n",
+              repeats);
+  std::printf("%12s %10s %14s %14s %16s\n", "simulated_s", "peak_MB", "cpu_s", "ms_per_sim_s", "marginal_ms_per_s");
+  std::vector<std::pair<double, LengthFigures>> done;
+  for (double d : durations_s) {
+    LengthFigures f;
+    if (!MeasureLength(d, repeats, &f)) {
+      std::fprintf(stderr, "error: the %.0f-s run failed\n", d);
+      return 1;
+    }
+    char marginal[32] = "-";
+    if (!done.empty() && d > done.back().first) {
+      std::snprintf(marginal, sizeof marginal, "%.3f",
+                    1e3 * (f.cpu_s - done.back().second.cpu_s) / (d - done.back().first));
+    }
+    std::printf("%12.0f %10.1f %14.3f %14.3f %16s\n", d, f.peak_kB / 1024.0, f.cpu_s, 1e3 * f.cpu_s / d, marginal);
+    std::fflush(stdout);
+    done.emplace_back(d, f);
+  }
+  if (done.size() >= 3) {
+    // The marginal cost of the last step against the first: 1.00 when the time per simulated
+    // second does not depend on the run's length.
+    const auto m = [&](size_t k) {
+      return (done[k].second.cpu_s - done[k - 1].second.cpu_s) / (done[k].first - done[k - 1].first);
+    };
+    std::printf("marginal ratio (last step / first step): %.3f\n", m(done.size() - 1) / m(1));
+  }
+  return 0;
+}
 
 int BenchCommand(int repeats) {
   const Campaign campaign = DefaultCampaign();

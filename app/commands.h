@@ -126,6 +126,13 @@ int TuneCommand(const TuneCommandOptions& options);
 // Prints the cost of a run against bare ODE ("ratio: X") and "parallel efficiency: Y".
 int BenchCommand(int repeats);
 
+// `bench --duration S ...` (or `--shift`: 10 s, 10 min, 1 h): for each length S, in a process of
+// its own (forked, so each peak is that length's alone), the least CPU time of `repeats` runs
+// of one healthy case of mrr-config1 with all three joints moving (the campaign pipeline:
+// monitor, tap, effect meters, clock) and the process's peak RSS; then the time and memory
+// per simulated second and the marginal time per simulated second between consecutive lengths.
+int BenchLengthCommand(const std::vector<double>& durations_s, int repeats);
+
 struct DiffCommandOptions {
   std::string dir_a, dir_b;         // baseline, candidate: armfault run output directories
   double alpha = 0.05;              // significance level

@@ -116,10 +116,29 @@ Command AddMergeCommand(CLI::App& app) {
 }
 
 Command AddBenchCommand(CLI::App& app) {
-  auto o = std::make_shared<int>(10);
-  CLI::App* cmd = app.add_subcommand("bench", "cost of a run against bare ODE stepping, and parallel throughput");
-  cmd->add_option("--repeats", *o, "timed runs per figure")->capture_default_str()->check(CLI::Range(1, 100000));
-  return {cmd, [o] { return armfault::BenchCommand(*o); }};
+  struct Options {
+    int repeats = 0;
+    std::vector<double> durations_s;
+    bool shift = false;
+  };
+  auto o = std::make_shared<Options>();
+  CLI::App* cmd = app.add_subcommand("bench", "cost of a run against bare ODE stepping, and parallel throughput; "
+                                              "with --duration or --shift, cost against a run's length");
+  cmd->add_option("--repeats", o->repeats, "timed runs per figure (default 10; 3 with --duration or --shift)")
+      ->check(CLI::Range(1, 100000));
+  cmd->add_option("--duration", o->durations_s,
+                  "simulated length [s] of a healthy mrr-config1 run, all joints moving (repeatable): its peak "
+                  "memory and time per simulated second")
+      ->check(CLI::Range(0.002, 3600.0));
+  cmd->add_flag("--shift", o->shift, "the same for 10 s, 10 min and 1 h");
+  return {cmd, [o] {
+            if (o->shift || !o->durations_s.empty()) {
+              std::vector<double> d = o->durations_s;
+              if (o->shift) d.insert(d.end(), {10.0, 600.0, 3600.0});
+              return armfault::BenchLengthCommand(d, o->repeats > 0 ? o->repeats : 3);
+            }
+            return armfault::BenchCommand(o->repeats > 0 ? o->repeats : 10);
+          }};
 }
 
 Command AddThesisCommand(CLI::App& app) {

@@ -7,8 +7,10 @@
 // results.jsonl, decisions.jsonl, summary.json and junit.xml stay bit-identical for any thread
 // count or shard split. Times are wall time (steady_clock) around each call on the run's own
 // thread, which a loaded machine inflates (the 99th percentile first); the heap is glibc's
-// allocated bytes (mallinfo2: in-use chunks plus mmapped blocks) while one monitor replays one
-// recorded run alone, before or after the parallel runs, so nothing else allocates meanwhile.
+// allocated bytes (mallinfo2: in-use chunks plus mmapped blocks) while one monitor runs alone in
+// the loop of the first case's plant, before or after the parallel runs, so nothing else
+// allocates meanwhile; sampled at a few ticks (1, 2, 4, ..., then every 512th) so the probe
+// costs the same per simulated second however long the run (issue 25).
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -23,9 +25,9 @@
 
 namespace armfault {
 
-// The most heap (bytes) one fresh monitor of the campaign holds while it replays the signals
-// of the campaign's first case, above what the process held before it was made; nullopt when
-// the monitor fails on them. Simulates that case once. Call with no other thread allocating.
+// The most heap (bytes) one fresh monitor of the campaign holds, at the sampled ticks, while it
+// observes the campaign's first case in the plant's loop, above what the process held before it
+// was made; nullopt when the monitor fails on it. Simulates that case once. Call with no other thread allocating.
 std::optional<double> ProbeMonitorHeapBytes(const Campaign& campaign);
 
 // monitor_cost.json from a run directory's monitor_cost.jsonl (lines of ok runs): the mean over

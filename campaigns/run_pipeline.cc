@@ -270,12 +270,13 @@ PreparedRun PrepareCase(const Campaign& campaign, const CaseSpec& cs, UnitMonito
 }
 
 ExecutedRun Execute(const ArmModel& model, const RunSpec& spec, const std::vector<std::shared_ptr<const Fault>>& faults,
-                    const MonitorModel& monitor_model, double onset_s, const TickObserver& also) {
+                    const MonitorModel& monitor_model, double onset_s, const TickObserver& also, bool keep_windows) {
   ExecutedRun x;
   // The monitor knows the nominal robot (payload and friction as designed) and what it learnt
   // on this unit while commissioning, not this run's truth. The tap beside it (scoring's)
   // knows the onset.
   x.monitor = monitor_model.NewMonitor();
+  x.monitor->KeepWindows(keep_windows);
   x.tap = x.monitor->NewDecisionTap(onset_s);
   EffectRecorder effects(model, faults);
   // The monitor's own calls are timed (monitor_cost.jsonl); the tap is scoring's, not its.
@@ -375,7 +376,8 @@ RunRecord RunCase(const Campaign& campaign, const CaseSpec& cs, const TickObserv
     if (!prepared.model) return prepared.record;  // its unit's commissioning failed
     r = prepared.record;
     const ExecutedRun executed =
-        Execute(*prepared.model, prepared.spec, prepared.faults, *prepared.monitor, prepared.record.onset_s, also);
+        Execute(*prepared.model, prepared.spec, prepared.faults, *prepared.monitor, prepared.record.onset_s, also,
+                output != nullptr);
     if (output && executed.monitor_failure.empty()) *output = executed.monitor->output();
     return ScoreRun(prepared, executed);
   } catch (const std::exception& e) {

@@ -82,8 +82,11 @@ struct ExecutedRun {
 // joints' signals at every tick, scoring's tap (knowing `onset_s`) after each call, the faults'
 // effect meters, then `also`. Monitor failures are data (monitor_failure); a diverging plant is
 // result.ok = false. Throws only what Simulate throws for a spec that does not fit the model.
+// `keep_windows` false: the monitor keeps no efficiency windows (HealthMonitor::KeepWindows),
+// what a campaign's run does so that its memory stays flat in the run's length.
 ExecutedRun Execute(const ArmModel& model, const RunSpec& spec, const std::vector<std::shared_ptr<const Fault>>& faults,
-                    const MonitorModel& monitor, double onset_s, const TickObserver& also = nullptr);
+                    const MonitorModel& monitor, double onset_s, const TickObserver& also = nullptr,
+                    bool keep_windows = true);
 
 // Sets a record's diagnosis (detection, latency, isolation, size) from its score.
 void ApplyScore(const RunScore& score, RunRecord* record);
@@ -97,7 +100,7 @@ RunRecord ScoreRun(const PreparedRun& prepared, const ExecutedRun& executed);
 
 // One case, fully: PrepareCase, Execute, ScoreRun. Never throws for a failing run: the record
 // says "failed" with the reason. `also` sees every tick after the monitor; `output` (may be
-// null) receives the monitor's output.
+// null) receives the monitor's output, windows included; without it the monitor keeps none.
 RunRecord RunCase(const Campaign& campaign, const CaseSpec& spec, const TickObserver& also = nullptr,
                   UnitMonitors* units = nullptr, MonitorOutput* output = nullptr);
 

@@ -150,6 +150,11 @@ class HealthMonitor {
   virtual void Observe(double t_s, const std::vector<JointSignals>& joints) = 0;
   virtual void Finish(double t_end_s) = 0;
   virtual const MonitorOutput& output() const = 0;
+  // Whether output().windows keeps every window (true, the default: trace, the report's run,
+  // thesis) or none (false: a campaign's runs, whose scoring reads the verdicts only), so that a
+  // campaign's run holds nothing that grows with its length (issue 25). Called before the first
+  // Observe(); a monitor that keeps no windows may ignore it.
+  virtual void KeepWindows(bool keep) { (void)keep; }
   // A monitor that publishes the statistics behind its alarms returns a tap on them; nullptr
   // (the default): it is scored at its own operating point and `tune` cannot sweep it.
   virtual std::unique_ptr<DecisionTap> NewDecisionTap(double onset_s) const {

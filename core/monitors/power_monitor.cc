@@ -408,7 +408,7 @@ void FitMechanicalWindows(const MonitorConfig& c, const EfficiencyWindow& w, dou
 
 // Windows bounded by zero velocity: extends the joint's window by the tick that ends at t_s
 // (opening one at t_prev_s when the joint starts to move, `dir` its direction, 0 at rest) and
-// closes it when the direction changes; a closed window goes to `windows`, and into the
+// closes it when the direction changes; a closed window goes to `windows` (unless null), and into the
 // mechanical fit when it is used. `v`: the velocity estimate [rad/s].
 void UpdateWindow(const MonitorConfig& c, const JointKnowledge& k, const TickTerms& x, double coupling_torque, double v,
                   int dir, int joint, double t_prev_s, double t_s, double dt, JointState* state,
@@ -441,7 +441,7 @@ void UpdateWindow(const MonitorConfig& c, const JointKnowledge& k, const TickTer
     FinishWindow(&w);
     w.used = w.t_end_s - w.t_start_s >= c.min_window_s && std::fabs(w.out_J) >= c.min_window_energy_J &&
              std::fabs(w.mesh_in_J) >= c.min_window_energy_J && w.flow != "mixed";
-    windows->push_back(w);
+    if (windows) windows->push_back(w);
     if (w.used) FitMechanicalWindows(c, w, s.window_dq, &s);
   }
 }
@@ -652,7 +652,8 @@ void PowerEfficiencyMonitor::Observe(double t_s, const std::vector<JointSignals>
     // --- windows bounded by zero velocity ---
     const double v = now.qd_est_rad_s;
     const int dir = std::fabs(v) < c.rest_velocity_rad_s ? 0 : (v > 0 ? 1 : -1);
-    UpdateWindow(c, k, x, coupling_torque, v, dir, j + 1, t_prev_, t_s, dt, &s, &output_.windows);
+    UpdateWindow(c, k, x, coupling_torque, v, dir, j + 1, t_prev_, t_s, dt, &s,
+                 keep_windows_ ? &output_.windows : nullptr);
 
     // --- tick-level detectors, latched once one fires ---
     const Candidate structural = TickLevelCandidate(c, k, x, now, prev, dir, dt, &s);
@@ -678,7 +679,7 @@ void PowerEfficiencyMonitor::Finish(double t_end_s) {
     s.window.t_end_s = t_end_s;
     FinishWindow(&s.window);
     s.window.used = false;
-    output_.windows.push_back(s.window);
+    if (keep_windows_) output_.windows.push_back(s.window);
   }
 }
 

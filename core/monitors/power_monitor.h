@@ -155,6 +155,7 @@ class PowerEfficiencyMonitor : public HealthMonitor {
   void Observe(double t_s, const std::vector<JointSignals>& joints) override;
   void Finish(double t_end_s) override;
   const MonitorOutput& output() const override { return output_; }
+  void KeepWindows(bool keep) override { keep_windows_ = keep; }
   // Its swept detectors' held statistics (DecisionStats, core/monitors/detector_statistics.h).
   std::unique_ptr<DecisionTap> NewDecisionTap(double onset_s) const override;
 
@@ -184,6 +185,7 @@ class PowerEfficiencyMonitor : public HealthMonitor {
   std::vector<JointSignals> previous_;
   double t_prev_ = 0;
   long ticks_ = 0;
+  bool keep_windows_ = true;
   MonitorOutput output_;
 };
 

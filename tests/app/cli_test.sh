@@ -332,6 +332,12 @@ run bench "$armfault" bench --repeats 1
 expect_status 0
 expect_stdout_contains "ratio: "
 expect_stdout_contains "parallel efficiency: "
+run bench_length "$armfault" bench --duration 0.2 --duration 0.4 --duration 0.6 --repeats 1
+expect_status 0
+expect_stdout_contains "ms_per_sim_s marginal_ms_per_s"
+expect_stdout_contains "marginal ratio (last step / first step): "
+run bench_length_too_long "$armfault" bench --duration 3601
+if [[ $status -ne 0 ]]; then pass; else fail "a 3601-s bench run was accepted"; fi
 
 # ------------------------------------------------------------------ diff (armfault diff)
 # One real run of the CI campaign is A; the B directories are edited copies of it.
