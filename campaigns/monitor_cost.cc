@@ -47,8 +47,11 @@ double HeapBytes() {
 std::optional<double> ProbeMonitorHeapBytes(const Campaign& campaign) {
   if (CaseCount(campaign) == 0) return std::nullopt;
   try {
-    const PreparedRun prepared = PrepareCase(campaign, CaseAt(campaign, 0), nullptr);
+    PreparedRun prepared = PrepareCase(campaign, CaseAt(campaign, 0), nullptr);
     if (!prepared.model) return std::nullopt;  // its unit's commissioning failed: the run's record says why
+    // The first kHeapProbeSpan_s of the case: a monitor's state is bounded (issue 25), so its
+    // heap has levelled out by then, and the probe adds at most that much simulation to `run`.
+    prepared.spec.duration_s = std::min(prepared.spec.duration_s, kHeapProbeSpan_s);
     // The monitor alone in the plant's loop (no tap, no effect meters, no clock). Its heap is
     // what the process holds above the baseline taken before it is made, at the second tick:
     // the plant makes its buffers (ODE's step arena) in its first period and reuses them, so at

@@ -25,9 +25,13 @@
 
 namespace armfault {
 
+// The simulated time ProbeMonitorHeapBytes watches at most [s] (docs/campaign-format.md).
+inline constexpr double kHeapProbeSpan_s = 600;
+
 // The most heap (bytes) one fresh monitor of the campaign holds, at the sampled ticks, while it
 // observes the campaign's first case in the plant's loop, above what the process held before it
-// was made; nullopt when the monitor fails on it. Simulates that case once. Call with no other thread allocating.
+// was made; nullopt when the monitor fails on it. Simulates that case once (its first
+// kHeapProbeSpan_s). Call with no other thread allocating.
 std::optional<double> ProbeMonitorHeapBytes(const Campaign& campaign);
 
 // monitor_cost.json from a run directory's monitor_cost.jsonl (lines of ok runs): the mean over
