@@ -204,6 +204,7 @@ void ParseVariation(const nlohmann::json& v, const std::string& pointer, Variati
 // The campaign with defaults filled in (campaign.json): `value` as given, the parsed values over it.
 nlohmann::json Resolved(const CampaignSpec& c, const nlohmann::json& value) {
   nlohmann::json resolved = value;
+  resolved.erase("$schema");  // for editors: not part of the campaign
   resolved["name"] = c.name;
   resolved["seed"] = c.seed;
   resolved["robot"] = RobotToJson(c.robot);
@@ -281,8 +282,13 @@ CampaignSpec CampaignSpecFromJson(const nlohmann::json& value, const std::string
     // that needs a part that failed (the robot, the duration) is skipped instead.
     ErrorList errors;
     errors.Try([&] {
-      reader.AllowOnly({"name", "seed", "robot", "duration_s", "trajectories", "faults", "healthy", "repetitions",
-                        "variation", "commissioning", "include_not_excited", "monitor", "floors", "search"});
+      reader.AllowOnly({"$schema", "name", "seed", "robot", "duration_s", "trajectories", "faults", "healthy",
+                        "repetitions", "variation", "commissioning", "include_not_excited", "monitor", "floors", "search"});
+    });
+    // For editors only (the schema's address): checked to be a string, not recorded.
+    errors.Try([&] {
+      std::string schema;
+      reader.OptionalString("$schema", &schema);
     });
     c.name = std::filesystem::path(source).stem().string();
     errors.Try([&] { reader.OptionalString("name", &c.name); });

@@ -265,6 +265,19 @@ TEST(CampaignParse, AHealthyOnlyCampaignIsValidAnEmptyOneIsNot) {
   EXPECT_THAT(ErrorOf([&] { Parse(healthy_only); }).message(), HasSubstr("no runs"));
 }
 
+TEST(CampaignParse, SchemaKeyIsForEditorsOnly) {
+  // "$schema" lets an editor find campaigns/campaign.schema.json: accepted, checked to be a
+  // string, and left out of the resolved campaign (so of its hash).
+  json with_schema = Small();
+  with_schema["$schema"] = "../campaigns/campaign.schema.json";
+  EXPECT_EQ(Parse(with_schema).resolved, Parse(Small()).resolved);
+  EXPECT_FALSE(Parse(with_schema).resolved.contains("$schema"));
+  with_schema["$schema"] = 3;
+  const InputError e = ErrorOf([&] { Parse(with_schema); });
+  EXPECT_EQ(e.pointer(), "/$schema");
+  EXPECT_THAT(e.message(), HasSubstr("expected a string"));
+}
+
 TEST(CampaignParse, ShippedCampaignsAreValid) {
   for (const char* name : {"thesis-sweep.json", "five-families.json", "ci.json"}) {
     const Campaign c = ReadCampaignFile(std::string(ARMFAULT_SOURCE_DIR) + "/campaigns/files/" + name);
