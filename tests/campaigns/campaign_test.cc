@@ -556,6 +556,22 @@ TEST(CampaignWarnings, AFaultOnAJointATrajectoryLeavesStillIsNamed) {
   EXPECT_TRUE(CampaignWarnings(Parse(moving)).empty());
 }
 
+TEST(CampaignWarnings, AnOnsetAtOrAfterTheEndOfTheRunIsNamed) {
+  // Small() runs 3 s; its second entry's onset is uniform on [0.5, 1.5].
+  json late = Small();
+  late["trajectories"][0]["joints"]["2"] = {{"type", "sine_pair"}, {"amplitude_deg", 10}, {"omega_rad_s", 1.0}};
+  late["faults"][0]["onset_s"] = {1, 3};
+  late["faults"][1]["onset_s"] = {{"uniform", {2, 4}}};
+  const std::vector<std::string> w = CampaignWarnings(Parse(late));
+  ASSERT_EQ(w.size(), 2u);
+  EXPECT_EQ(w[0], "/faults/0/onset_s: onset_s 3 s is at or after the end of the run (duration_s 3): the fault never "
+                  "acts in those runs, which are left out of the rates");
+  EXPECT_THAT(w[1], testing::StartsWith("/faults/1/onset_s: onset_s up to 4 s is at or after the end of the run"));
+  late["faults"][0]["onset_s"] = {1, 2.999};
+  late["faults"][1]["onset_s"] = {{"uniform", {2, 2.9}}};
+  EXPECT_TRUE(CampaignWarnings(Parse(late)).empty());
+}
+
 TEST(CampaignRunner, RecordsSayWhetherTheFaultCouldActAndWhyARunWasWrong) {
   const Campaign c = Parse(Small());
   bool saw_still = false, saw_moving = false;
