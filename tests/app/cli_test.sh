@@ -141,6 +141,12 @@ expect_input_error "/duration_s: 0 is outside [0.002, 3600]"
 run unwritable_output "$armfault" trace --duration 0.01 -q -o "$tmp/no/such/dir/t.csv"
 expect_input_error "$tmp/no/such/dir/t.csv.tmp: (document root): cannot open for writing: No such file or directory"
 
+# Every subcommand `--help` lists has its row in the README's command table.
+current=readme_lists_every_command
+for name in $("$armfault" --help | sed -n '/^Subcommands:/,$p' | awk 'NR > 1 && NF { print $1 }'); do
+  if grep -qF "| \`armfault $name" "$src/README.md"; then pass; else fail "README.md has no row for \`armfault $name\`"; fi
+done
+
 # ------------------------------------------------------------------ trace output
 
 run trace "$armfault" trace --duration 0.5 -o "$tmp/t.csv"
