@@ -222,6 +222,9 @@ Command AddBoundaryCommand(CLI::App& app) {
 
 int main(int argc, char** argv) {
   armfault::InitOde();  // before any thread starts
+  // Line-buffered even on a pipe: stdout's lines (a campaign's header, its floors) and stderr's
+  // (progress, warnings) then reach a log in the order they were written.
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);
   // Named, so usage lines say "armfault" and not the path it was started from.
   CLI::App app{"armfault: fault-injection campaigns for power-efficiency health monitoring of robot joints", "armfault"};
   app.require_subcommand(1);

@@ -548,6 +548,14 @@ run resume_after_ctrl_c_twice "$armfault" run "$ci" -o "$dir" -q -j 2 --resume
 expect_status 0
 same_outputs resume_after_ctrl_c_twice "$tmp/ci_full" "$dir"
 
+# On a pipe, stdout and stderr reach a log in the order written: the campaign's header first,
+# then the progress line, then the summary (stdout was block-buffered, so progress came first).
+current=pipe_order
+"$armfault" run "$ci" -o "$tmp/ci_pipe" -j 2 2>&1 | cat >"$tmp/pipe_log"
+if [[ $(sed -n 1p "$tmp/pipe_log") == "campaign ci: 52 runs -> $tmp/ci_pipe" &&
+      $(sed -n 2p "$tmp/pipe_log") == "progress: 52/52 runs, "* &&
+      $(sed -n 3p "$tmp/pipe_log") == "ran 52 runs in "* ]]; then pass; else fail "order on a pipe: $(head -3 "$tmp/pipe_log")"; fi
+
 # One case of the campaign re-run alone: its record is its results.jsonl line, byte for byte.
 id='p2p/friction_increase#1/friction_factor=3,onset_s=U[1,3]/j3/r1'
 run trace_campaign_case "$armfault" trace "$ci" --run "$id" -o "$tmp/case.csv" --monitor-out "$tmp/case.json"
