@@ -176,7 +176,8 @@ check docker_runtime_stage docker_runtime_stage
 install_prefix() {
   cmake --install "$build" --prefix "$tmp/prefix" >/dev/null &&
     "$tmp/prefix/bin/armfault" --version | grep -qx "armfault 0.1.0" &&
-    "$tmp/prefix/bin/armfault" validate "$tmp/prefix/share/armfault/campaigns/ci.json" | grep -q ': 52 runs' &&
+    "$tmp/prefix/bin/armfault" validate "$tmp/prefix/share/armfault/campaigns/ci.json" >"$tmp/validate_ci" &&
+    grep -q ': 52 runs' "$tmp/validate_ci" &&
     [[ -f $tmp/prefix/share/armfault/campaigns/thesis-sweep.json && -f $tmp/prefix/share/armfault/campaigns/five-families.json ]]
 }
 check install_prefix install_prefix
@@ -193,7 +194,8 @@ installed_plugin_header() {
     gcc -std=c99 -O2 -Wall -Wextra -Werror -fPIC -shared -I "$tmp/prefix/include" \
       "$src/examples/plugins/current_residual.c" -o "$tmp/plugin/libcurrent_residual.so" -lm &&
     cp "$src/tests/core/monitors/data/plugin_campaign.json" "$tmp/plugin/" &&
-    "$tmp/prefix/bin/armfault" validate "$tmp/plugin/plugin_campaign.json" | grep -q ': 28 runs'
+    "$tmp/prefix/bin/armfault" validate --load-plugins "$tmp/plugin/plugin_campaign.json" >"$tmp/plugin/out" &&
+    grep -q ': 28 runs' "$tmp/plugin/out"
 }
 check installed_plugin_header installed_plugin_header
 
