@@ -100,7 +100,7 @@ RunConfig RunConfigFromJson(const nlohmann::json& value, const std::string& poin
     RunConfig run;
     run.input = context;
     const bool robot_ok = errors.Try([&] {
-      if (const auto* robot = reader.Find("robot")) run.robot = RobotFromJson(*robot, reader.PointerTo("robot"));
+      if (const auto* robot = reader.Find("robot")) run.robot = RobotFromJson(*robot, reader.PointerTo("robot"), context.base_dir);
       else run.robot = RobotPreset("mrr-config1");
     });
     const bool duration_ok = errors.Try([&] {

@@ -12,7 +12,7 @@ cd "$(dirname "$0")/.."
 # Test-only: clang and libclang-rt-14-dev (libFuzzer, only a Recommends of clang-14) for the
 # parsers' fuzzing test (tests/fuzz/fuzz_test.sh, docs/fuzzing.md).
 packages=(build-essential cmake pkg-config libode-dev libeigen3-dev libtbb-dev nlohmann-json3-dev
-          libcli11-dev libssl-dev zlib1g-dev libgtest-dev libgmock-dev libbenchmark-dev chromium slurm-wlm
+          libcli11-dev libssl-dev zlib1g-dev liburdfdom-dev libtinyxml-dev libgtest-dev libgmock-dev libbenchmark-dev chromium slurm-wlm
           munge python3-yaml python3-jsonschema python3-dev pybind11-dev python3-pybind11 python3-numpy
           python3-pandas python3-pytest clang libclang-rt-14-dev)
 missing=()

@@ -251,7 +251,7 @@ PowerMonitorModel MakePowerMonitorModel(const RobotConfig& robot, const MonitorC
     mc.mesh_loss_fraction = k.mesh_loss_fraction;
     k.balance_sigma_Nm = std::max(0.05, p.torque_sensor.noise_Nm);
     k.constant_power_sd_W = config.constant_power_uncertainty_W;
-    const std::array<double, 3> a = robot.links.at(i).joint_axis;
+    const std::array<double, 3> a = JointAxisOf(robot, static_cast<int>(i));
     const double na = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
     for (const auto& b : axes) {
       const double nb = std::sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
@@ -457,7 +457,11 @@ Candidate TickLevelCandidate(const MonitorConfig& c, const JointKnowledge& k, co
   s.overpower_s = excess > c.overpower_W ? s.overpower_s + dt : 0.0;
   // Dead drive: a large command but no copper loss in the supply: the over-current
   // protection has opened the bridge (a short that tripped faster than it could be seen).
-  const bool dead = std::fabs(x.i) >= c.dead_drive_current_A && x.p_supply - k.electrical.quiescent_W < 0.25 * x.p_copper;
+  // A joint back-driven by its load returns rotor power to the bus, which pays part of the
+  // copper loss: that part is no evidence of an open bridge.
+  const double expected_draw = x.p_copper + std::min(0.0, x.p_rotor);
+  const bool dead = std::fabs(x.i) >= c.dead_drive_current_A && expected_draw > 0 &&
+                    x.p_supply - k.electrical.quiescent_W < 0.25 * expected_draw;
   s.dead_s = dead ? s.dead_s + dt : 0.0;
   // Stuck torque sensor: on a rail, or unchanged while the joint moves and the commanded
   // torque swings (a live sensor would follow it).

@@ -49,6 +49,49 @@ BodyMass LinkBody(const LinkParams& l, const Eigen::Vector3d& anchor_m, const Ei
   return b;
 }
 
+BodyMass BodyOfJoint(const RobotConfig& robot, int joint, double payload_kg) {
+  const JointBody& jb = robot.bodies.at(joint);
+  BodyMass b;
+  b.mass_kg = jb.mass_kg;
+  b.com_m = Eigen::Vector3d(jb.com_m[0], jb.com_m[1], jb.com_m[2]);
+  const auto& I = jb.inertia_kg_m2;
+  b.inertia_kg_m2 << I[0], I[3], I[4], I[3], I[1], I[5], I[4], I[5], I[2];
+  if (payload_kg > 0) {
+    const Eigen::Vector3d end(robot.payload_point_m[0], robot.payload_point_m[1], robot.payload_point_m[2]);
+    const double m = b.mass_kg;
+    const Eigen::Vector3d c = (m * b.com_m + payload_kg * end) / (m + payload_kg);
+    b.inertia_kg_m2 += PointInertia(m, b.com_m - c) + PointInertia(payload_kg, end - c);
+    b.mass_kg += payload_kg;
+    b.com_m = c;
+  }
+  return b;
+}
+
+RobotConfig WithBodies(const RobotConfig& robot) {
+  if (!robot.bodies.empty()) return robot;
+  RobotConfig r = robot;
+  Eigen::Vector3d anchor(robot.base_position_m[0], robot.base_position_m[1], robot.base_position_m[2]);
+  for (size_t i = 0; i < robot.links.size(); ++i) {
+    const LinkParams& l = robot.links[i];
+    const Eigen::Vector3d axis = Eigen::Vector3d(l.joint_axis[0], l.joint_axis[1], l.joint_axis[2]).normalized();
+    const Eigen::Vector3d dir = Eigen::Vector3d(l.direction[0], l.direction[1], l.direction[2]).normalized();
+    const BodyMass body = LinkBody(l, anchor, dir, axis, 0.0);
+    JointBody b;
+    b.joint_name = "joint_" + std::to_string(i + 1);
+    b.anchor_m = b.frame_origin_m = {anchor.x(), anchor.y(), anchor.z()};
+    b.axis = {axis.x(), axis.y(), axis.z()};
+    b.mass_kg = body.mass_kg;
+    b.com_m = {body.com_m.x(), body.com_m.y(), body.com_m.z()};
+    const Eigen::Matrix3d& I = body.inertia_kg_m2;
+    b.inertia_kg_m2 = {I(0, 0), I(1, 1), I(2, 2), I(0, 1), I(0, 2), I(1, 2)};
+    r.bodies.push_back(b);
+    anchor += l.length_m * dir;
+  }
+  r.payload_point_m = {anchor.x(), anchor.y(), anchor.z()};
+  r.links.clear();
+  return r;
+}
+
 std::string BodyMassProblem(double mass_kg, const Eigen::Matrix3d& inertia) {
   if (!std::isfinite(mass_kg) || !inertia.allFinite()) {
     return "mass or inertia is not a finite number";

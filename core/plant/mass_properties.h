@@ -43,6 +43,15 @@ struct BodyMass {
 BodyMass LinkBody(const LinkParams& link, const Eigen::Vector3d& anchor_m, const Eigen::Vector3d& dir,
                   const Eigen::Vector3d& axis, double payload_kg);
 
+// Body `joint` of a robot in the general form (robot.bodies), `payload_kg` (> 0 on the last
+// body only) lumped in as a point mass at robot.payload_point_m.
+BodyMass BodyOfJoint(const RobotConfig& robot, int joint, double payload_kg);
+
+// The robot in the general form: `bodies` derived from `links` as ArmModel builds them (payload
+// excluded; joint names "joint_1", ...; link frames with the world's axes at the joint
+// anchors), payload_point_m the end of the last link; a robot already in it is returned as is.
+RobotConfig WithBodies(const RobotConfig& robot);
+
 // Why ODE must not be given this body, or "" when it may: every number finite, the mass at
 // least kMinBodyMass_kg, the inertia symmetric and its smallest eigenvalue at least
 // kMinMoment_kg_m2 (less one part in a million for the rounding of rotating principal moments

@@ -5,6 +5,8 @@
 
 #include "core/base/json_input.h"
 #include "core/plant/mass_properties.h"
+#include "core/plant/urdf_robot.h"
+#include "core/plant/ur_class_urdf.h"
 
 namespace armfault {
 
@@ -311,6 +313,64 @@ LinkParams LinkFromJson(const nlohmann::json& value, const std::string& pointer,
   return link;
 }
 
+// A body of the general form (JointBody): world coordinates at the zero pose, as RobotToJson
+// writes a URDF robot. Errors go to `errors`; bad values leave the defaults.
+JointBody BodyFromJson(const nlohmann::json& value, const std::string& pointer, ErrorList* errors) {
+  ObjectReader reader(value, pointer);
+  errors->Try([&] {
+    reader.AllowOnly({"joint_name", "anchor_m", "axis", "mass_kg", "com_m", "inertia_kg_m2", "frame_origin_m",
+                      "frame_rotation"});
+  });
+  JointBody b;
+  errors->Try([&] { reader.OptionalString("joint_name", &b.joint_name); });
+  auto vector3 = [&](const char* key, std::array<double, 3>* out, bool direction) {
+    errors->Try([&] {
+      if (const auto* v = reader.Find(key)) {
+        const std::array<double, 3> a = ReadVector3(*v, reader.PointerTo(key));
+        if (direction) CheckVector(a, reader.PointerTo(key), "joint axis");
+        for (size_t i = 0; i < 3 && !direction; ++i) {
+          RequireInRange(a[i], -kMaxBasePosition_m, kMaxBasePosition_m, PointerJoin(reader.PointerTo(key), i));
+        }
+        *out = a;
+      }
+    });
+  };
+  vector3("anchor_m", &b.anchor_m, false);
+  vector3("axis", &b.axis, true);
+  vector3("com_m", &b.com_m, false);
+  vector3("frame_origin_m", &b.frame_origin_m, false);
+  errors->Try([&] {
+    double m = b.mass_kg;
+    reader.OptionalNumber("mass_kg", &m);
+    CheckLinkMass(m, reader.PointerTo("mass_kg"));
+    b.mass_kg = m;
+  });
+  auto numbers = [&](const char* key, double* out, size_t n, double lo, double hi) {
+    errors->Try([&] {
+      const auto* v = reader.Find(key);
+      if (!v) return;
+      if (!v->is_array() || v->size() != n) {
+        throw InputError("", reader.PointerTo(key), "expected an array of " + std::to_string(n) + " numbers, got " + Describe(*v));
+      }
+      std::vector<double> read(n);
+      for (size_t i = 0; i < n; ++i) {
+        read[i] = AsNumber((*v)[i], PointerJoin(reader.PointerTo(key), i));
+        RequireInRange(read[i], lo, hi, PointerJoin(reader.PointerTo(key), i));
+      }
+      std::copy(read.begin(), read.end(), out);
+    });
+  };
+  numbers("inertia_kg_m2", b.inertia_kg_m2.data(), 6, -kMaxMoment_kg_m2, kMaxMoment_kg_m2);
+  numbers("frame_rotation", b.frame_rotation.data(), 9, -1.0 - 1e-9, 1.0 + 1e-9);
+  return b;
+}
+
+nlohmann::json BodyToJson(const JointBody& b) {
+  return {{"joint_name", b.joint_name}, {"anchor_m", b.anchor_m}, {"axis", b.axis},
+          {"mass_kg", b.mass_kg},       {"com_m", b.com_m},       {"inertia_kg_m2", b.inertia_kg_m2},
+          {"frame_origin_m", b.frame_origin_m}, {"frame_rotation", b.frame_rotation}};
+}
+
 std::string Known(const std::vector<std::string>& names) {
   std::string out;
   for (const auto& n : names) out += (out.empty() ? "" : ", ") + n;
@@ -364,12 +424,73 @@ RobotConfig Pendulum() {
   return r;
 }
 
+// Drives of a 48 V industrial arm (UR-class: wrist joints of 28 N m, shoulder and elbow of
+// 150 N m). Strain-wave gears and frameless motors sized from public catalogues; the values,
+// their sources and the gain rule: docs/assumptions.md, "Industrial drive types".
+ModuleParams IndustrialDrive(const std::string& type) {
+  ModuleParams m;
+  const bool small = type == "industrial-small";
+  m.type = type;
+  m.min_angle_deg = -360;
+  m.max_angle_deg = 360;
+  MotorParams& mo = m.motor;
+  mo.kt_Nm_per_A = small ? 0.044 : 0.10;
+  mo.phase_resistance_ohm = small ? 0.5 : 0.15;
+  mo.phase_inductance_H = small ? 0.3e-3 : 0.15e-3;
+  mo.pole_pairs = small ? 5 : 7;
+  // Motor rotor plus the wave generator (CSF-14: 0.033 kg cm^2; CSG-25: 0.282 kg cm^2).
+  mo.rotor_inertia_kg_m2 = small ? 1.5e-5 : 1.1e-4;
+  mo.thermal_resistance_K_per_W = small ? 4.0 : 1.5;
+  mo.thermal_time_constant_s = small ? 600 : 1200;
+  InverterParams& in = m.inverter;
+  in.bus_voltage_V = 48.0;
+  in.command_limit_A = small ? 10.0 : 16.0;
+  in.current_per_volt_A_per_V = in.command_limit_A / 1.5;  // the DAC's +-1.5 V span the range
+  in.switch_resistance_ohm = small ? 0.02 : 0.01;
+  in.quiescent_power_W = small ? 2.0 : 3.0;
+  in.overcurrent_trip_A = small ? 30.0 : 45.0;
+  m.drive.ratio = small ? 100.0 : 120.0;
+  m.drive.mesh_loss_fraction = 0.2;  // about 80 % efficiency at rated torque, 20 degC
+  // Motor side, as functions of the link velocity: link-side Coulomb about 1.5 and 5 N m.
+  m.friction = small ? FrictionParams{0.0008, 0.015, 0.017, 15.0} : FrictionParams{0.0042, 0.042, 0.046, 15.0};
+  m.brake.holding_torque_Nm = small ? 0.6 : 2.5;  // above the motor's peak torque
+  TorqueSensorParams& ts = m.torque_sensor;
+  ts.full_scale_Nm = small ? 60.0 : 250.0;
+  ts.offset_Nm = 0;
+  ts.adc_bits = 14;
+  ts.noise_Nm = small ? 0.05 : 0.15;
+  m.encoder.counts_per_rev = 16384;
+  ControllerParams& c = m.controller;
+  // The gain rule (docs/assumptions.md): the controller's model is the datasheet's, its
+  // robust gain the motor-side Coulomb friction; lambda and K_P as the thesis's.
+  c.kt_hat_Nm_per_A = mo.kt_Nm_per_A;
+  c.b_hat = m.friction.viscous_Nm_s_per_rad;
+  c.fc_hat_Nm = m.friction.coulomb_Nm;
+  c.fs_hat_Nm = m.friction.static_Nm;
+  c.ft_hat = m.friction.stribeck_s2_per_rad2;
+  c.im_hat_kg_m2 = mo.rotor_inertia_kg_m2;
+  c.ku_robust_Nm = m.friction.coulomb_Nm;
+  return m;
+}
+
+// A six-joint UR5e-class arm from its URDF (campaigns/files/robots/ur-class.urdf, built in):
+// shoulder and elbow joints on the large industrial drive, the wrists on the small one.
+RobotConfig UrClass() {
+  const nlohmann::json drives = {{"shoulder_pan", "industrial-large"}, {"shoulder_lift", "industrial-large"},
+                                 {"elbow", "industrial-large"},        {"wrist_1", "industrial-small"},
+                                 {"wrist_2", "industrial-small"},      {"wrist_3", "industrial-small"}};
+  RobotConfig r = RobotFromUrdfText(kUrClassUrdf, "ur-class.urdf (built in)", drives, "/drives");
+  r.name = "ur-class";
+  r.payload_kg = 0.5;  // a light gripper at the flange
+  return r;
+}
+
 struct Preset {
   const char* name;
   RobotConfig (*make)();
 };
 const std::vector<Preset>& Presets() {
-  static const std::vector<Preset> presets = {{"mrr-config1", &MrrConfig1}, {"pendulum", &Pendulum}};
+  static const std::vector<Preset> presets = {{"mrr-config1", &MrrConfig1}, {"pendulum", &Pendulum}, {"ur-class", &UrClass}};
   return presets;
 }
 
@@ -402,8 +523,11 @@ ModuleParams ModuleDefaults(const std::string& type, const std::string& pointer)
     m.controller.im_hat_kg_m2 = 1.5e-4;
     return m;
   }
-  throw InputError("", pointer, "unknown module type \"" + type + "\" (known: MRR1, MRR2)");
+  if (type == "industrial-small" || type == "industrial-large") return IndustrialDrive(type);
+  throw InputError("", pointer, "unknown module type \"" + type + "\" (known: " + Known(ModuleTypeNames()) + ")");
 }
+
+std::vector<std::string> ModuleTypeNames() { return {"MRR1", "MRR2", "industrial-small", "industrial-large"}; }
 
 std::vector<std::string> RobotPresetNames() {
   std::vector<std::string> names;
@@ -418,31 +542,44 @@ RobotConfig RobotPreset(const std::string& name, const std::string& pointer) {
   throw InputError("", pointer, "unknown robot preset \"" + name + "\" (known: " + Known(RobotPresetNames()) + ")");
 }
 
-RobotConfig RobotFromJson(const nlohmann::json& value, const std::string& pointer) {
+RobotConfig RobotFromJson(const nlohmann::json& value, const std::string& pointer, const std::string& base_dir) {
   if (value.is_string()) {
     RobotConfig r = RobotPreset(value.get<std::string>(), pointer);
+    Validate(r, pointer);
+    return r;
+  }
+  if (value.is_object() && value.contains("urdf")) {
+    RobotConfig r = RobotFromUrdfJson(value, pointer, base_dir);
     Validate(r, pointer);
     return r;
   }
   ObjectReader reader(value, pointer);
   // Every part is read on its own and all errors are reported together (ErrorList).
   ErrorList errors;
+  // "links" (the shorthand) or "bodies" (the general form, as a URDF robot is written out).
+  const bool general = value.is_object() && value.contains("bodies");
   errors.Try([&] {
-    reader.AllowOnly({"name", "modules", "links", "base_position_m", "payload_kg", "gravity_m_s2", "physics_rate_Hz",
-                      "electrical_substeps"});
+    if (general) {
+      reader.AllowOnly({"name", "modules", "bodies", "payload_point_m", "base_position_m", "payload_kg", "gravity_m_s2",
+                        "physics_rate_Hz", "electrical_substeps"});
+    } else {
+      reader.AllowOnly({"name", "modules", "links", "base_position_m", "payload_kg", "gravity_m_s2", "physics_rate_Hz",
+                        "electrical_substeps"});
+    }
   });
   RobotConfig r;
   errors.Try([&] { reader.OptionalString("name", &r.name); });
   const nlohmann::json* modules = nullptr;
   const nlohmann::json* links = nullptr;
   errors.Try([&] { modules = &reader.Require("modules"); });
-  errors.Try([&] { links = &reader.Require("links"); });
+  errors.Try([&] { links = &reader.Require(general ? "bodies" : "links"); });
   if (modules && (!modules->is_array() || modules->empty())) {
     errors.Add(InputError("", reader.PointerTo("modules"), "expected a non-empty array of modules, got " + Describe(*modules)));
     modules = nullptr;
   }
   if (links && !links->is_array()) {
-    errors.Add(InputError("", reader.PointerTo("links"), "expected an array of links, got " + Describe(*links)));
+    errors.Add(InputError("", reader.PointerTo(general ? "bodies" : "links"),
+                          std::string("expected an array of ") + (general ? "bodies" : "links") + ", got " + Describe(*links)));
     links = nullptr;
   }
   // A module or link that is not even an object is replaced by the defaults, so the counts
@@ -453,9 +590,21 @@ RobotConfig RobotFromJson(const nlohmann::json& value, const std::string& pointe
     r.modules.push_back(m);
   }
   for (size_t i = 0; links && i < links->size(); ++i) {
+    if (general) {
+      JointBody body;
+      errors.Try([&] { body = BodyFromJson((*links)[i], PointerJoin(reader.PointerTo("bodies"), i), &errors); });
+      if (body.joint_name.empty()) body.joint_name = "joint_" + std::to_string(i + 1);
+      r.bodies.push_back(body);
+      continue;
+    }
     LinkParams link;
     errors.Try([&] { link = LinkFromJson((*links)[i], PointerJoin(reader.PointerTo("links"), i), &errors); });
     r.links.push_back(link);
+  }
+  if (general) {
+    errors.Try([&] {
+      if (const auto* v = reader.Find("payload_point_m")) r.payload_point_m = ReadVector3(*v, reader.PointerTo("payload_point_m"));
+    });
   }
   bool top_level_read = modules && links;
   top_level_read &= errors.Try([&] {
@@ -475,7 +624,16 @@ RobotConfig RobotFromJson(const nlohmann::json& value, const std::string& pointe
 void Validate(const RobotConfig& r, const std::string& pointer) {
   if (r.modules.empty()) throw InputError("", PointerJoin(pointer, "modules"), "the robot has no modules");
   ErrorList errors;  // the checks below are independent, except where noted
-  if (r.links.size() != r.modules.size()) {
+  if (!r.bodies.empty()) {
+    if (!r.links.empty()) {
+      errors.Add(InputError("", PointerJoin(pointer, "links"), "give links or bodies, not both"));
+    }
+    if (r.bodies.size() != r.modules.size()) {
+      errors.Add(InputError("", PointerJoin(pointer, "bodies"),
+                            std::to_string(r.bodies.size()) + " bodies for " + std::to_string(r.modules.size()) +
+                                " modules: give one body per joint module"));
+    }
+  } else if (r.links.size() != r.modules.size()) {
     errors.Add(InputError("", PointerJoin(pointer, "links"),
                           std::to_string(r.links.size()) + " links for " + std::to_string(r.modules.size()) +
                               " modules: give one link per joint module"));
@@ -499,8 +657,9 @@ void Validate(const RobotConfig& r, const std::string& pointer) {
                             "the joint range [" + FormatNumber(m.min_angle_deg) + ", " +
                                 FormatNumber(m.max_angle_deg) + "] deg is empty"));
     } else {
-      errors.Try([&] { RequireInRange(m.min_angle_deg, -360, 0, PointerJoin(mp, "min_angle_deg")); });
-      errors.Try([&] { RequireInRange(m.max_angle_deg, 0, 360, PointerJoin(mp, "max_angle_deg")); });
+      // A range need not contain 0 (URDF arms have joints limited to one side of it).
+      errors.Try([&] { RequireInRange(m.min_angle_deg, -360, 360, PointerJoin(mp, "min_angle_deg")); });
+      errors.Try([&] { RequireInRange(m.max_angle_deg, -360, 360, PointerJoin(mp, "max_angle_deg")); });
     }
     // The rotor body ODE gets: its inertia after any tolerance draw (a campaign's unit), which
     // the field table's floor does not see.
@@ -546,7 +705,26 @@ void Validate(const RobotConfig& r, const std::string& pointer) {
                           "link " + std::to_string(i + 1) + "'s body (" + what + (payload > 0 ? ", with the payload" : "") +
                               "): " + problem));
   }
+  // The general form's bodies as ODE gets them (the payload lumped into the last).
+  for (size_t i = 0; i < r.bodies.size(); ++i) {
+    const std::string bp = PointerJoin(PointerJoin(pointer, "bodies"), i);
+    const bool last = i + 1 == r.bodies.size();
+    errors.Try([&] { CheckVector(r.bodies[i].axis, PointerJoin(bp, "axis"), "joint axis"); });
+    const BodyMass body = BodyOfJoint(r, static_cast<int>(i), last && payload_ok ? r.payload_kg : 0.0);
+    const std::string problem = BodyMassProblem(body.mass_kg, body.inertia_kg_m2);
+    if (!problem.empty()) {
+      errors.Add(InputError("", bp, "the body joint \"" + r.bodies[i].joint_name + "\" moves: its " + problem));
+    }
+  }
   errors.ThrowIfAny();
+}
+
+std::array<double, 3> JointAxisOf(const RobotConfig& r, int joint) {
+  return r.bodies.empty() ? r.links.at(joint).joint_axis : r.bodies.at(joint).axis;
+}
+
+ModuleParams DriveFromJson(const nlohmann::json& value, const std::string& pointer, ErrorList* errors) {
+  return ModuleFromJson(value, pointer, errors);
 }
 
 nlohmann::json RobotToJson(const RobotConfig& r) {
@@ -568,6 +746,8 @@ nlohmann::json RobotToJson(const RobotConfig& r) {
     jm["winding_temperature_sensor"] = m.winding_temperature_sensor;
     out["modules"].push_back(jm);
   }
+  for (const JointBody& b : r.bodies) out["bodies"].push_back(BodyToJson(b));
+  if (!r.bodies.empty()) out["payload_point_m"] = r.payload_point_m;
   for (const LinkParams& l : r.links) {
     nlohmann::json jl = {{"mass_kg", l.mass_kg},       {"length_m", l.length_m},
                          {"radius_m", l.radius_m},     {"com_fraction", l.com_fraction},

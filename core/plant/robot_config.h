@@ -15,6 +15,8 @@
 
 namespace armfault {
 
+class ErrorList;
+
 // Brushless DC motor, three phases in star, trapezoidal back-EMF (thesis eq 4-1 ... 4-3).
 struct MotorParams {
   double kt_Nm_per_A = 0.165;           // torque constant = line back-EMF constant [V s/rad]
@@ -138,10 +140,33 @@ struct LinkParams {
   std::array<double, 3> inertia_kg_m2 = {0, 0, 0};  // (along, perp1, perp2)
 };
 
+// Joint i and the body it moves, as the plant builds them, in world coordinates at the zero
+// pose (all joint angles 0): the general form of a robot (a URDF robot, core/plant/urdf_robot.h,
+// arrives in it; the `links` shorthand is turned into it by ArmModel). The body is every link
+// joint i moves up to the next moving joint, fixed children merged in (payload excluded).
+struct JointBody {
+  std::string joint_name;                       // for messages ("joint_3" if none)
+  std::array<double, 3> anchor_m = {0, 0, 0};   // a point on the joint axis
+  std::array<double, 3> axis = {0, 0, 1};       // unit joint axis
+  double mass_kg = 1.0;
+  std::array<double, 3> com_m = {0, 0, 0};      // centre of mass
+  // Inertia about the centre of mass, world axes: xx, yy, zz, xy, xz, yz [kg m^2].
+  std::array<double, 6> inertia_kg_m2 = {1e-3, 1e-3, 1e-3, 0, 0, 0};
+  // The frame of the link that follows the joint (URDF: the child link's frame), for the
+  // forward-kinematics cross-check and the URDF writer: origin and row-major rotation.
+  std::array<double, 3> frame_origin_m = {0, 0, 0};
+  std::array<double, 9> frame_rotation = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+};
+
 struct RobotConfig {
   std::string name = "custom";
   std::vector<ModuleParams> modules;   // one per joint, base first
-  std::vector<LinkParams> links;       // one per joint
+  std::vector<LinkParams> links;       // one per joint (the shorthand), or empty when `bodies` is given
+  std::vector<JointBody> bodies;       // one per joint (the general form), or empty when `links` is given
+  // Where the payload sits (world, zero pose) when the robot is given by `bodies`: the tool
+  // frame's origin (core/plant/urdf_robot.h); with `links`, the end of the last link.
+  std::array<double, 3> payload_point_m = {0, 0, 0};
+  std::string urdf_path;               // the URDF the bodies came from ("" if none): for messages
   std::array<double, 3> base_position_m = {0, 0, 0};
   double payload_kg = 0.0;             // point mass at the end of the last link
   double gravity_m_s2 = 9.81;
@@ -161,8 +186,17 @@ struct StatedTolerances {
   double ambient_min_C = 20;
 };
 
-// Module defaults by type ("MRR1", "MRR2"); throws InputError for an unknown type.
+// Module (drive) defaults by type: the drive catalogue ("MRR1", "MRR2" of the thesis;
+// "industrial-small", "industrial-large"); throws InputError for an unknown type.
 ModuleParams ModuleDefaults(const std::string& type, const std::string& pointer);
+std::vector<std::string> ModuleTypeNames();
+
+// A drive (module) from JSON: {"type": ..., <group>: {overrides}}; errors go to `errors`, the
+// type's defaults stand in for bad values. Throws only when `value` is not an object.
+ModuleParams DriveFromJson(const nlohmann::json& value, const std::string& pointer, ErrorList* errors);
+
+// Joint i's unit axis at the zero pose, world frame, whichever form the robot is given in.
+std::array<double, 3> JointAxisOf(const RobotConfig& robot, int joint);
 
 // Robot presets ("mrr-config1", "pendulum"). Throws InputError naming the known presets.
 RobotConfig RobotPreset(const std::string& name, const std::string& pointer = "");
@@ -171,7 +205,9 @@ std::vector<std::string> RobotPresetNames();
 // A robot from JSON: a preset name (string), or an object {"name", "modules", "links", ...};
 // each module starts from its type's defaults and overrides the fields given.
 // Unknown keys and out-of-range values throw InputError with their JSON pointer.
-RobotConfig RobotFromJson(const nlohmann::json& value, const std::string& pointer);
+// A URDF robot ({"urdf": "arm.urdf", "drives": {...}, ...}, core/plant/urdf_robot.h) reads its
+// file relative to `base_dir` (the directory of the file that names it).
+RobotConfig RobotFromJson(const nlohmann::json& value, const std::string& pointer, const std::string& base_dir = "");
 nlohmann::json RobotToJson(const RobotConfig& robot);
 
 // Cross-field checks (counts match, directions non-zero, ...); throws InputError.

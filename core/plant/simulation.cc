@@ -479,20 +479,30 @@ ArmModel::ArmModel(RobotConfig config) : config_(std::move(config)) {
 
   Eigen::Vector3d anchor = Vec(config_.base_position_m);
   const int n = static_cast<int>(config_.modules.size());
+  const bool general = !config_.bodies.empty();
   for (int i = 0; i < n; ++i) {
     const ModuleParams& m = config_.modules[i];
-    const LinkParams& l = config_.links[i];
     JointModel jm;
     jm.params = m;
     jm.drive = MakeDriveConstants(m, substep);
     jm.controller = MakeControllerConstants(m);
     jm.ratio = m.drive.ratio;
     jm.rotor_inertia_kg_m2 = m.motor.rotor_inertia_kg_m2;
-    jm.axis = Vec(l.joint_axis).normalized();
+    const double payload = i == n - 1 ? config_.payload_kg : 0.0;
+    BodyMass body;
+    Eigen::Vector3d dir = Eigen::Vector3d::Zero();
+    if (general) {  // the general form (a URDF robot): the bodies as given
+      const JointBody& jb = config_.bodies[i];
+      jm.axis = Vec(jb.axis).normalized();
+      anchor = Vec(jb.anchor_m);
+      body = BodyOfJoint(config_, i, payload);
+    } else {  // the links shorthand: each link starts where the last one ended
+      jm.axis = Vec(config_.links[i].joint_axis).normalized();
+      dir = Vec(config_.links[i].direction).normalized();
+      body = LinkBody(config_.links[i], anchor, dir, jm.axis, payload);
+    }
     jm.rotor_centre_m = anchor + kRotorOffset_m * jm.axis.unitOrthogonal();
-    const Eigen::Vector3d dir = Vec(l.direction).normalized();
     jm.anchor_m = anchor;
-    const BodyMass body = LinkBody(l, anchor, dir, jm.axis, i == n - 1 ? config_.payload_kg : 0.0);
     jm.mass_kg = body.mass_kg;
     jm.com_m = body.com_m;
     jm.inertia_kg_m2 = body.inertia_kg_m2;
@@ -500,16 +510,16 @@ ArmModel::ArmModel(RobotConfig config) : config_(std::move(config)) {
     // derivation): ODE asserts on a body that is not positive definite, aborting the process.
     const std::string problem = BodyMassProblem(jm.mass_kg, jm.inertia_kg_m2);
     if (!problem.empty()) {
-      throw InputError("", "/links/" + std::to_string(i), "link " + std::to_string(i + 1) + "'s body: " + problem);
+      throw InputError("", general ? "/bodies/" + std::to_string(i) : "/links/" + std::to_string(i),
+                       "link " + std::to_string(i + 1) + "'s body: " + problem);
     }
     const std::string rotor_problem =
         BodyMassProblem(kRotorMass_kg, jm.rotor_inertia_kg_m2 * Eigen::Matrix3d::Identity());
     if (!rotor_problem.empty()) {
       throw InputError("", "/modules/" + std::to_string(i) + "/motor/rotor_inertia_kg_m2", "the rotor body's " + rotor_problem);
     }
-    const Eigen::Vector3d end = anchor + l.length_m * dir;
     joints_.push_back(jm);
-    anchor = end;
+    if (!general) anchor = anchor + config_.links[i].length_m * dir;
   }
 }
 
@@ -609,6 +619,20 @@ double StepBareOde(const ArmModel& model, double duration_s, bool friction_rows)
   double checksum = 0;
   for (int j = 0; j < n; ++j) checksum += dJointGetHingeAngle(ode.joint(j));
   return checksum;
+}
+
+std::vector<BodyPose> OdeBodyPoses(const ArmModel& model, const std::vector<double>& q) {
+  const int n = model.joint_count();
+  OdeWorld ode(model, q, std::vector<double>(n, 0.0));
+  std::vector<BodyPose> poses(n);
+  for (int j = 0; j < n; ++j) {
+    poses[j].com_m = ToEigen(dBodyGetPosition(ode.body(j)));
+    const dReal* R = dBodyGetRotation(ode.body(j));
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) poses[j].rotation(r, c) = R[4 * r + c];
+    }
+  }
+  return poses;
 }
 
 }  // namespace armfault

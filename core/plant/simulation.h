@@ -167,4 +167,13 @@ RunResult Simulate(const ArmModel& model, const RunSpec& spec, const TickObserve
 // the final state.
 double StepBareOde(const ArmModel& model, double duration_s, bool friction_rows);
 
+// Where ODE puts each link body at the joint angles `q` (at rest): its centre of mass and its
+// rotation from the zero pose, world frame. For cross-checks of a robot's kinematics against an
+// independent chain of transforms (tests/core/plant/urdf_robot_test.cc).
+struct BodyPose {
+  Eigen::Vector3d com_m;
+  Eigen::Matrix3d rotation;
+};
+std::vector<BodyPose> OdeBodyPoses(const ArmModel& model, const std::vector<double>& q);
+
 }  // namespace armfault
