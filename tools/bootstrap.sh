@@ -11,10 +11,13 @@ cd "$(dirname "$0")/.."
 # arrays and DataFrames, pytest for its tests. zlib1g-dev: `armfault export` writes gzip CSV.
 # Test-only: clang and libclang-rt-14-dev (libFuzzer, only a Recommends of clang-14) for the
 # parsers' fuzzing test (tests/fuzz/fuzz_test.sh, docs/fuzzing.md).
+# Test-only: jupyter-nbconvert, python3-ipykernel (the python3 kernel) and python3-matplotlib
+# execute examples/notebooks/first-campaign.ipynb (python/tests/notebook_test.sh).
 packages=(build-essential cmake pkg-config libode-dev libeigen3-dev libtbb-dev nlohmann-json3-dev
           libcli11-dev libssl-dev zlib1g-dev liburdfdom-dev libtinyxml-dev libgtest-dev libgmock-dev libbenchmark-dev chromium slurm-wlm
           munge python3-yaml python3-jsonschema python3-dev pybind11-dev python3-pybind11 python3-numpy
-          python3-pandas python3-pytest clang libclang-rt-14-dev)
+          python3-pandas python3-pytest clang libclang-rt-14-dev
+          jupyter-nbconvert python3-ipykernel python3-matplotlib)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

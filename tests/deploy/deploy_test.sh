@@ -139,7 +139,7 @@ bootstrap_packages() {
 }
 docker_build_stage() {
   # Test-only or machine-only packages that the image's build stage leaves out.
-  local test_only="chromium libgtest-dev libgmock-dev libbenchmark-dev slurm-wlm munge python3-yaml python3-jsonschema python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pandas python3-pytest clang libclang-rt-14-dev"
+  local test_only="chromium libgtest-dev libgmock-dev libbenchmark-dev slurm-wlm munge python3-yaml python3-jsonschema python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pandas python3-pytest clang libclang-rt-14-dev jupyter-nbconvert python3-ipykernel python3-matplotlib"
   local want
   want=$(bootstrap_packages | grep -vxF -f <(tr ' ' '\n' <<<"$test_only"))
   diff <(echo "$want") <(stage_packages 1) || { echo "(< bootstrap minus test-only, > Dockerfile build stage)"; return 1; }
