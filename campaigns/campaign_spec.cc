@@ -302,7 +302,7 @@ CampaignSpec CampaignSpecFromJson(const nlohmann::json& value, const std::string
       }
     });
     const bool robot_ok = errors.Try([&] {
-      if (const auto* robot = reader.Find("robot")) c.robot = RobotFromJson(*robot, reader.PointerTo("robot"));
+      if (const auto* robot = reader.Find("robot")) c.robot = RobotFromJson(*robot, reader.PointerTo("robot"), base_dir);
       else c.robot = RobotPreset("mrr-config1");
     });
     const bool duration_ok = errors.Try([&] {
