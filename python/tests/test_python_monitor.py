@@ -95,9 +95,9 @@ class Garbage(armfault.Monitor):
 
 
 @pytest.mark.parametrize("kind, reason", [
-    ("joint0", "monitor python emitted a bad verdict: verdict 1 (t_s 1, joint 0): joint 0 out of range, expected 1..3"),
-    ("nan", "monitor python emitted a bad verdict: verdict 1 (t_s 1, joint 3): magnitude is not a finite number"),
-    ("backwards", "monitor python emitted a bad verdict: verdict 2 (t_s 0.5, joint 3): time goes backwards "
+    ("joint0", "monitor python test_python_monitor.Garbage emitted a bad verdict: verdict 1 (t_s 1, joint 0): joint 0 out of range, expected 1..3"),
+    ("nan", "monitor python test_python_monitor.Garbage emitted a bad verdict: verdict 1 (t_s 1, joint 3): magnitude is not a finite number"),
+    ("backwards", "monitor python test_python_monitor.Garbage emitted a bad verdict: verdict 2 (t_s 0.5, joint 3): time goes backwards "
                   "(previous verdict at 1 s)"),
     ("family", 'verdict 1 (t_s 1, joint 3): unknown fault family "gremlins"'),
     ("type", "monitor python failed: Garbage.step at t_s 1 returned a int, expected None, an armfault.Verdict "
@@ -111,6 +111,7 @@ def test_garbage_verdicts_fail_the_run_with_the_contract_checks_reason(small, ki
     for r in records:
         if r["trajectory"] == "exp1":
             assert r["status"] == "failed" and reason in r["reason"], (kind, r["reason"])
+            assert "Garbage" in r["reason"], (kind, r["reason"])  # names its source, the class
         else:
             assert r["status"] == "ok", (kind, r["run_id"])
 
