@@ -673,6 +673,23 @@ expect_status 0
 printf '{"run_id": "%s", "t_s": 7, "joint": 3, "family": "kt_degradation", "alarm": true, "magnitude": 0.6}\n' "$id" >"$tmp/late.jsonl"
 run score_rejects_a_time_outside_the_run "$armfault" score "$tmp/exp" "$tmp/late.jsonl" -o "$tmp/scored2"
 expect_input_error "$tmp/late.jsonl: line 1: t_s 7 outside the run [0, 3] s"
+# Every bad line at once (up to 20, then how many more), in one error (exit 2): a run_id with a
+# typo names the nearest one; Python's NaN is explained; 23 more bad lines after those.
+{
+  printf '{"run_id": "%sx", "t_s": 1.5, "joint": 3, "alarm": false}\n' "$id"
+  printf '{"run_id": "%s", "t_s": 1.5, "joint": 3, "alarm": true, "family": "kt_degradation", "magnitude": NaN}\n' "$id"
+  for k in $(seq 1 23); do printf '{"run_id": "%s", "t_s": 1.5, "joint": 9, "alarm": false}\n' "$id"; done
+} >"$tmp/many_bad.jsonl"
+run score_lists_every_bad_line "$armfault" score "$tmp/exp" "$tmp/many_bad.jsonl" -o "$tmp/scored3"
+expect_status 2
+expect_stderr_contains "armfault: error: $tmp/many_bad.jsonl: line 1: unknown run_id \"${id}x\" (not a run of $tmp/exp/manifest.jsonl); did you mean \"$id\"?"
+expect_stderr_contains "armfault: error: $tmp/many_bad.jsonl: line 2: /magnitude: NaN is not JSON; write null (Python's json.dumps writes float(\"nan\") as NaN"
+expect_stderr_contains "armfault: error: $tmp/many_bad.jsonl: line 20: joint 9 out of range, expected 1..3"
+expect_stderr_contains "armfault: error: ... and 5 more errors"
+current=score_lists_every_bad_line_count
+if [[ $(grep -c '^armfault: error: ' "$tmp/stderr") -eq 21 && ! -e "$tmp/scored3/results.jsonl" ]]; then pass; else
+  fail "expected 20 error lines and the 'more' line, and nothing written: $(head -c 600 "$tmp/stderr")"
+fi
 run export_rejects_a_bad_split "$armfault" export "$tmp/exp.json" -o "$tmp/exp2" --split 0.9/0.2/0.1 -q
 expect_input_error "armfault: error: --split: expected TRAIN/VALIDATION/TEST fractions summing to 1"
 
