@@ -166,8 +166,9 @@ int FinishCampaignOutputs(const std::string& dir_name, const CampaignSpec& campa
     all_met = all_met && met;
   }
   if (builder.failed_runs() > 0) {
-    std::fprintf(stderr, "armfault: %ld of %ld runs failed (see %s)\n", builder.failed_runs(), builder.runs(),
-                 (dir / run_dir::kSummary).string().c_str());
+    // The first failure with its reason: a count alone is easy to miss and says nothing.
+    std::fprintf(stderr, "armfault: %ld of %ld runs failed (see %s); first failed %s\n", builder.failed_runs(),
+                 builder.runs(), (dir / run_dir::kSummary).string().c_str(), builder.FirstFailureText().c_str());
     return 3;
   }
   return all_met ? 0 : 1;

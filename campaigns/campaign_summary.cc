@@ -199,6 +199,11 @@ void SummaryBuilder::Add(const RunRecord& r) {
     // Keep the smallest ids so the listing does not depend on the order of arrival.
     failed_listed_.emplace(r.run_id, r.failure_reason);
     if (failed_listed_.size() > kMaxListedFailures) failed_listed_.erase(std::prev(failed_listed_.end()));
+    // The lowest case number, then the smallest run_id: independent of the order of arrival.
+    if (first_failure_.case_index < 0 ||
+        std::tie(r.case_index, r.run_id) < std::tie(first_failure_.case_index, first_failure_.run_id)) {
+      first_failure_ = {r.case_index, r.run_id, r.failure_reason};
+    }
     return;
   }
   ++ok_runs_;
@@ -309,7 +314,21 @@ std::vector<FloorVerdict> SummaryBuilder::Verdicts(const Floors& floors) const {
     CheckSet(set, "per_family/" + family + "/", it == families.end() ? none : it->second, true,
              "no runs of family " + family, &out);
   }
+  // Every run failed: there is nothing to measure because nothing ran to the end, not because the
+  // campaign has no such runs. Said so, with the first failure, and the floor is not met.
+  if (ok_runs_ == 0 && failed_runs_ > 0) {
+    for (FloorVerdict& v : out) {
+      v.met = false;
+      v.message = v.name + ": all " + std::to_string(failed_runs_) + " runs failed, nothing to measure (floor " +
+                  (v.kind == "min" ? ">= " : "<= ") + Fixed3(v.bound) + "); first failed " + FirstFailureText();
+    }
+  }
   return out;
+}
+
+std::string SummaryBuilder::FirstFailureText() const {
+  if (first_failure_.case_index < 0) return "";
+  return "run " + first_failure_.run_id + ": " + first_failure_.reason;
 }
 
 nlohmann::json SummaryBuilder::Build(const Floors& floors, const nlohmann::json& campaign,
@@ -524,6 +543,22 @@ std::string JUnitXml(const std::string& campaign_name, const SummaryBuilder& bui
     if (!family.empty()) emit_suite(family);
   }
   emit_suite("");
+  // Failed runs: one failing case (a stable name, "every run completes") naming the first (its run_id and reason) and how to replay it.
+  // Only when a run failed, so the junit.xml of a campaign without failures is unchanged.
+  if (builder.failed_runs() > 0) {
+    const SummaryBuilder::FirstFailure& first = builder.first_failure();
+    const std::string count = std::to_string(builder.failed_runs()) + " of " + std::to_string(builder.runs()) + " runs failed";
+    const std::string message = count + "; first failed " + builder.FirstFailureText();
+    const std::string text = message + "\nevery failed run: failed_runs in summary.json" +
+                             "\nreplay the first failed run, in the output directory: armfault trace " + campaign_json +
+                             " --run '" + first.run_id + "' -o trace.csv";
+    body += "  <testsuite name=\"failed runs\" tests=\"1\" failures=\"1\">\n"
+            "    <testcase classname=\"failed runs\" name=\"every run completes\">\n"
+            "      <failure message=\"" + XmlEscape(message) + "\">" + XmlEscape(text) + "</failure>\n"
+            "    </testcase>\n  </testsuite>\n";
+    ++tests;
+    ++failures;
+  }
   std::string xml = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
   xml += "<testsuites name=\"" + XmlEscape("armfault: " + campaign_name) + "\" tests=\"" + std::to_string(tests) +
          "\" failures=\"" + std::to_string(failures) + "\">\n";

@@ -126,6 +126,15 @@ class SummaryBuilder {
   long not_injected_runs() const { return not_injected_runs_; }
   bool includes_not_excited() const { return include_not_excited_; }  // ok faulty runs that could not act
   long failed_runs() const { return failed_runs_; }
+  // The failed run of the lowest case number (whatever the order of Add()): what the console
+  // and junit.xml name, so that a failure is seen with its reason, not only counted.
+  struct FirstFailure {
+    long case_index = -1;  // -1: no run failed
+    std::string run_id, reason;
+  };
+  const FirstFailure& first_failure() const { return first_failure_; }
+  // "run RUN_ID: REASON" of the first failure ("" when no run failed).
+  std::string FirstFailureText() const;
   // The tally of every (group, family) cell, sorted: for tools that compare or re-pool
   // campaigns (armfault diff) with exactly the definitions above.
   const std::map<std::pair<std::string, std::string>, internal::SummaryTally>& cells() const { return cells_; }
@@ -162,6 +171,7 @@ class SummaryBuilder {
   long conditional_onset_runs_ = 0;  // ok runs whose fault has a conditional onset
   long ok_runs_ = 0;
   long failed_runs_ = 0;
+  FirstFailure first_failure_;
   long compound_seen_ = 0;
   CompoundTally compound_;
   std::map<std::string, CompoundTally> compound_by_name_;

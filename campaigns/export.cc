@@ -13,11 +13,13 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include "core/base/csv.h"
 #include "core/base/output_file.h"
 #include "core/base/rng.h"
+#include "core/base/suggest.h"
 #include "core/monitors/monitor.h"
 #include "core/plant/simulation.h"
 #include "faults/fault.h"
@@ -326,30 +328,98 @@ Verdict VerdictFromJson(const nlohmann::json& j, std::string* run_id) {
 
 }  // namespace
 
+namespace {
+
+// Where a line that is not JSON holds NaN or Infinity outside a string (Python's json.dumps
+// writes float("nan") so), the key it is the value of ("" when not after a key) and the token;
+// nullopt when it holds none.
+struct NonJsonNumber {
+  std::string key, token;
+};
+std::optional<NonJsonNumber> FindNonJsonNumber(const std::string& line) {
+  bool in_string = false, escaped = false;
+  std::string text, last_string, key;
+  for (size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (in_string) {
+      if (escaped) escaped = false;
+      else if (c == '\\') escaped = true;
+      else if (c == '"') in_string = false, last_string = text;
+      else text += c;
+      continue;
+    }
+    if (c == '"') {
+      in_string = true;
+      text.clear();
+    } else if (c == ':') {
+      key = last_string;
+    } else if (c == ',' || c == '{') {
+      key.clear();
+    } else {
+      for (const char* token : {"NaN", "-Infinity", "Infinity"}) {
+        if (line.compare(i, std::strlen(token), token) == 0) return NonJsonNumber{key, token};
+      }
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
 void ReadVerdicts(std::istream& in, const std::string& path, const VerdictLimits& limits,
-                  const std::function<std::string(const std::string& run_id)>& run_known,
+                  const std::function<std::string(const std::string& run_id, std::string* hint)>& run_known,
                   const std::function<void(const std::string& run_id, const Verdict& verdict)>& each) {
+  // Every bad line is found; the first kMaxReportedErrors are kept whole, the rest counted.
+  ErrorList errors;
+  size_t unlisted = 0;
   std::string line;
   long n = 0;
   while (std::getline(in, line)) {
     ++n;
     if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-    auto fail = [&](const std::string& message) {
-      throw InputError(path, "", "line " + std::to_string(n) + ": " + message);
+    const bool keep = errors.size() < kMaxReportedErrors;
+    auto bad = [&](const std::string& message, const std::string& hint = "") {
+      if (keep) errors.Add(InputError(path, "", "line " + std::to_string(n) + ": " + message, hint));
+      else ++unlisted;
     };
     std::string run_id;
     Verdict v;
     try {
-      v = VerdictFromJson(ParseJsonText(line, ""), &run_id);
+      nlohmann::json parsed;
+      try {
+        parsed = ParseJsonText(line, "");
+      } catch (const InputError&) {
+        // Python's json.dumps writes NaN (and Infinity) by default: say what to write instead.
+        if (const std::optional<NonJsonNumber> nan = FindNonJsonNumber(line)) {
+          const std::string where = nan->key.empty() ? "" : "/" + nan->key + ": ";
+          throw InputError("", "",
+                           where + nan->token + " is not JSON; write null" +
+                               (nan->token == "NaN" ? "" : " or a finite number") +
+                               " (Python's json.dumps writes float(\"nan\") as NaN: give None, or check with "
+                               "allow_nan=False)");
+        }
+        throw;
+      }
+      v = VerdictFromJson(parsed, &run_id);
     } catch (const InputError& e) {
-      fail((e.pointer().empty() ? "" : e.pointer() + ": ") + e.message());
+      bad((e.pointer().empty() ? "" : e.pointer() + ": ") + e.message());
+      continue;
     } catch (const std::exception& e) {
-      fail(e.what());
+      bad(e.what());
+      continue;
     }
-    if (const std::string why = run_known(run_id); !why.empty()) fail(why);
-    if (const std::string why = CheckVerdict(v, limits.joints, limits.duration_s, limits.families); !why.empty()) fail(why);
+    std::string hint;
+    if (const std::string why = run_known(run_id, keep ? &hint : nullptr); !why.empty()) {
+      bad(why, hint);
+      continue;
+    }
+    if (const std::string why = CheckVerdict(v, limits.joints, limits.duration_s, limits.families); !why.empty()) {
+      bad(why);
+      continue;
+    }
     each(run_id, v);
   }
+  if (!errors.empty()) throw InputError(errors.errors(), unlisted);
 }
 
 ScoreResult ScoreExternalVerdicts(const CampaignSpec& campaign, const std::string& dir_name, const std::string& verdicts_path,
@@ -376,15 +446,24 @@ ScoreResult ScoreExternalVerdicts(const CampaignSpec& campaign, const std::strin
 
   // The verdicts, per run, in time order (a tool may write runs interleaved).
   std::vector<MonitorOutput> outputs(runs.size());
+  std::vector<std::string> run_ids;  // for "did you mean": made at the first unknown run_id
   ScoreResult result;
   {
     std::ifstream in(verdicts_path, std::ios::binary);
     if (!in) throw InputError(verdicts_path, "", "cannot read the file");
     ReadVerdicts(
         in, verdicts_path, {joints, campaign.duration_s, families},
-        [&](const std::string& run_id) {
-          return by_id.count(run_id) ? std::string()
-                                     : "unknown run_id \"" + run_id + "\" (not a run of " + truth_path.string() + ")";
+        [&](const std::string& run_id, std::string* hint) {
+          if (by_id.count(run_id)) return std::string();
+          if (hint) {
+            if (run_ids.empty()) {
+              for (const RunRecord& r : runs) run_ids.push_back(r.run_id);
+            }
+            if (const std::string near = NearestId(run_id, run_ids); !near.empty()) {
+              *hint = "did you mean \"" + near + "\"?";
+            }
+          }
+          return "unknown run_id \"" + run_id + "\" (not a run of " + truth_path.string() + ")";
         },
         [&](const std::string& run_id, const Verdict& v) {
           outputs[by_id.at(run_id)].verdicts.push_back(v);

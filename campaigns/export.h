@@ -61,7 +61,8 @@ ExportResult ExportCampaign(const Campaign& campaign, const ExportOptions& optio
 // Scores the verdicts in `verdicts_path` against the runs of `dir` (an export or a run output
 // directory of `campaign`) and writes `output_dir`/{campaign.json, results.jsonl}. Every bad
 // line (not JSON, an unknown run_id, a time outside its run, a joint that does not exist, an
-// unknown family, a non-finite magnitude) is an InputError naming the file and line.
+// unknown family, a non-finite magnitude) is listed in one InputError naming the file and each
+// line (an unknown run_id with the nearest known one); nothing is written then.
 struct ScoreResult {
   long runs = 0;
   long verdicts = 0;
@@ -69,18 +70,22 @@ struct ScoreResult {
 };
 // Reads a verdicts file (JSON Lines, as `armfault score` takes it) from `in`: each line parsed
 // strictly (core/base ParseJsonText: a duplicate key or a number beyond a double is an error
-// naming its field), read as a verdict, its run_id looked up by `run_known` (which returns why an
-// id is refused, or "" for a run it knows), checked against the run (CheckVerdict: `joints`,
-// `duration_s`, the fault `families`) and handed to `each` with its run_id. Lines of only white
-// space are skipped. The first bad line throws InputError(path, "", "line N: [pointer: ]why").
-// What the fuzzer (tests/fuzz/fuzz_verdicts.cc) drives with arbitrary bytes.
+// naming its field; a NaN or Infinity, as Python's json.dumps writes them, is explained: "write
+// null"), read as a verdict, its run_id looked up by `run_known` (which returns why an id is
+// refused, or "" for a run it knows, and may set `*hint`, "did you mean ...?", when `hint` is
+// not null), checked against the run (CheckVerdict: `joints`, `duration_s`, the fault
+// `families`) and handed to `each` with its run_id. Lines of only white space are skipped.
+// Every line is read: when any is bad, one InputError holding each bad line's
+// "PATH: line N: [pointer: ]why" (the first kMaxReportedErrors kept, the rest counted as
+// unlisted) is thrown at the end. What the fuzzer (tests/fuzz/fuzz_verdicts.cc) drives with
+// arbitrary bytes.
 struct VerdictLimits {
   int joints = 0;
   double duration_s = 0;
   std::vector<std::string> families;
 };
 void ReadVerdicts(std::istream& in, const std::string& path, const VerdictLimits& limits,
-                  const std::function<std::string(const std::string& run_id)>& run_known,
+                  const std::function<std::string(const std::string& run_id, std::string* hint)>& run_known,
                   const std::function<void(const std::string& run_id, const Verdict& verdict)>& each);
 
 ScoreResult ScoreExternalVerdicts(const CampaignSpec& campaign, const std::string& dir, const std::string& verdicts_path,

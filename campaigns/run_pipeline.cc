@@ -348,7 +348,10 @@ RunRecord ScoreRun(const PreparedRun& p, const ExecutedRun& x) {
       CheckOutput(output, p.model->joint_count(), x.result.end_time_s, FaultFamilyNames());
   if (!breach.empty()) {
     r.ok = false;
-    r.failure_reason = "monitor " + p.monitor->type() + " emitted a bad verdict: " + breach;
+    // Named by its source too (the library, the Python class): which monitor broke the contract.
+    const std::string source = p.monitor->source();
+    r.failure_reason =
+        "monitor " + p.monitor->type() + (source.empty() ? "" : " " + source) + " emitted a bad verdict: " + breach;
     return r;
   }
   // Scored from the verdicts alone, as for any monitor (core/monitors/monitor.h).

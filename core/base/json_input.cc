@@ -36,17 +36,25 @@ InputError::InputError(std::string source, std::string pointer, std::string mess
       message_(std::move(message)),
       hint_(std::move(hint)) {}
 
-InputError::InputError(const std::vector<InputError>& errors) : InputError(Flatten(errors), 0) {}
+InputError::InputError(const std::vector<InputError>& errors, size_t unlisted)
+    : InputError(Flatten(errors), unlisted + UnlistedOf(errors), 0) {}
+
+size_t InputError::UnlistedOf(const std::vector<InputError>& errors) {
+  size_t n = 0;
+  for (const InputError& e : errors) n += e.unlisted_;
+  return n;
+}
 
 // Members are set in declaration order, so `flat` is moved into all_ only after its first
 // element was copied into the others.
-InputError::InputError(std::vector<InputError> flat, int)
+InputError::InputError(std::vector<InputError> flat, size_t unlisted, int)
     : std::runtime_error(flat.at(0).what()),
       source_(flat[0].source_),
       pointer_(flat[0].pointer_),
       message_(flat[0].message_),
       hint_(flat[0].hint_),
-      all_(flat.size() > 1 ? std::make_shared<const std::vector<InputError>>(std::move(flat)) : nullptr) {}
+      all_(flat.size() > 1 ? std::make_shared<const std::vector<InputError>>(std::move(flat)) : nullptr),
+      unlisted_(unlisted) {}
 
 std::vector<InputError> InputError::Flatten(const std::vector<InputError>& errors) {
   ErrorList list;
@@ -75,24 +83,26 @@ InputError InputError::Edited(
     edit(&source, &pointer, &message);
     out.emplace_back(std::move(source), std::move(pointer), std::move(message), e.hint_);
   }
-  return InputError(out);
+  return InputError(out, unlisted_);
 }
 
 void ErrorList::Add(const InputError& e) {
   for (InputError& one : e.errors()) {
     if (seen_.emplace(one.source(), one.pointer(), one.message()).second) errors_.push_back(std::move(one));
   }
+  unlisted_ += e.unlisted();
 }
 
 void ErrorList::ThrowIfAny() const {
-  if (!errors_.empty()) throw InputError(errors_);
+  if (!errors_.empty()) throw InputError(errors_, unlisted_);
 }
 
 std::vector<std::string> ErrorReportLines(const InputError& e, size_t limit) {
   std::vector<std::string> lines;
   const std::vector<InputError> all = e.errors();
   for (size_t i = 0; i < all.size() && i < limit; ++i) lines.push_back(all[i].text());
-  if (all.size() > limit) lines.push_back("... and " + std::to_string(all.size() - limit) + " more errors");
+  const size_t rest = all.size() - lines.size() + e.unlisted();
+  if (rest > 0) lines.push_back("... and " + std::to_string(rest) + " more errors");
   return lines;
 }
 

@@ -35,7 +35,10 @@ class InputError : public std::runtime_error {
   // what(), so the message stays the same whether a hint is found or not.
   InputError(std::string source, std::string pointer, std::string message, std::string hint = "");
   // The errors in `errors` (each flattened, repeats dropped) as one; `errors` must not be empty.
-  explicit InputError(const std::vector<InputError>& errors);
+  // `unlisted`: more errors found but not kept (a reader that stops keeping them after the
+  // first kMaxReportedErrors, so that a file of a million bad lines does not hold a million
+  // messages); the command line counts them in its "... and N more errors".
+  explicit InputError(const std::vector<InputError>& errors, size_t unlisted = 0);
 
   const std::string& source() const { return source_; }
   const std::string& pointer() const { return pointer_; }
@@ -46,7 +49,8 @@ class InputError : public std::runtime_error {
 
   // Every error this one stands for, in the order found: itself, or all that were collected.
   std::vector<InputError> errors() const;
-  size_t count() const { return all_ ? all_->size() : 1; }
+  size_t count() const { return (all_ ? all_->size() : 1) + unlisted_; }
+  size_t unlisted() const { return unlisted_; }  // errors counted but not held (not in errors())
 
   // The same error(s), each without a source attributed to `source` (used where a parser did
   // not know the file name); errors that already name a file keep it.
@@ -55,11 +59,13 @@ class InputError : public std::runtime_error {
   InputError Edited(const std::function<void(std::string* source, std::string* pointer, std::string* message)>& edit) const;
 
  private:
-  InputError(std::vector<InputError> flat, int);
+  InputError(std::vector<InputError> flat, size_t unlisted, int);
   static std::vector<InputError> Flatten(const std::vector<InputError>& errors);
+  static size_t UnlistedOf(const std::vector<InputError>& errors);
 
   std::string source_, pointer_, message_, hint_;
   std::shared_ptr<const std::vector<InputError>> all_;  // null: a single error; else >= 2 single ones
+  size_t unlisted_ = 0;
 };
 
 // Collects the errors of the independent parts of one input, so a user sees every mistake in
@@ -91,6 +97,7 @@ class ErrorList {
 
  private:
   std::vector<InputError> errors_;
+  size_t unlisted_ = 0;  // the added errors' unlisted counts
   std::set<std::tuple<std::string, std::string, std::string>> seen_;  // source, pointer, message
 };
 

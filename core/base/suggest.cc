@@ -30,4 +30,24 @@ std::string NearestWord(const std::string& word, const std::vector<std::string>&
   return !best.empty() && best_distance <= allowed ? best : std::string();
 }
 
+std::string NearestId(const std::string& id, const std::vector<std::string>& ids) {
+  size_t best_prefix = 0;
+  std::vector<const std::string*> candidates;
+  for (const std::string& c : ids) {
+    const size_t prefix = static_cast<size_t>(std::mismatch(id.begin(), id.end(), c.begin(), c.end()).first - id.begin());
+    if (prefix > best_prefix) {
+      best_prefix = prefix;
+      candidates.clear();
+    }
+    if (prefix == best_prefix && candidates.size() < 1000) candidates.push_back(&c);
+  }
+  const std::string* best = nullptr;
+  size_t best_distance = 0;
+  for (const std::string* c : candidates) {
+    const size_t d = EditDistance(id, *c);
+    if (!best || d < best_distance) best = c, best_distance = d;
+  }
+  return best ? *best : std::string();
+}
+
 }  // namespace armfault

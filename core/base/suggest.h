@@ -14,4 +14,11 @@ size_t EditDistance(const std::string& a, const std::string& b);
 // of the word's letters edited); "" otherwise. Ties go to the first candidate.
 std::string NearestWord(const std::string& word, const std::vector<std::string>& candidates);
 
+// The id nearest to `id` among `ids` (run_ids: long, many, and alike but for a value or a
+// repetition near the end): among the ids sharing the longest prefix with it, the one with the
+// fewest edits (ties: the first). Always one of `ids` ("" only when there are none), however
+// far: a wrong id is named with its nearest. Bounded work for millions of ids: one prefix
+// comparison each, then edit distances to at most 1000 of them.
+std::string NearestId(const std::string& id, const std::vector<std::string>& ids);
+
 }  // namespace armfault

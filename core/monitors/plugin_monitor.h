@@ -28,6 +28,7 @@ class PluginMonitorModel : public MonitorModel {
   PluginMonitorModel(const std::string& library, const nlohmann::json& settings, const RobotConfig& robot,
                      const std::string& source, const std::string& pointer);
   std::string type() const override { return "plugin"; }
+  std::string source() const override { return library(); }
   // A new plugin instance for one run. If create returns NULL, its first Observe() throws the
   // MonitorFailure (create succeeded at load, so only a plugin that is not deterministic gets there).
   std::unique_ptr<HealthMonitor> NewMonitor() const override;

@@ -37,6 +37,9 @@ class MonitorModel {
  public:
   virtual ~MonitorModel() = default;
   virtual std::string type() const = 0;
+  // Where the monitor's code comes from, for messages: a plugin's library path, a Python
+  // monitor's "module.Class"; "" for a built-in type (its type names it).
+  virtual std::string source() const { return ""; }
   // The model of one robot unit after the monitor watched that unit's healthy commissioning
   // run (signals only). nullptr: this monitor learns nothing from commissioning.
   virtual std::shared_ptr<const MonitorModel> Commissioned(const CommissioningData& data) const {

@@ -28,6 +28,7 @@ import json
 import math
 import os
 import sys
+import warnings
 
 import numpy as _np
 
@@ -36,7 +37,8 @@ from ._armfault import (FAULT_FAMILIES, SIGNAL_FIELDS, Campaign, InputError, Ver
                         magnitude_key)
 
 __all__ = [
-    "Campaign", "FAULT_FAMILIES", "InputError", "Monitor", "SIGNAL_FIELDS", "Signals", "Statistic", "Trace",
+    "Campaign", "FAULT_FAMILIES", "InputError", "Monitor", "RunsFailed", "RunsFailedWarning", "SIGNAL_FIELDS",
+    "Signals", "Statistic", "Trace",
     "Verdict", "load_campaign", "magnitude_key", "replay", "run_campaign", "simulate", "summary",
     "with_monitor", "__version__",
 ]
@@ -226,8 +228,34 @@ def with_monitor(campaign, monitor):
     return _armfault.with_monitor(campaign, monitor, _factory_name(monitor))
 
 
-def _records(lines, as_frame):
-    records = [json.loads(line) for line in lines]
+class RunsFailed(RuntimeError):
+    """Raised by run_campaign when runs failed (a simulation that diverged, a monitor that raised
+    or emitted a bad verdict): str(e) names how many, and the first failed run (lowest case
+    number) with its reason. Attributes: failed, runs (counts), run_id and reason (the first
+    failure's), records (what run_campaign would have returned), output_dir (written first, or
+    None)."""
+
+    def __init__(self, message, failed, runs, run_id, reason, records, output_dir):
+        super().__init__(message)
+        self.failed, self.runs, self.run_id, self.reason = failed, runs, run_id, reason
+        self.records, self.output_dir = records, output_dir
+
+
+class RunsFailedWarning(UserWarning):
+    """What run_campaign(..., on_failure="warn") warns with instead of raising RunsFailed."""
+
+
+def _failure_message(records):
+    """(message, first failed record) of records in case order, or (None, None) if none failed."""
+    failed = [r for r in records if r.get("status") != "ok"]
+    if not failed:
+        return None, None
+    first = failed[0]
+    return (f"{len(failed)} of {len(records)} runs failed; first failed run {first.get('run_id')}: "
+            f"{first.get('reason')}"), first
+
+
+def _as_frame(records, as_frame):
     if as_frame is False:
         return records
     try:
@@ -247,7 +275,8 @@ def _progress_printer(done, total):
     print(f"\rarmfault: {done}/{total} runs", end="\n" if done == total else "", file=sys.stderr, flush=True)
 
 
-def run_campaign(campaign, output_dir=None, threads=0, monitor=None, *, as_frame=None, progress=None):
+def run_campaign(campaign, output_dir=None, threads=0, monitor=None, *, as_frame=None, progress=None,
+                 on_failure="raise"):
     """Runs every case of `campaign` (a Campaign, a file name or a dict) and returns the run
     records, one per run in case order: a pandas DataFrame (one column per results.jsonl key)
     when pandas can be imported, else a list of dicts (as_frame=False: always the list; True:
@@ -260,7 +289,13 @@ def run_campaign(campaign, output_dir=None, threads=0, monitor=None, *, as_frame
     Python monitor (a Monitor subclass or factory, see with_monitor), scored the same way.
     progress: a callable(done, total), called every 0.2 s and at the end, or True for a line on
     stderr. Ctrl-C stops after the runs in flight and raises KeyboardInterrupt.
+    on_failure: what happens when runs failed (their records say "status": "failed" and why),
+    after output_dir is written: "raise" (default) raises RunsFailed naming the first failed run
+    and its reason (e.records holds the records); "warn" warns (RunsFailedWarning) with the same
+    message and returns the records.
     """
+    if on_failure not in ("raise", "warn"):
+        raise ValueError(f'on_failure: expected "raise" or "warn", got {on_failure!r}')
     campaign = load_campaign(campaign)
     if monitor is not None:
         campaign = with_monitor(campaign, monitor)
@@ -274,7 +309,19 @@ def run_campaign(campaign, output_dir=None, threads=0, monitor=None, *, as_frame
         raise
     if output_dir is not None:
         _armfault.write_outputs(os.fspath(output_dir), campaign, lines, decision_lines)
-    return _records(lines, as_frame)
+    records = [json.loads(line) for line in lines]
+    message, first = _failure_message(records)
+    result = _as_frame(records, as_frame)
+    if message is not None:
+        if output_dir is not None:
+            message += f" (every failed run: failed_runs in {os.path.join(os.fspath(output_dir), 'summary.json')})"
+        if on_failure == "warn":
+            warnings.warn(message, RunsFailedWarning, stacklevel=2)
+        else:
+            raise RunsFailed(message + '; the records: e.records, or run_campaign(..., on_failure="warn")',
+                             sum(r.get("status") != "ok" for r in records), len(records), first.get("run_id"),
+                             first.get("reason"), result, output_dir)
+    return result
 
 
 def _record_line(record):

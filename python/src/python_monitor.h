@@ -49,6 +49,7 @@ class PythonMonitorModel : public MonitorModel {
   PythonMonitorModel& operator=(const PythonMonitorModel&) = delete;
 
   std::string type() const override { return "python"; }
+  std::string source() const override { return name_; }
   // Takes the GIL itself: callable from any thread, with or without it. A factory that raises
   // throws MonitorFailure (the run could not be set up, with the exception's message).
   std::unique_ptr<HealthMonitor> NewMonitor() const override;

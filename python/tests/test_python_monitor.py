@@ -35,7 +35,9 @@ class RaisesWhileJoint3Moves(armfault.Monitor):
 
 
 def test_an_exception_fails_its_run_and_the_campaign_goes_on(small):
-    records = by_run(armfault.run_campaign(small, monitor=RaisesWhileJoint3Moves, as_frame=False))
+    with pytest.warns(armfault.RunsFailedWarning, match="2 of 4 runs failed; first failed run exp1/"):
+        records = by_run(armfault.run_campaign(small, monitor=RaisesWhileJoint3Moves, as_frame=False,
+                                               on_failure="warn"))
     for run_id, r in records.items():
         if r["trajectory"] == "exp1":
             assert r["status"] == "failed", run_id
@@ -43,6 +45,26 @@ def test_an_exception_fails_its_run_and_the_campaign_goes_on(small):
                                           "RuntimeError: torque sensor lost (test_python_monitor.py:")
         else:
             assert r["status"] == "ok" and not r["detected"], run_id
+
+
+def test_failed_runs_raise_naming_the_first_failure_unless_asked_to_warn(small, tmp_path):
+    # Raised after the outputs are written; the records come with the exception.
+    with pytest.raises(armfault.RunsFailed) as e:
+        armfault.run_campaign(small, monitor=RaisesWhileJoint3Moves, output_dir=tmp_path)
+    message = str(e.value)
+    assert message.startswith("2 of 4 runs failed; first failed run exp1/kt_degradation#0/-/j3/r0: monitor python "
+                              "failed: RaisesWhileJoint3Moves.step at t_s 0.502: RuntimeError: torque sensor lost"), message
+    assert f"failed_runs in {tmp_path / 'summary.json'}" in message and 'on_failure="warn"' in message
+    assert (e.value.failed, e.value.runs, e.value.run_id) == (2, 4, "exp1/kt_degradation#0/-/j3/r0")
+    assert e.value.reason.startswith("monitor python failed: RaisesWhileJoint3Moves.step")
+    assert len(e.value.records) == 4 and e.value.output_dir == tmp_path
+    assert json.loads((tmp_path / "summary.json").read_text())["failed_runs"]["count"] == 2
+    # Warned instead: the same message, and the records returned.
+    with pytest.warns(armfault.RunsFailedWarning, match="2 of 4 runs failed; first failed run exp1/"):
+        records = armfault.run_campaign(small, monitor=RaisesWhileJoint3Moves, as_frame=False, on_failure="warn")
+    assert len(records) == 4
+    with pytest.raises(ValueError, match='on_failure: expected "raise" or "warn", got \'ignore\''):
+        armfault.run_campaign(small, monitor=RaisesWhileJoint3Moves, on_failure="ignore")
 
 
 class Garbage(armfault.Monitor):
@@ -73,9 +95,9 @@ class Garbage(armfault.Monitor):
 
 
 @pytest.mark.parametrize("kind, reason", [
-    ("joint0", "monitor python emitted a bad verdict: verdict 1 (t_s 1, joint 0): joint 0 out of range, expected 1..3"),
-    ("nan", "monitor python emitted a bad verdict: verdict 1 (t_s 1, joint 3): magnitude is not a finite number"),
-    ("backwards", "monitor python emitted a bad verdict: verdict 2 (t_s 0.5, joint 3): time goes backwards "
+    ("joint0", "monitor python test_python_monitor.Garbage emitted a bad verdict: verdict 1 (t_s 1, joint 0): joint 0 out of range, expected 1..3"),
+    ("nan", "monitor python test_python_monitor.Garbage emitted a bad verdict: verdict 1 (t_s 1, joint 3): magnitude is not a finite number"),
+    ("backwards", "monitor python test_python_monitor.Garbage emitted a bad verdict: verdict 2 (t_s 0.5, joint 3): time goes backwards "
                   "(previous verdict at 1 s)"),
     ("family", 'verdict 1 (t_s 1, joint 3): unknown fault family "gremlins"'),
     ("type", "monitor python failed: Garbage.step at t_s 1 returned a int, expected None, an armfault.Verdict "
@@ -84,10 +106,12 @@ class Garbage(armfault.Monitor):
 ])
 def test_garbage_verdicts_fail_the_run_with_the_contract_checks_reason(small, kind, reason):
     monitor = type("Garbage", (Garbage,), {"kind": kind})
-    records = armfault.run_campaign(small, monitor=monitor, as_frame=False)
+    with pytest.warns(armfault.RunsFailedWarning):
+        records = armfault.run_campaign(small, monitor=monitor, as_frame=False, on_failure="warn")
     for r in records:
         if r["trajectory"] == "exp1":
             assert r["status"] == "failed" and reason in r["reason"], (kind, r["reason"])
+            assert "Garbage" in r["reason"], (kind, r["reason"])  # names its source, the class
         else:
             assert r["status"] == "ok", (kind, r["run_id"])
 
@@ -124,7 +148,9 @@ def test_a_factory_that_raises_fails_every_run(small):
     def factory(robot):
         raise KeyError("no calibration")
 
-    records = armfault.run_campaign(small, monitor=factory, as_frame=False)
+    with pytest.raises(armfault.RunsFailed) as e:
+        armfault.run_campaign(small, monitor=factory, as_frame=False)
+    records = e.value.records
     assert all(r["status"] == "failed" for r in records)
     assert re.fullmatch(r"run could not be set up: factory\(robot\) raised KeyError: 'no calibration' "
                         r"\(test_python_monitor.py:\d+ in factory\)", records[0]["reason"]), records[0]["reason"]
@@ -245,5 +271,6 @@ class ZeroThreshold(TorqueRatioMonitor):
                     "not a number > 0"),
 ])
 def test_statistics_that_break_the_contract_fail_the_run(small, monitor, reason):
-    records = armfault.run_campaign(small, monitor=monitor, as_frame=False)
+    with pytest.warns(armfault.RunsFailedWarning):
+        records = armfault.run_campaign(small, monitor=monitor, as_frame=False, on_failure="warn")
     assert all(r["status"] == "failed" and r["reason"].startswith(reason) for r in records), records[0]["reason"]

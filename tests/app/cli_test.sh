@@ -592,7 +592,16 @@ run campaign_run_diverges "$armfault" run "$tmp/diverge.json" -o "$tmp/dv" -q
 expect_status 3
 expect_stdout_contains "ran 4 runs in "
 expect_stdout_contains " (0 resumed, 1 failed)"
-expect_stderr_contains "armfault: 1 of 4 runs failed (see $tmp/dv/summary.json)"
+expect_stderr_contains "armfault: 1 of 4 runs failed (see $tmp/dv/summary.json); first failed run swing/friction_increase#0/friction_factor=100/j1/r0: simulation diverged at t=0.5"
+# junit.xml fails a "failed runs" case that names the first failed run, its reason and its replay.
+current=campaign_run_diverges_junit
+if grep -qF '<testcase classname="failed runs" name="every run completes">' "$tmp/dv/junit.xml" &&
+  grep -qF '<failure message="1 of 4 runs failed; first failed run swing/friction_increase#0/friction_factor=100/j1/r0: simulation diverged at t=0.5' "$tmp/dv/junit.xml" &&
+  grep -qF "armfault trace campaign.json --run &apos;swing/friction_increase#0/friction_factor=100/j1/r0&apos;" "$tmp/dv/junit.xml"; then
+  pass
+else
+  fail "junit.xml does not name the first failed run: $(cat "$tmp/dv/junit.xml")"
+fi
 if [[ $(grep -c '"status":"ok"' "$tmp/dv/results.jsonl") -eq 3 ]] &&
   grep '"status":"failed"' "$tmp/dv/results.jsonl" | grep -q '"reason":"simulation diverged at t=0.5'; then pass; else
   fail "results.jsonl lacks 3 ok runs and one diverged: $(cut -c 1-300 "$tmp/dv/results.jsonl")"
@@ -620,6 +629,23 @@ else
 fi
 run commissioning_off_runs "$armfault" run "$tmp/commok.json" -o "$tmp/cok" -q
 expect_status 0
+# Every run failed, with floors: each floor says so and names the first failure (it used to say
+# "no faulty runs, nothing to measure"), is missed, and the console names the first failure.
+echo "${commfail/COMMISSIONING/true}" | sed 's/"healthy": 2,/"healthy": 2, "floors": {"detection_rate": 0.9, "false_alarm_rate": 0.1},/' \
+  >"$tmp/commfail_floors.json"
+run all_runs_failed_floors "$armfault" run "$tmp/commfail_floors.json" -o "$tmp/cff" -q
+expect_status 3
+expect_stdout_contains "floor false_alarm_rate"
+expect_stdout_contains "MISSED  false_alarm_rate: all 2 runs failed, nothing to measure (floor <= 0.100); first failed run still/healthy/0: the commissioning run of unit 0 failed: simulation diverged at t="
+expect_stderr_contains "armfault: 2 of 2 runs failed (see $tmp/cff/summary.json); first failed run still/healthy/0: the commissioning run of unit 0 failed: "
+current=all_runs_failed_floors_output
+if grep -q 'no faulty runs\|no healthy runs' "$tmp/stdout" "$tmp/cff/summary.json" "$tmp/cff/junit.xml"; then
+  fail "a floor still says there were no runs: $(grep -h 'no faulty runs\|no healthy runs' "$tmp/stdout" "$tmp/cff/summary.json")"
+elif grep -q '"floors_met": false' "$tmp/cff/summary.json" && grep -qF 'all 2 runs failed' "$tmp/cff/junit.xml"; then
+  pass
+else
+  fail "summary.json or junit.xml does not fail the floors of a campaign whose every run failed"
+fi
 
 # ------------------------------------------------------------------ export and score
 cat >"$tmp/exp.json" <<'JSON'
@@ -647,6 +673,23 @@ expect_status 0
 printf '{"run_id": "%s", "t_s": 7, "joint": 3, "family": "kt_degradation", "alarm": true, "magnitude": 0.6}\n' "$id" >"$tmp/late.jsonl"
 run score_rejects_a_time_outside_the_run "$armfault" score "$tmp/exp" "$tmp/late.jsonl" -o "$tmp/scored2"
 expect_input_error "$tmp/late.jsonl: line 1: t_s 7 outside the run [0, 3] s"
+# Every bad line at once (up to 20, then how many more), in one error (exit 2): a run_id with a
+# typo names the nearest one; Python's NaN is explained; 23 more bad lines after those.
+{
+  printf '{"run_id": "%sx", "t_s": 1.5, "joint": 3, "alarm": false}\n' "$id"
+  printf '{"run_id": "%s", "t_s": 1.5, "joint": 3, "alarm": true, "family": "kt_degradation", "magnitude": NaN}\n' "$id"
+  for k in $(seq 1 23); do printf '{"run_id": "%s", "t_s": 1.5, "joint": 9, "alarm": false}\n' "$id"; done
+} >"$tmp/many_bad.jsonl"
+run score_lists_every_bad_line "$armfault" score "$tmp/exp" "$tmp/many_bad.jsonl" -o "$tmp/scored3"
+expect_status 2
+expect_stderr_contains "armfault: error: $tmp/many_bad.jsonl: line 1: unknown run_id \"${id}x\" (not a run of $tmp/exp/manifest.jsonl); did you mean \"$id\"?"
+expect_stderr_contains "armfault: error: $tmp/many_bad.jsonl: line 2: /magnitude: NaN is not JSON; write null (Python's json.dumps writes float(\"nan\") as NaN"
+expect_stderr_contains "armfault: error: $tmp/many_bad.jsonl: line 20: joint 9 out of range, expected 1..3"
+expect_stderr_contains "armfault: error: ... and 5 more errors"
+current=score_lists_every_bad_line_count
+if [[ $(grep -c '^armfault: error: ' "$tmp/stderr") -eq 21 && ! -e "$tmp/scored3/results.jsonl" ]]; then pass; else
+  fail "expected 20 error lines and the 'more' line, and nothing written: $(head -c 600 "$tmp/stderr")"
+fi
 run export_rejects_a_bad_split "$armfault" export "$tmp/exp.json" -o "$tmp/exp2" --split 0.9/0.2/0.1 -q
 expect_input_error "armfault: error: --split: expected TRAIN/VALIDATION/TEST fractions summing to 1"
 

@@ -14,6 +14,7 @@ namespace {
 
 using ::testing::ElementsAre;
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 const char kKt[] = "kt_degradation";
 const char kStuck[] = "torque_sensor_stuck";
@@ -429,6 +430,73 @@ TEST(CampaignSummaryJUnitTest, OneSuitePerFamilyOneCasePerGroupAndTrajectoryWith
   EXPECT_THAT(xml, HasSubstr("--run &apos;exp1/healthy/0&apos;"));
   // The floors suite comes first, and the totals count every case: 3 floors + 3 group cases.
   EXPECT_THAT(xml, HasSubstr("<testsuites name=\"armfault: c\" tests=\"5\" failures=\"4\">"));
+}
+
+// Failed runs are a failing JUnit case naming the first failure (lowest case number, whatever
+// the order of the records) with its reason and the command that replays it.
+TEST(CampaignSummaryJUnitTest, FailedRunsNameTheFirstFailureAndItsReason) {
+  auto failed = [](const std::string& id, long case_index, const std::string& why) {
+    RunRecord r = Healthy(id, false);
+    r.case_index = case_index;
+    r.ok = false;
+    r.failure_reason = why;
+    return r;
+  };
+  std::vector<RunRecord> v = {failed("b/late", 7, "timeout"), Healthy("ok/0", false),
+                              failed("z/first", 2, "simulation diverged at t=0.5 s"), failed("a/mid", 5, "other")};
+  for (int pass = 0; pass < 2; ++pass) {
+    const SummaryBuilder b = BuilderOf(v);
+    EXPECT_EQ(b.first_failure().run_id, "z/first");
+    EXPECT_EQ(b.FirstFailureText(), "run z/first: simulation diverged at t=0.5 s");
+    const std::string xml = JUnitXml("c", b, Floors{}, "campaign.json");
+    EXPECT_THAT(xml, HasSubstr("<testsuite name=\"failed runs\" tests=\"1\" failures=\"1\">"));
+    EXPECT_THAT(xml, HasSubstr("<testcase classname=\"failed runs\" name=\"every run completes\">"));
+    EXPECT_THAT(xml, HasSubstr("<failure message=\"3 of 4 runs failed; first failed run z/first: simulation "
+                               "diverged at t=0.5 s\">"));
+    EXPECT_THAT(xml, HasSubstr("armfault trace campaign.json --run &apos;z/first&apos;"));
+    // "no floors" and the failed runs, one failure.
+    EXPECT_THAT(xml, HasSubstr("<testsuites name=\"armfault: c\" tests=\"3\" failures=\"1\">"));
+    std::reverse(v.begin(), v.end());
+  }
+  // No failed run: no such suite (the junit.xml of a campaign without failures is unchanged).
+  EXPECT_EQ(JUnitXml("c", BuilderOf({Healthy("ok/0", false)}), Floors{}, "campaign.json").find("failed runs"),
+            std::string::npos);
+  EXPECT_EQ(BuilderOf({Healthy("ok/0", false)}).FirstFailureText(), "");
+}
+
+// Every run failed: each floor says so (not "no faulty runs"), names the first failure, and is
+// not met; a campaign with some runs left keeps the usual message.
+TEST(CampaignSummaryTest, FloorsOfACampaignWhoseEveryRunFailedSaySo) {
+  SummaryBuilder b;
+  for (int k = 0; k < 4; ++k) {
+    RunRecord r = k < 2 ? Faulty("kt/" + std::to_string(k), kKt, 2, kKtGroup) : Healthy("h/" + std::to_string(k), false);
+    r.case_index = k;
+    r.ok = false;
+    r.failure_reason = "monitor plugin failed: lib.so: step returned error: boom";
+    b.Add(r);
+  }
+  Floors floors;
+  floors.overall.detection_rate = 0.9;
+  floors.overall.false_alarm_rate = 0.1;
+  floors.per_family[kKt].isolation_accuracy = 0.5;
+  const std::vector<FloorVerdict> verdicts = b.Verdicts(floors);
+  ASSERT_EQ(verdicts.size(), 3u);
+  for (const FloorVerdict& v : verdicts) {
+    EXPECT_FALSE(v.met) << v.name;
+    EXPECT_FALSE(v.measured) << v.name;
+    EXPECT_THAT(v.message, HasSubstr(v.name + ": all 4 runs failed, nothing to measure (floor "));
+    EXPECT_THAT(v.message, HasSubstr("; first failed run kt/0: monitor plugin failed: lib.so: step returned error: boom"));
+    EXPECT_THAT(v.message, Not(HasSubstr("no faulty runs")));
+  }
+  EXPECT_THAT(verdicts[1].message, HasSubstr("(floor <= 0.100)"));
+  EXPECT_THAT(JUnitXml("c", b, floors, "campaign.json"), HasSubstr("detection_rate: all 4 runs failed"));
+
+  SummaryBuilder some;
+  RunRecord f = Faulty("kt/0", kKt, 2, kKtGroup);
+  f.ok = false;
+  some.Add(f);
+  some.Add(Healthy("h/1", false));
+  EXPECT_THAT(some.Verdicts(floors)[0].message, HasSubstr("detection_rate: no faulty runs, nothing to measure"));
 }
 
 TEST(CampaignSummaryJUnitTest, NoFloorsIsOnePassingCase) {

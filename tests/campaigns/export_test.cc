@@ -21,6 +21,7 @@ namespace {
 
 using nlohmann::json;
 using testing::HasSubstr;
+using testing::Not;
 using testing_support::ErrorOf;
 using testing_support::ScratchDir;
 
@@ -212,6 +213,50 @@ TEST(Score, BadVerdictLinesNameTheLine) {
               HasSubstr("line 2: /magnitud"));
   // Nothing written in place of a good output.
   EXPECT_FALSE(std::filesystem::exists(dir.path() / "s" / "results.jsonl"));
+}
+
+// Every bad line in one error (the first 20 listed, the rest counted), an unknown run_id with
+// the nearest known one, and Python's NaN explained; good lines between bad ones change nothing.
+TEST(Score, EveryBadLineIsListedInOneErrorWithHints) {
+  const Campaign c = Small();
+  ScratchDir dir("score_every_bad");
+  ExportOptions o;
+  o.output_dir = (dir.path() / "x").string();
+  ExportCampaign(c, o);
+  const std::string id = ReadLines(dir.path() / "x" / "manifest.jsonl")[0]["run_id"];
+  const std::string good = json{{"run_id", id}, {"t_s", 1.5}, {"joint", 3}, {"family", "kt_degradation"},
+                                {"alarm", true}, {"magnitude", 0.6}}.dump();
+  std::string text = good + "\n";
+  // Line 2: a typo in the run_id; 3: Python's NaN; 4: Infinity; 5..29: 25 joints out of range.
+  const std::string typo = id + "x";
+  text += json{{"run_id", typo}, {"t_s", 1}, {"joint", 3}, {"alarm", false}}.dump() + "\n";
+  text += "{\"run_id\": \"" + id + "\", \"t_s\": 1, \"joint\": 3, \"alarm\": false, \"magnitude\": NaN}\n";
+  text += "{\"run_id\": \"" + id + "\", \"t_s\": 1, \"joint\": 3, \"alarm\": false, \"confidence\": -Infinity}\n";
+  for (int k = 0; k < 25; ++k) {
+    text += json{{"run_id", id}, {"t_s", 1}, {"joint", 10 + k}, {"alarm", false}}.dump() + "\n" + good + "\n";
+  }
+  const std::string path = dir.Write("v.jsonl", text);
+  const InputError e =
+      ErrorOf([&] { ScoreExternalVerdicts(c, (dir.path() / "x").string(), path, (dir.path() / "s").string()); });
+  EXPECT_EQ(e.count(), 28u);  // 3 + 25
+  const std::vector<InputError> listed = e.errors();
+  ASSERT_EQ(listed.size(), kMaxReportedErrors);
+  EXPECT_THAT(listed[0].what(), HasSubstr("v.jsonl: line 2: unknown run_id \"" + typo + "\""));
+  EXPECT_EQ(listed[0].hint(), "did you mean \"" + id + "\"?");
+  EXPECT_THAT(listed[1].what(), HasSubstr("v.jsonl: line 3: /magnitude: NaN is not JSON; write null (Python's json.dumps"));
+  EXPECT_THAT(listed[2].what(), HasSubstr("line 4: /confidence: -Infinity is not JSON; write null or a finite number"));
+  EXPECT_THAT(listed[3].what(), HasSubstr("line 5: joint 10 out of range, expected 1..3"));
+  EXPECT_THAT(listed[19].what(), HasSubstr("line 37: joint 26 out of range"));
+  const std::vector<std::string> lines = ErrorReportLines(e);
+  ASSERT_EQ(lines.size(), kMaxReportedErrors + 1);
+  EXPECT_EQ(lines.back(), "... and 8 more errors");
+  EXPECT_FALSE(std::filesystem::exists(dir.path() / "s" / "results.jsonl"));
+  // Not JSON for another reason: the parser's message, no NaN advice ("NaN" in a string is text).
+  const std::string other = dir.Write("w.jsonl", "{\"run_id\": \"NaN\", \"t_s\": 1,, }\n");
+  const InputError e2 =
+      ErrorOf([&] { ScoreExternalVerdicts(c, (dir.path() / "x").string(), other, (dir.path() / "s").string()); });
+  EXPECT_THAT(e2.what(), HasSubstr("line 1: not valid JSON"));
+  EXPECT_THAT(e2.what(), Not(HasSubstr("write null")));
 }
 
 }  // namespace

@@ -19,7 +19,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     std::map<std::string, MonitorOutput> runs;
     ReadVerdicts(
         in, fuzz::kSource, {3, 4.0, families},
-        [](const std::string& run_id) { return run_id == "unknown" ? std::string("unknown run_id") : std::string(); },
+        [](const std::string& run_id, std::string* hint) {
+          if (run_id != "unknown") return std::string();
+          if (hint) *hint = "did you mean \"known\"?";
+          return std::string("unknown run_id");
+        },
         [&](const std::string& run_id, const Verdict& v) { runs[run_id].verdicts.push_back(v); });
     for (auto& [run_id, output] : runs) {
       std::stable_sort(output.verdicts.begin(), output.verdicts.end(),

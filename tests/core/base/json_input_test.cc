@@ -135,6 +135,33 @@ TEST(JsonInputErrorReport, OneLinePerErrorUpToTheLimitThenHowManyMore) {
   EXPECT_EQ(ErrorReportLines(InputError(many)).size(), kMaxReportedErrors);
 }
 
+// Errors counted but not kept (a reader of a long file keeps the first ones only) are in the
+// "more" line and the count, and survive being collected again or edited.
+TEST(JsonInputErrorReport, UnlistedErrorsAreCountedInTheMoreLine) {
+  std::vector<InputError> kept;
+  for (int i = 0; i < 20; ++i) kept.emplace_back("v.jsonl", "", "line " + std::to_string(i + 1) + ": bad");
+  const InputError e(kept, 1000);
+  EXPECT_EQ(e.count(), 1020u);
+  EXPECT_EQ(e.unlisted(), 1000u);
+  EXPECT_EQ(e.errors().size(), 20u);
+  std::vector<std::string> lines = ErrorReportLines(e);
+  ASSERT_EQ(lines.size(), 21u);
+  EXPECT_EQ(lines[19], "v.jsonl: line 20: bad");
+  EXPECT_EQ(lines[20], "... and 1000 more errors");
+  ErrorList list;
+  list.Add(e);
+  try {
+    list.ThrowIfAny();
+    ADD_FAILURE() << "no throw";
+  } catch (const InputError& again) {
+    EXPECT_EQ(again.count(), 1020u);
+  }
+  EXPECT_EQ(e.WithSource("x").count(), 1020u);
+  // Fewer kept than the limit: the unlisted ones are still said.
+  lines = ErrorReportLines(InputError({InputError("v.jsonl", "", "line 1: bad")}, 3));
+  EXPECT_EQ(lines, (std::vector<std::string>{"v.jsonl: line 1: bad", "... and 3 more errors"}));
+}
+
 TEST(JsonInputDescribe, DumpsShortValuesAndCutsLongOnes) {
   EXPECT_EQ(Describe(json("abc")), "\"abc\"");
   EXPECT_EQ(Describe(json{1, 2}), "[1,2]");

@@ -158,7 +158,8 @@ TEST(PluginMonitor, ScoredFromItsVerdictsLikeAnyMonitor) {
 
 TEST(PluginMonitor, ErrorsAndGarbageFailTheRunWithTheReasonAndTheCampaignGoesOn) {
   const std::vector<std::pair<std::string, std::string>> garbage = {
-      {"joint0", "monitor plugin emitted a bad verdict: verdict 1 (t_s 1, joint 0): joint 0 out of range, expected 1..3"},
+      {"joint0", std::string("monitor plugin ") + kTest +
+                     " emitted a bad verdict: verdict 1 (t_s 1, joint 0): joint 0 out of range, expected 1..3"},
       {"nan", "magnitude is not a finite number"},
       {"backwards", "time goes backwards"},
       {"bad_state", ": verdict 1: state 7, expected 0 (healthy), 1 (worn) or 2 (defective)"},
@@ -183,6 +184,8 @@ TEST(PluginMonitor, ErrorsAndGarbageFailTheRunWithTheReasonAndTheCampaignGoesOn)
       if (record["status"] != "failed") continue;
       ++failed;
       EXPECT_THAT(record["reason"].get<std::string>(), HasSubstr(message)) << mode;
+      // Every monitor error names its source: the library.
+      EXPECT_THAT(record["reason"].get<std::string>(), HasSubstr(kTest)) << mode;
     }
     EXPECT_EQ(failed, r.failed) << mode;
   }
