@@ -28,7 +28,7 @@ Command AddTraceCommand(CLI::App& app) {
   auto o = std::make_shared<armfault::TraceOptions>();
   CLI::App* cmd = app.add_subcommand("trace", "simulate one run and write its time series as CSV");
   cmd->add_option("run", o->run_file, "run JSON file (default: thesis experiment 1), or a campaign with --run");
-  cmd->add_option("--robot", o->robot, "robot preset (mrr-config1, pendulum)");
+  cmd->add_option("--robot", o->robot, "robot preset (mrr-config1, pendulum, ur-class)");
   cmd->add_option("--duration", o->duration_s, "duration [s]");
   cmd->add_option("--seed", o->seed, "noise seed");
   cmd->add_option("--joint", o->joint_specs,

@@ -79,6 +79,14 @@ std::map<int, std::shared_ptr<const Trajectory>> JointTrajectoriesFromJson(
       out[joint] = std::move(trajectory);
     });
   }
+  // A joint without a trajectory rests at 0: its range must hold it (a URDF joint's need not).
+  for (int joint = 1; joint <= n; ++joint) {
+    const ModuleParams& m = robot.modules[joint - 1];
+    if (out.count(joint) || joints.contains(std::to_string(joint)) || (m.min_angle_deg <= 0 && 0 <= m.max_angle_deg)) continue;
+    errors.Add(InputError("", pointer, "joint " + std::to_string(joint) + " has no trajectory and would rest at 0 deg, " +
+                                           "outside its range [" + FormatNumber(m.min_angle_deg) + ", " +
+                                           FormatNumber(m.max_angle_deg) + "] deg: give it one (a \"hold\" inside the range)"));
+  }
   errors.ThrowIfAny();
   return out;
 }

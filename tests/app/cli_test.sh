@@ -87,7 +87,7 @@ expect_status 2
 
 run unknown_preset "$armfault" trace --robot nope -q -o "$tmp/x.csv"
 expect_input_error 'unknown robot preset "nope"' \
-  'armfault: error: <command line>: /robot: unknown robot preset "nope" (known: mrr-config1, pendulum)'
+  'armfault: error: <command line>: /robot: unknown robot preset "nope" (known: mrr-config1, pendulum, ur-class)'
 
 printf '{"robot": "mrr-config1", "duraton_s": 1}\n' >"$tmp/unknown_key.json"
 run unknown_key "$armfault" trace "$tmp/unknown_key.json" -q -o "$tmp/x.csv"

@@ -237,7 +237,7 @@ TEST(CampaignParseAllErrors, DependentChecksAreSkipped) {
   bad["faults"][0]["kt_factor"] = {0.9, 1.7};                             // needs the robot: skipped
   EXPECT_THAT(Texts(ErrorOf([&] { Parse(bad); })),
               testing::ElementsAre(
-                  "c.json: /robot: unknown robot preset \"mrr-config9\" (known: mrr-config1, pendulum)",
+                  "c.json: /robot: unknown robot preset \"mrr-config9\" (known: mrr-config1, pendulum, ur-class)",
                   "c.json: /trajectories/0/joints/3/omega_rad_s: expected a number, got string \"fast\"",
                   "c.json: /faults/1/family: unknown fault family \"friction_increse\" (known: kt_degradation, "
                   "friction_increase, brake_lock, torque_sensor_stuck, inverter_short, winding_resistance, "

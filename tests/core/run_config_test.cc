@@ -98,5 +98,19 @@ TEST(SampleMotion, FlagsNonFiniteSamplesAndFindsPeaks) {
   EXPECT_FALSE(SampleMotion(*nan, 1.0).finite);
 }
 
+TEST(JointRange, AJointWithoutTrajectoryMustRestInsideItsRange) {
+  json robot = {{"modules", {{{"type", "MRR2"}}, {{"type", "MRR2"}, {"min_angle_deg", 10}, {"max_angle_deg", 90}}}},
+                {"links", {json::object(), json::object()}}};
+  InputContext ctx;
+  ctx.source = "run.json";
+  const json hold = {{"type", "hold"}, {"angle_deg", 45}};
+  const InputError e =
+      ErrorOf([&] { RunConfigFromJson({{"robot", robot}, {"duration_s", 2}, {"joints", {{"1", hold}}}}, "", ctx); });
+  EXPECT_EQ(e.pointer(), "/joints");
+  EXPECT_EQ(e.message(), "joint 2 has no trajectory and would rest at 0 deg, outside its range [10, 90] deg: "
+                         "give it one (a \"hold\" inside the range)");
+  EXPECT_NO_THROW(RunConfigFromJson({{"robot", robot}, {"duration_s", 2}, {"joints", {{"2", hold}}}}, "", ctx));
+}
+
 }  // namespace
 }  // namespace armfault

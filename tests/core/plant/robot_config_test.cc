@@ -30,15 +30,17 @@ json TwoJoints() { return {{"modules", {json::object(), json::object()}}, {"link
 // ---------------------------------------------------------------- presets
 
 TEST(RobotConfigPresets, NamesInTableOrder) {
-  EXPECT_THAT(RobotPresetNames(), ElementsAre("mrr-config1", "pendulum"));
+  EXPECT_THAT(RobotPresetNames(), ElementsAre("mrr-config1", "pendulum", "ur-class"));
 }
 
-TEST(RobotConfigPresets, EveryPresetValidatesAndHasOneLinkPerModule) {
+TEST(RobotConfigPresets, EveryPresetValidatesAndHasOneBodyPerModule) {
   for (const std::string& name : RobotPresetNames()) {
     const RobotConfig r = RobotPreset(name);
     EXPECT_EQ(r.name, name);
     EXPECT_FALSE(r.modules.empty()) << name;
-    EXPECT_EQ(r.links.size(), r.modules.size()) << name;
+    // One link (the shorthand) or one body (the general form, a URDF robot) per module.
+    EXPECT_EQ(r.links.empty() ? r.bodies.size() : r.links.size(), r.modules.size()) << name;
+    EXPECT_TRUE(r.links.empty() || r.bodies.empty()) << name;
     EXPECT_NO_THROW(Validate(r, "")) << name;
     EXPECT_NO_THROW(Validate(r, "/robot")) << name;
     // A preset name is also accepted as the robot JSON.
@@ -104,10 +106,10 @@ TEST(RobotConfigPresets, PendulumIsOneHangingLink) {
 TEST(RobotConfigPresets, UnknownPresetListsTheKnownOnes) {
   InputError e = ErrorOf([] { RobotPreset("nope", "/robot"); });
   EXPECT_EQ(e.pointer(), "/robot");
-  EXPECT_EQ(e.message(), "unknown robot preset \"nope\" (known: mrr-config1, pendulum)");
+  EXPECT_EQ(e.message(), "unknown robot preset \"nope\" (known: mrr-config1, pendulum, ur-class)");
   e = RobotError(json("mrr-config2"), "/robot");
   EXPECT_EQ(e.pointer(), "/robot");
-  EXPECT_THAT(e.message(), HasSubstr("unknown robot preset \"mrr-config2\" (known: mrr-config1, pendulum)"));
+  EXPECT_THAT(e.message(), HasSubstr("unknown robot preset \"mrr-config2\" (known: mrr-config1, pendulum, ur-class)"));
   // Preset names are case-sensitive.
   EXPECT_EQ(RobotError(json("MRR-CONFIG1")).pointer(), "");
 }
@@ -118,7 +120,7 @@ TEST(RobotConfigPresets, ModuleDefaultsByType) {
   EXPECT_EQ(ModuleDefaults("MRR1", "").motor.kt_Nm_per_A, 0.12);
   const InputError e = ErrorOf([] { ModuleDefaults("mrr2", "/modules/4/type"); });
   EXPECT_EQ(e.pointer(), "/modules/4/type");
-  EXPECT_EQ(e.message(), "unknown module type \"mrr2\" (known: MRR1, MRR2)");
+  EXPECT_EQ(e.message(), "unknown module type \"mrr2\" (known: MRR1, MRR2, industrial-small, industrial-large)");
 }
 
 // ---------------------------------------------------------------- RobotFromJson
@@ -278,7 +280,7 @@ TEST(RobotConfigErrors, EveryBadModuleLinkAndFieldIsReported) {
               ElementsAre("/robot/modules/0/motr: unknown key \"motr\"; did you mean \"motor\"?",
                           "/robot/modules/0/inverter/bus_voltage_V: -1 must be greater than 0",
                           "/robot/modules/0/inverter/pwm_frequency_Hz: 0 must be greater than 0",
-                          "/robot/modules/1/type: unknown module type \"MRR3\" (known: MRR1, MRR2)",
+                          "/robot/modules/1/type: unknown module type \"MRR3\" (known: MRR1, MRR2, industrial-small, industrial-large)",
                           "/robot/modules/1/encoder/counts_per_rev: expected a whole number, got 2.5",
                           "/robot/links/1/mass_kg: 0 is outside [0.001, 1000]",
                           "/robot/links/1/direction: the link direction must not be the zero vector",
@@ -304,7 +306,7 @@ TEST(RobotConfigErrors, UnknownModuleType) {
   j["modules"][0]["type"] = "MRR3";
   InputError e = RobotError(j);
   EXPECT_EQ(e.pointer(), "/modules/0/type");
-  EXPECT_EQ(e.message(), "unknown module type \"MRR3\" (known: MRR1, MRR2)");
+  EXPECT_EQ(e.message(), "unknown module type \"MRR3\" (known: MRR1, MRR2, industrial-small, industrial-large)");
   j["modules"][0]["type"] = 1;
   e = RobotError(j);
   EXPECT_EQ(e.pointer(), "/modules/0/type");
@@ -396,11 +398,14 @@ TEST(RobotConfigErrors, JointRange) {
   InputError e = RobotError(j);
   EXPECT_EQ(e.pointer(), "/modules/1/max_angle_deg");
   EXPECT_THAT(e.message(), HasSubstr("deg is empty"));
-  // The range must contain the zero pose.
+  // The range need not contain the zero pose (URDF arms have joints limited to one side of
+  // it; a joint resting at 0 outside its range is the run's error: run_config_test.cc).
   j["modules"][1] = {{"min_angle_deg", 10}};
+  EXPECT_NO_THROW(RobotFromJson(j, ""));
+  j["modules"][1] = {{"min_angle_deg", -400}};
   e = RobotError(j);
   EXPECT_EQ(e.pointer(), "/modules/1/min_angle_deg");
-  EXPECT_EQ(e.message(), "10 is outside [-360, 0]");
+  EXPECT_EQ(e.message(), "-400 is outside [-360, 360]");
   j["modules"][1] = {{"max_angle_deg", 400}};
   EXPECT_EQ(RobotError(j).pointer(), "/modules/1/max_angle_deg");
 }
