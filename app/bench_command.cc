@@ -22,6 +22,7 @@
 #include "campaigns/runner.h"
 #include "core/monitors/detector_statistics.h"
 #include "core/monitors/power_monitor.h"
+#include "core/plant/robot_config.h"
 #include "core/plant/simulation.h"
 
 namespace armfault {
@@ -149,17 +150,46 @@ int BenchLengthCommand(const std::vector<double>& durations_s, int repeats) {
   return 0;
 }
 
-int BenchCommand(int repeats) {
-  const Campaign campaign = DefaultCampaign();
+namespace {
+
+// Healthy 10-s runs of `robot` with every joint moving (a sine pair at its own frequency, 20 deg
+// or 40 % of the half range where that is less; a joint whose range excludes 0 holds its middle).
+Campaign RobotBenchCampaign(const RobotConfig& robot) {
+  nlohmann::json joints = nlohmann::json::object();
+  for (size_t i = 0; i < robot.modules.size(); ++i) {
+    const ModuleParams& m = robot.modules[i];
+    if (m.min_angle_deg < 0 && m.max_angle_deg > 0) {
+      const double amplitude = std::min(20.0, 0.4 * std::min(-m.min_angle_deg, m.max_angle_deg));
+      joints[std::to_string(i + 1)] = {{"type", "sine_pair"}, {"amplitude_deg", amplitude},
+                                       {"omega_rad_s", 0.8 + 0.15 * static_cast<double>(i)}};
+    } else {
+      joints[std::to_string(i + 1)] = {{"type", "hold"}, {"angle_deg", 0.5 * (m.min_angle_deg + m.max_angle_deg)}};
+    }
+  }
+  const nlohmann::json j = {{"name", "bench-" + robot.name},
+                            {"seed", 7},
+                            {"robot", RobotToJson(robot)},
+                            {"duration_s", 10},
+                            {"trajectories", {{{"name", "all"}, {"joints", joints}}}},
+                            {"faults", nlohmann::json::array()},
+                            {"healthy", 4},
+                            {"monitor", nlohmann::json::object()}};
+  return CampaignFromJson(j, "<bench --robot>", ".");
+}
+
+}  // namespace
+
+int BenchCommand(int repeats, const std::string& robot_argument) {
+  const Campaign campaign = robot_argument.empty() ? DefaultCampaign() : RobotBenchCampaign(ReadRobotArgument(robot_argument));
   const std::vector<CaseSpec> cases = ExpandCases(campaign);
   const ArmModel model(campaign.robot);
   const CaseSpec& healthy = cases.back();
   const auto [bare, bare_rows, full] = LeastCpuSeconds<3>(
       repeats, {[&] { StepBareOde(model, campaign.duration_s, false); },
                 [&] { StepBareOde(model, campaign.duration_s, true); }, [&] { RunCase(campaign, healthy); }});
-  std::printf("one %.0f-s run of %s (monitor in the loop): %.2f ms; bare ODE bodies, hinges and gears: %.2f ms; "
+  std::printf("one %.0f-s run of %s, %d joints (monitor in the loop): %.2f ms; bare ODE bodies, hinges and gears: %.2f ms; "
               "with the friction rows: %.2f ms (least CPU time of %d rounds)\n",
-              campaign.duration_s, campaign.robot.name.c_str(), 1e3 * full, 1e3 * bare, 1e3 * bare_rows, repeats);
+              campaign.duration_s, campaign.robot.name.c_str(), static_cast<int>(campaign.robot.modules.size()), 1e3 * full, 1e3 * bare, 1e3 * bare_rows, repeats);
   std::printf("ratio: %.2f\n", full / bare);
   std::printf("ratio against bare ODE with the friction rows: %.2f\n", full / bare_rows);
 

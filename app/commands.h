@@ -29,6 +29,19 @@ int RunTrace(const TraceOptions& options);
 // 2 for an unknown run_id (the message suggests the nearest one).
 int TraceCampaignCase(const TraceOptions& options);
 
+struct RobotCommandOptions {
+  std::string robot;     // a preset name or a JSON file (a robot, or a run or campaign file)
+  std::string urdf_dir;  // empty: print the robot in full; else write NAME.urdf and NAME.robot.json here
+};
+// A robot named on the command line: a preset name, or a JSON file holding a robot (the robot
+// itself, or a run or campaign file: its "robot"); relative paths inside it are relative to the
+// file. Throws InputError.
+struct RobotConfig;
+RobotConfig ReadRobotArgument(const std::string& what);
+// Prints the robot with every key filled in, or writes it as a URDF plus a robot file naming it
+// and its drives (read back, the same plant). 0, or 2 for bad input.
+int RobotCommand(const RobotCommandOptions& options);
+
 struct ThesisOptions {
   std::string output_dir = "out";
   unsigned long long seed = 1;
@@ -123,8 +136,9 @@ struct TuneCommandOptions {
 // Writes DIR/tuning.json and the tuned monitor; 0, or 2 on bad input.
 int TuneCommand(const TuneCommandOptions& options);
 
-// Prints the cost of a run against bare ODE ("ratio: X") and "parallel efficiency: Y".
-int BenchCommand(int repeats);
+// Prints the cost of a run against bare ODE ("ratio: X") and "parallel efficiency: Y": of the
+// thesis sweep on mrr-config1, or of healthy 10-s runs of `robot` (a preset or a robot file).
+int BenchCommand(int repeats, const std::string& robot = "");
 
 // `bench --duration S ...` (or `--shift`: 10 s, 10 min, 1 h): for each length S, in a process of
 // its own (forked, so each peak is that length's alone), the least CPU time of `repeats` runs

@@ -120,6 +120,7 @@ Command AddBenchCommand(CLI::App& app) {
     int repeats = 0;
     std::vector<double> durations_s;
     bool shift = false;
+    std::string robot;
   };
   auto o = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("bench", "cost of a run against bare ODE stepping, and parallel throughput; "
@@ -131,14 +132,28 @@ Command AddBenchCommand(CLI::App& app) {
                   "memory and time per simulated second")
       ->check(CLI::Range(0.002, 3600.0));
   cmd->add_flag("--shift", o->shift, "the same for 10 s, 10 min and 1 h");
+  cmd->add_option("--robot", o->robot,
+                  "measure healthy 10-s runs of this robot, every joint moving (a preset or a robot JSON file) "
+                  "instead of the thesis sweep on mrr-config1");
   return {cmd, [o] {
             if (o->shift || !o->durations_s.empty()) {
               std::vector<double> d = o->durations_s;
               if (o->shift) d.insert(d.end(), {10.0, 600.0, 3600.0});
               return armfault::BenchLengthCommand(d, o->repeats > 0 ? o->repeats : 3);
             }
-            return armfault::BenchCommand(o->repeats > 0 ? o->repeats : 10);
+            return armfault::BenchCommand(o->repeats > 0 ? o->repeats : 10, o->robot);
           }};
+}
+
+Command AddRobotCommand(CLI::App& app) {
+  auto o = std::make_shared<armfault::RobotCommandOptions>();
+  CLI::App* cmd = app.add_subcommand("robot", "print a robot in full (every key filled in), or write it as a URDF and "
+                                              "a robot file with its drives");
+  cmd->add_option("robot", o->robot, "a robot preset (mrr-config1, pendulum, ur-class) or a JSON file: a robot, "
+                                     "or a run or campaign file (its \"robot\")")
+      ->required();
+  cmd->add_option("--urdf", o->urdf_dir, "write NAME.urdf and NAME.robot.json into this directory");
+  return {cmd, [o] { return armfault::RobotCommand(*o); }};
 }
 
 Command AddThesisCommand(CLI::App& app) {
@@ -238,6 +253,7 @@ int main(int argc, char** argv) {
       AddValidateCommand(app),
       AddMergeCommand(app),
       AddBenchCommand(app),
+      AddRobotCommand(app),
       AddThesisCommand(app),
       AddDiffCommand(app),
       AddReportCommand(app),

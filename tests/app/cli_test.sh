@@ -769,5 +769,29 @@ sed 's/"monitor_us_per_tick": 0.000001/"monitor_us_per_tick": 0/' "$tmp/cost_low
 run monitor_cost_floor_zero "$armfault" run "$tmp/cost_zero.json" -o "$tmp/cost_zero" -q
 expect_input_error "$tmp/cost_zero.json: /floors/monitor_us_per_tick: expected the monitor's mean time per tick in microseconds, > 0, got 0"
 
+
+# `armfault robot` (issue 23): a robot in full; written as a URDF and read back, the same plant:
+# the ci campaign on mrr-config1 from its written URDF detects and names exactly the same runs.
+run robot_full "$armfault" robot ur-class
+expect_status 0
+expect_stdout_contains '"joint_name": "wrist_3"'
+run robot_unknown "$armfault" robot nope
+expect_input_error '<command line>: robot: "nope" is neither a robot preset (mrr-config1, pendulum, ur-class) nor a file'
+mkdir -p "$tmp/urdf_rt"
+run robot_urdf "$armfault" robot mrr-config1 --urdf "$tmp/urdf_rt"
+expect_status 0
+/usr/bin/python3 - "$src/campaigns/files/ci.json" "$tmp/urdf_rt/mrr-config1.robot.json" "$tmp/urdf_rt/ci-urdf.json" <<'PY'
+import json, sys
+c = json.load(open(sys.argv[1])); c["robot"] = json.load(open(sys.argv[2])); c["name"] = "ci"
+json.dump(c, open(sys.argv[3], "w"))
+PY
+run robot_urdf_ci "$armfault" run "$tmp/urdf_rt/ci-urdf.json" -o "$tmp/urdf_rt/out" -q -j 2
+expect_status 0
+run robot_preset_ci "$armfault" run "$src/campaigns/files/ci.json" -o "$tmp/urdf_rt/ref" -q -j 2
+current=robot_urdf_same_detections
+if diff <(cut -d, -f2,17,21,22,23 "$tmp/urdf_rt/ref/results.csv") <(cut -d, -f2,17,21,22,23 "$tmp/urdf_rt/out/results.csv") >"$tmp/urdf_diff"; then pass; else
+  fail "the written URDF's ci results differ: $(head -c 600 "$tmp/urdf_diff")"
+fi
+
 echo "$passed passed, $failed failed"
 [[ $failed -eq 0 ]]
