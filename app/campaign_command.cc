@@ -152,6 +152,14 @@ int FinishCampaignOutputs(const std::string& dir_name, const CampaignSpec& campa
     std::printf("%ld runs not injected (their onset condition never fired; left out of the rates): see not_injected_runs in %s\n",
                 builder.not_injected_runs(), (dir / run_dir::kSummary).string().c_str());
   }
+  for (const auto& [joint, tally] : builder.sensor_saturation()) {
+    // Saturation is no fault, but the built-in monitor cannot read the sensor there.
+    std::fprintf(stderr,
+                 "armfault: warning: joint %d's torque went beyond its torque sensor's range in %ld of %ld runs (up to "
+                 "%.2f s in one; sensor_saturated_s in results.jsonl): a saturated reading is no evidence for the "
+                 "built-in monitor; widen torque_sensor/full_scale_Nm or ease the motion\n",
+                 joint, tally.runs, builder.runs(), tally.longest_s);
+  }
   bool all_met = true;
   for (const FloorVerdict& v : verdicts) {
     std::printf("floor %-50s %s  %s\n", v.name.c_str(), v.met ? "met   " : "MISSED", v.message.c_str());

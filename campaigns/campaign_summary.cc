@@ -207,6 +207,11 @@ void SummaryBuilder::Add(const RunRecord& r) {
     return;
   }
   ++ok_runs_;
+  for (const auto& [joint, seconds] : r.sensor_saturated_s) {
+    SaturationTally& t = saturation_[joint];
+    ++t.runs;
+    t.longest_s = std::max(t.longest_s, seconds);
+  }
   conditional_onset_runs_ += r.conditional_onset ? 1 : 0;
   compound_seen_ += r.is_compound() ? 1 : 0;
   if (!r.family.empty() && !r.injected()) {

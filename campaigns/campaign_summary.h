@@ -135,6 +135,13 @@ class SummaryBuilder {
   const FirstFailure& first_failure() const { return first_failure_; }
   // "run RUN_ID: REASON" of the first failure ("" when no run failed).
   std::string FirstFailureText() const;
+  // Joints whose torque went beyond their sensor's range in some runs (RunRecord::
+  // sensor_saturated_s): how many runs and the longest time in one, by joint number.
+  struct SaturationTally {
+    long runs = 0;
+    double longest_s = 0;
+  };
+  const std::map<int, SaturationTally>& sensor_saturation() const { return saturation_; }
   // The tally of every (group, family) cell, sorted: for tools that compare or re-pool
   // campaigns (armfault diff) with exactly the definitions above.
   const std::map<std::pair<std::string, std::string>, internal::SummaryTally>& cells() const { return cells_; }
@@ -159,6 +166,7 @@ class SummaryBuilder {
     std::map<std::pair<size_t, std::string>, std::pair<long, long>> elements;  // (position, family) -> (isolated, runs)
   };
  private:
+  std::map<int, SaturationTally> saturation_;
   std::map<std::pair<std::string, std::string>, internal::SummaryTally> cells_;  // (group, family)
   std::map<std::string, std::map<std::string, long>> confusion_;  // true -> predicted -> count
   std::map<TrajectoryKey, TrajectoryCell> by_trajectory_;

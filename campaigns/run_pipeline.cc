@@ -1,5 +1,9 @@
 #include "campaigns/run_pipeline.h"
 
+#include <cmath>
+
+#include "core/plant/torque_sensor.h"
+
 #include <algorithm>
 #include <cmath>
 #include <optional>
@@ -269,6 +273,10 @@ PreparedRun PrepareCase(const Campaign& campaign, const CaseSpec& cs, UnitMonito
   return p;
 }
 
+// The shortest stretch on a rail that RunRecord::sensor_saturated_s counts: the built-in
+// monitor's default rail_time_s, the time after which it would have read a rail as a stuck lead.
+constexpr double kMinSaturation_s = 0.05;
+
 ExecutedRun Execute(const ArmModel& model, const RunSpec& spec, const std::vector<std::shared_ptr<const Fault>>& faults,
                     const MonitorModel& monitor_model, double onset_s, const TickObserver& also, bool keep_windows) {
   ExecutedRun x;
@@ -282,10 +290,30 @@ ExecutedRun Execute(const ArmModel& model, const RunSpec& spec, const std::vecto
   // The monitor's own calls are timed (monitor_cost.jsonl); the tap is scoring's, not its.
   MonitorClock clock;
   std::vector<JointSignals> signals;
+  // Each torque sensor's rails (its ADC's first and last codes, read through its mapping).
+  std::vector<std::pair<double, double>> rails;
+  for (int j = 0; j < model.joint_count(); ++j) {
+    const TorqueSensorParams& ts = model.joint(j).params.torque_sensor;
+    rails.emplace_back(TorqueFromAdcCode(ts, 0), TorqueFromAdcCode(ts, static_cast<int>(std::lround(std::pow(2.0, ts.adc_bits))) - 1));
+  }
+  const double tick_s = model.control_dt_s();
+  const long min_ticks = std::max(1L, std::lround(kMinSaturation_s / tick_s));
+  std::vector<long> stretch_ticks(rails.size(), 0);
   try {
     x.result = Simulate(model, spec, [&](const Tick& tick) {
       signals.resize(tick.joints->size());
-      for (size_t j = 0; j < signals.size(); ++j) signals[j] = (*tick.joints)[j].signals;
+      for (size_t j = 0; j < signals.size(); ++j) {
+        const JointTick& jt = (*tick.joints)[j];
+        signals[j] = jt.signals;
+        const double reading = jt.signals.tau_sensor_Nm;
+        const bool saturated = (reading >= rails[j].second - 1e-9 && jt.tau_true_Nm > reading) ||
+                               (reading <= rails[j].first + 1e-9 && jt.tau_true_Nm < reading);
+        // Only stretches of kMinSaturation_s count (an impact's tick or two on the rail is not
+        // a motion that saturates the sensor).
+        long& ticks = stretch_ticks[j];
+        ticks = saturated ? ticks + 1 : 0;
+        if (ticks >= min_ticks) x.sensor_saturated_s[static_cast<int>(j) + 1] += (ticks == min_ticks ? ticks : 1) * tick_s;
+      }
       clock.Start();
       x.monitor->Observe(tick.t_s, signals);
       clock.StopTick();
@@ -314,6 +342,7 @@ RunRecord ScoreRun(const PreparedRun& p, const ExecutedRun& x) {
     return r;
   }
   r.cost = x.cost;
+  r.sensor_saturated_s = x.sensor_saturated_s;
   r.ok = x.result.ok;
   r.failure_reason = x.result.failure_reason;
   const bool compound = r.is_compound();

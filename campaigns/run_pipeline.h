@@ -77,6 +77,7 @@ struct ExecutedRun {
   double first_tick_s = -1;                // the first controller tick at or after the onset
   nlohmann::json cost;                     // MonitorClock::ToJson; null after a monitor failure
   std::string monitor_failure;             // non-empty: the monitor threw MonitorFailure (why)
+  std::map<int, double> sensor_saturated_s;  // RunRecord::sensor_saturated_s
 };
 // Simulates `spec` (its hardware schedule holds `faults`) with a new monitor of `monitor` fed the
 // joints' signals at every tick, scoring's tap (knowing `onset_s`) after each call, the faults'

@@ -74,6 +74,11 @@ nlohmann::json ToJson(const RunRecord& r) {
     j["not_injected_reason"] = StrOrNull(r.not_injected_reason);
   }
   if (r.is_compound()) j["compound"] = r.compound;
+  if (!r.sensor_saturated_s.empty()) {
+    nlohmann::json sat = nlohmann::json::object();
+    for (const auto& [joint, seconds] : r.sensor_saturated_s) sat[std::to_string(joint)] = seconds;
+    j["sensor_saturated_s"] = sat;
+  }
   return j;
 }
 
@@ -117,6 +122,13 @@ RunRecord RunRecordFromJson(const nlohmann::json& j) {
     r.conditional_onset = true;
     r.onset_fired_s = OptDouble(j, "onset_fired_s");
     r.not_injected_reason = StrOrEmpty(j, "not_injected_reason");
+  }
+  if (const auto it = j.find("sensor_saturated_s"); it != j.end()) {
+    if (!it->is_object()) throw std::runtime_error("key \"sensor_saturated_s\" has the wrong type");
+    for (const auto& [joint, seconds] : it->items()) {
+      if (!seconds.is_number()) throw std::runtime_error("key \"sensor_saturated_s\" has the wrong type");
+      r.sensor_saturated_s[std::stoi(joint)] = seconds.get<double>();
+    }
   }
   if (const auto it = j.find("compound"); it != j.end() && !it->is_null()) {
     if (!it->is_array()) throw std::runtime_error("key \"compound\" has the wrong type");

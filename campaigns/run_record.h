@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <map>
 #include <optional>
 #include <string>
 
@@ -48,6 +49,10 @@ struct RunRecord {
   // alarmed: the strongest statistic against its threshold, the gate that never opened, or
   // what won instead. "" for a run scored right.
   std::string miss_reason;
+  // Seconds each joint's torque spent beyond its sensor's range (the reading held on its rail
+  // while the true torque went further: saturation, plant truth), by joint number; only the
+  // joints that saturated, and written only when any did ("sensor_saturated_s").
+  std::map<int, double> sensor_saturated_s;
   // A conditional onset (the fault's "onset": {...}, faults/onset_condition.h): the time its
   // condition fired (onset_s is this + its delay_s), unset if it never fired; and, non-empty,
   // why the fault never acted (it never fired, or too late): such a run is "not injected",

@@ -12,6 +12,11 @@ namespace armfault {
 
 namespace {
 
+// The largest step (a fraction of the sensor's span) in which a reading may reach its rail and
+// still count as saturation: 5 % (2.8 N m of the MRR sensor's 56 N m in one 2-ms tick, 1400 N m/s,
+// far above any load's slew; docs/monitor.md).
+constexpr double kRailJumpFraction = 0.05;
+
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // Weak priors that keep the fits defined without excitation: each parameter is pulled to
@@ -189,6 +194,7 @@ struct PowerEfficiencyMonitor::JointState {
   double dead_s = 0;
   double flat_s = 0, flat_dq = 0, flat_cmd_min = 0, flat_cmd_max = 0, flat_ref_min = 0, flat_ref_max = 0;
   double rail_s = 0;
+  bool rail_saturated = false;  // the reading reached its rail gradually: saturation, no evidence
   double blocked_s = 0;
   // decision
   std::array<SlidingMin, kDetectorCount> held, held_significance;
@@ -466,7 +472,16 @@ Candidate TickLevelCandidate(const MonitorConfig& c, const JointKnowledge& k, co
   // Stuck torque sensor: on a rail, or unchanged while the joint moves and the commanded
   // torque swings (a live sensor would follow it).
   const bool on_rail = now.tau_sensor_Nm >= k.sensor_max_Nm - 1e-9 || now.tau_sensor_Nm <= k.sensor_min_Nm + 1e-9;
+  // Saturation against a stuck lead: a torque beyond the range reaches the rail at the rate the
+  // load changes, so the reading just before is close to it; a supply or ground lead throws it
+  // there in one tick. A stretch reached gradually is saturation: no evidence either way.
+  if (on_rail && s.rail_s == 0) {
+    const bool was_on_rail = prev.tau_sensor_Nm >= k.sensor_max_Nm - 1e-9 || prev.tau_sensor_Nm <= k.sensor_min_Nm + 1e-9;
+    const double jump = std::fabs(now.tau_sensor_Nm - prev.tau_sensor_Nm);
+    s.rail_saturated = !was_on_rail && jump <= kRailJumpFraction * (k.sensor_max_Nm - k.sensor_min_Nm);
+  }
   s.rail_s = on_rail ? s.rail_s + dt : 0.0;
+  if (!on_rail) s.rail_saturated = false;
   if (now.tau_sensor_Nm == prev.tau_sensor_Nm) {
     if (s.flat_s == 0) {
       s.flat_cmd_min = s.flat_cmd_max = x.rotor_torque, s.flat_dq = 0;
@@ -496,7 +511,7 @@ Candidate TickLevelCandidate(const MonitorConfig& c, const JointKnowledge& k, co
     structural = {HealthState::kDefective, "inverter_short", "excess_power_W", excess, 1.0, true};
   } else if (s.dead_s >= c.dead_drive_time_s) {
     structural = {HealthState::kDefective, "inverter_short", "", 0, 1.0, true};
-  } else if (s.rail_s >= c.rail_time_s || flat_stuck) {
+  } else if (!s.rail_saturated && (s.rail_s >= c.rail_time_s || flat_stuck)) {
     structural = {HealthState::kDefective, "torque_sensor_stuck", "stuck_reading_Nm", now.tau_sensor_Nm, 1.0, true};
   } else if (s.blocked_s >= c.blocked_time_s) {
     const double motor = std::fabs(k.ratio * k.kt_Nm_per_A * now.i_cmd_A);

@@ -793,5 +793,28 @@ if diff <(cut -d, -f2,17,21,22,23 "$tmp/urdf_rt/ref/results.csv") <(cut -d, -f2,
   fail "the written URDF's ci results differ: $(head -c 600 "$tmp/urdf_diff")"
 fi
 
+
+# Sensor saturation (issue 23): a motion whose torque goes beyond a joint's sensor is recorded
+# (sensor_saturated_s) and warned about, and its healthy runs raise no stuck-sensor alarm.
+/usr/bin/python3 - "$tmp/saturating.json" <<'PY'
+import json, subprocess, sys
+robot = {"name": "sat", "modules": [{"type": "MRR1"}, {}, {"torque_sensor": {"full_scale_Nm": 2.3}}],
+         "links": [{"mass_kg": 2.5, "length_m": 0.2, "radius_m": 0.05, "direction": [0, 0, 1], "joint_axis": [0, 0, 1]},
+                   {"mass_kg": 1.8, "length_m": 0.3, "radius_m": 0.045, "direction": [0, 0, 1], "joint_axis": [0, -1, 0]},
+                   {"mass_kg": 1.0, "length_m": 0.25, "radius_m": 0.035, "direction": [1, 0, 0], "joint_axis": [0, -1, 0]}],
+         "base_position_m": [0, 0, 0.15], "payload_kg": 2.0}
+c = {"name": "sat", "robot": robot, "duration_s": 8, "healthy": 2, "floors": {"false_alarm_rate": 0.0},
+     "trajectories": [{"name": "lower", "joints": {"3": {"type": "min_jerk", "waypoints": [[0, 60], [1, 60], [4, 0], [8, 0]]}}}]}
+json.dump(c, open(sys.argv[1], "w"))
+PY
+run saturation_warned "$armfault" run "$tmp/saturating.json" -o "$tmp/saturating" -q
+expect_status 0
+expect_stderr_contains "armfault: warning: joint 3's torque went beyond its torque sensor's range in 2 of 2 runs"
+current=saturation_recorded
+if [[ $(grep -c '"sensor_saturated_s":{"3":' "$tmp/saturating/results.jsonl") -eq 2 ]] &&
+  ! grep -q sensor_saturated_s "$tmp/urdf_rt/ref/results.jsonl"; then pass; else
+  fail "sensor_saturated_s: $(head -c 600 "$tmp/saturating/results.jsonl")"
+fi
+
 echo "$passed passed, $failed failed"
 [[ $failed -eq 0 ]]

@@ -220,6 +220,38 @@ TEST(PowerMonitorDetects, EveryStuckLeadWithTheStuckReading) {
   }
 }
 
+// A torque beyond the sensor's range holds the reading on its rail: saturation, which the
+// monitor must not call a stuck sensor (it did: issue 23); a stuck lead on the same joint and
+// motion still is one. Joint 3 lowers its link and 2 kg tool to horizontal over 3 s, where the
+// load (about 6.5 N m) lies beyond a 2.3 N m sensor's top (5.81 N m with the 3.5 N m offset).
+json SaturatingRun(json faults = json::array()) {
+  json run = ThesisExperiment1Json();
+  json robot = RobotToJson(RobotPreset("mrr-config1"));
+  robot["modules"][2]["torque_sensor"]["full_scale_Nm"] = 2.3;
+  run["robot"] = robot;
+  run["duration_s"] = 8;
+  run["joints"] = {{"3", {{"type", "min_jerk"}, {"waypoints", {{0, 60}, {1, 60}, {4, 0}, {8, 0}}}}}};
+  run["faults"] = faults;
+  return run;
+}
+
+TEST(PowerMonitorDetects, SaturationIsNoStuckSensorButAStuckLeadIs) {
+  const MonitoredRun healthy = RunMonitored(SaturatingRun(), -1, /*record=*/true);
+  ASSERT_TRUE(healthy.result.ok);
+  int on_rail = 0;  // the premise: the reading sits on its top rail for seconds
+  double top = -1e9;
+  for (const auto& tick : healthy.rec.ticks) top = std::max(top, tick[2].signals.tau_sensor_Nm);
+  for (const auto& tick : healthy.rec.ticks) on_rail += tick[2].signals.tau_sensor_Nm >= top - 1e-9 && tick[2].tau_true_Nm > top;
+  EXPECT_GT(on_rail, 1000);
+  EXPECT_FALSE(healthy.diagnosis.detected) << healthy.diagnosis.family;
+  for (const char* lead : {"supply", "ground", "open"}) {
+    SCOPED_TRACE(lead);
+    const MonitoredRun r =
+        RunMonitored(SaturatingRun(Fault({{"family", "torque_sensor_stuck"}, {"lead", lead}}, 3, 1.5)));
+    ExpectDiagnosis(r, "torque_sensor_stuck", 3, 1.5);
+  }
+}
+
 TEST(PowerMonitorDetects, PhaseToPhaseShortWithinMilliseconds) {
   const MonitoredRun r = RunMonitored(
       Exp1(Fault({{"family", "inverter_short"}, {"kind", "phase_phase"}, {"resistance_ohm", 0.1}})));
