@@ -706,10 +706,32 @@ void Validate(const RobotConfig& r, const std::string& pointer) {
                               "): " + problem));
   }
   // The general form's bodies as ODE gets them (the payload lumped into the last).
+  for (size_t k = 0; k < 3 && !r.bodies.empty(); ++k) {
+    errors.Try([&] {
+      RequireInRange(r.payload_point_m[k], -kMaxBasePosition_m, kMaxBasePosition_m,
+                     PointerJoin(PointerJoin(pointer, "payload_point_m"), k));
+    });
+  }
   for (size_t i = 0; i < r.bodies.size(); ++i) {
     const std::string bp = PointerJoin(PointerJoin(pointer, "bodies"), i);
     const bool last = i + 1 == r.bodies.size();
-    errors.Try([&] { CheckVector(r.bodies[i].axis, PointerJoin(bp, "axis"), "joint axis"); });
+    const JointBody& jb = r.bodies[i];
+    bool in_range = errors.Try([&] { CheckVector(jb.axis, PointerJoin(bp, "axis"), "joint axis"); });
+    in_range &= errors.Try([&] { CheckLinkMass(jb.mass_kg, PointerJoin(bp, "mass_kg")); });
+    for (size_t k = 0; k < 3; ++k) {
+      in_range &= errors.Try([&] {
+        RequireInRange(jb.anchor_m[k], -kMaxBasePosition_m, kMaxBasePosition_m, PointerJoin(PointerJoin(bp, "anchor_m"), k));
+      });
+      in_range &= errors.Try([&] {
+        RequireInRange(jb.com_m[k], -kMaxBasePosition_m, kMaxBasePosition_m, PointerJoin(PointerJoin(bp, "com_m"), k));
+      });
+    }
+    for (size_t k = 0; k < 6; ++k) {
+      in_range &= errors.Try([&] {
+        RequireInRange(jb.inertia_kg_m2[k], -kMaxMoment_kg_m2, kMaxMoment_kg_m2, PointerJoin(PointerJoin(bp, "inertia_kg_m2"), k));
+      });
+    }
+    if (!in_range) continue;
     const BodyMass body = BodyOfJoint(r, static_cast<int>(i), last && payload_ok ? r.payload_kg : 0.0);
     const std::string problem = BodyMassProblem(body.mass_kg, body.inertia_kg_m2);
     if (!problem.empty()) {

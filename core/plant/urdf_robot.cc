@@ -23,6 +23,12 @@ namespace armfault {
 namespace {
 
 constexpr int kMaxUrdfJoints = 7;
+// The limits of a link and of the base in the robot JSON (robot_config.cc), for the URDF's
+// bodies: every coordinate within 1000 m of the root, a body's mass up to 1000 kg, its
+// moments up to 1e5 kg m^2.
+constexpr double kMaxCoordinate_m = 1000;
+constexpr double kMaxBodyMass_kg = 1000;
+constexpr double kMaxBodyMoment_kg_m2 = 1e5;
 // A URDF larger than this is not an arm description (real ones are well below 1 MB once
 // meshes are separate files); refused before it is read into memory.
 constexpr std::uintmax_t kMaxUrdfBytes = 16u << 20;
@@ -312,7 +318,8 @@ RobotConfig RobotFromUrdfText(const std::string& text, const std::string& name, 
   }
   std::vector<std::string> joint_names;
   for (const ChainJoint& cj : chain) joint_names.push_back(cj.joint->name);
-  for (const auto& [key, value] : drives.items()) {
+  for (const auto& item : drives.items()) {
+    const std::string key = item.key();  // a named copy: lambdas below may not capture a binding
     if (std::find(joint_names.begin(), joint_names.end(), key) == joint_names.end()) {
       errors.Add(InputError("", PointerJoin(drives_pointer, key),
                             Quote(key) + " is not a moving joint of " + name + " (its joints: " + [&] {
@@ -372,6 +379,20 @@ RobotConfig RobotFromUrdfText(const std::string& text, const std::string& name, 
     }
     const Vector3d com = s.Com();
     const Matrix3d inertia = s.Inertia();
+    // The robot input's physical limits (docs/assumptions.md): far beyond any arm, so that every
+    // number ODE derives stays finite.
+    if (!(cj.frame.pos.cwiseAbs().maxCoeff() <= kMaxCoordinate_m) || !(com.cwiseAbs().maxCoeff() <= kMaxCoordinate_m)) {
+      errors.Add(InputError(name, JointElement(j.name), "the joint or its body's centre of mass lies more than " +
+                                                           FormatNumber(kMaxCoordinate_m) + " m from the root"));
+      continue;
+    }
+    if (!(s.mass <= kMaxBodyMass_kg) || !(inertia.cwiseAbs().maxCoeff() <= kMaxBodyMoment_kg_m2)) {
+      errors.Add(InputError(name, JointElement(j.name), "the body it moves (link(s) " + links + ") weighs " +
+                                                           FormatNumber(s.mass) + " kg with moments up to " +
+                                                           FormatNumber(inertia.cwiseAbs().maxCoeff()) +
+                                                           " kg m^2: beyond 1000 kg or 1e5 kg m^2"));
+      continue;
+    }
     b.mass_kg = s.mass;
     b.com_m = {com.x(), com.y(), com.z()};
     b.inertia_kg_m2 = {inertia(0, 0), inertia(1, 1), inertia(2, 2), inertia(0, 1), inertia(0, 2), inertia(1, 2)};
@@ -385,6 +406,13 @@ RobotConfig RobotFromUrdfText(const std::string& text, const std::string& name, 
   errors.ThrowIfAny();
   r.payload_point_m = {chain.back().tool_point.x(), chain.back().tool_point.y(), chain.back().tool_point.z()};
   return r;
+}
+
+std::vector<std::string> UrdfMovingJoints(const std::string& text, const std::string& name) {
+  const urdf::ModelInterfaceSharedPtr model = ParseUrdf(text, name);
+  std::vector<std::string> names;
+  for (const ChainJoint& cj : ChainBuilder(*model, name, Vector3d::Zero()).Build()) names.push_back(cj.joint->name);
+  return names;
 }
 
 RobotConfig RobotFromUrdfJson(const nlohmann::json& value, const std::string& pointer, const std::string& base_dir) {

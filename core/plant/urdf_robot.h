@@ -29,6 +29,7 @@
 #include <nlohmann/json.hpp>
 
 #include <string>
+#include <vector>
 
 #include "core/plant/robot_config.h"
 
@@ -41,6 +42,10 @@ RobotConfig RobotFromUrdfJson(const nlohmann::json& value, const std::string& po
 // The same from a URDF text (`urdf_name` names it in messages) and a drives object.
 RobotConfig RobotFromUrdfText(const std::string& urdf_text, const std::string& urdf_name, const nlohmann::json& drives,
                               const std::string& drives_pointer);
+
+// The moving joints' names of a URDF text, base first (what "drives" must name). Throws
+// InputError as RobotFromUrdfText does for the file itself.
+std::vector<std::string> UrdfMovingJoints(const std::string& urdf_text, const std::string& urdf_name);
 
 // The robot as a URDF (one link per body, its joint's frame at the joint's anchor with the
 // world's axes at the zero pose; inertials exact; no visuals) and its drives object

@@ -20,7 +20,7 @@ set -euo pipefail
 src=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 seconds=60
 build="$src/build/fuzz"
-targets=(campaign robot monitor verdicts run)
+targets=(campaign robot monitor verdicts run urdf)
 fuzz=1
 while [ $# -gt 0 ]; do
   case "$1" in

@@ -16,6 +16,8 @@
 #include "core/base/json_input.h"
 #include "core/plant/mass_properties.h"
 #include "core/plant/simulation.h"
+#include "core/run_config.h"
+#include "tests/core/test_support.h"
 
 namespace armfault {
 namespace {
@@ -116,6 +118,21 @@ TEST(UrdfRobotTest, BadFilesAreErrorsNamingTheFileAndTheElement) {
   EXPECT_THAT(ErrorOf("<robot name=\"x\"><link name=\"a\"/></robot>"), HasSubstr("no revolute or continuous joint"));
   EXPECT_THAT(ErrorOf("<robot name=\"x\"><link name="), HasSubstr("arm.urdf: <robot>: urdfdom cannot read it"));
   EXPECT_THAT(ErrorOf("not xml at all"), HasSubstr("arm.urdf: <robot>: urdfdom cannot read it"));
+  std::string far = TwoJoint();
+  far.replace(far.find("<origin xyz=\"0 0 0.3\""), std::string("<origin xyz=\"0 0 0.3\"").size(), "<origin xyz=\"0 0 1e300\"");
+  EXPECT_THAT(ErrorOf(far), HasSubstr("<joint name=\"j2\">: the joint or its body's centre of mass lies more than 1000 m"));
+  EXPECT_THAT(ErrorOf(TwoJoint("revolute", "", "<inertial><mass value=\"5000\"/><inertia ixx=\"1\" iyy=\"1\" izz=\"1\" "
+                                               "ixy=\"0\" ixz=\"0\" iyz=\"0\"/></inertial>")),
+              HasSubstr("<joint name=\"j2\">: the body it moves (link(s) \"l2\") weighs 5000 kg"));
+  // The general form read from JSON keeps the same limits, naming the field.
+  nlohmann::json general = RobotToJson(RobotPreset("ur-class"));
+  general["bodies"][2]["com_m"][0] = 2e3;
+  try {
+    RobotFromJson(general, "/robot");
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "/robot/bodies/2/com_m/0: 2000 is outside [-1000, 1000]");
+  }
 }
 
 TEST(UrdfRobotTest, DrivesMustNameEveryMovingJointAndNoOther) {
@@ -333,6 +350,50 @@ TEST(UrdfRobotTest, BrakedArmHoldsTheIndependentGravityTorques) {
   for (int j = 0; j < 6; ++j) {
     EXPECT_NEAR(tau[j], -rigid.gravity[j], 1e-6 * std::fabs(rigid.gravity[j]) + kRotorMass_kg * 9.81 * 0.05 * 6)
         << "joint " << j + 1;
+  }
+}
+
+// The six-joint arm on a motion of every joint (campaigns/files/ur-class.json's "sweep"): the
+// energy balance closes as on mrr-config1 (core/plant/simulation_test.cc), and every joint
+// tracks within 0.2 deg with the drive-only gain rule (docs/assumptions.md).
+TEST(UrdfRobotTest, SixJointArmClosesItsEnergyBalanceAndTracks) {
+  const nlohmann::json run_json = {
+      {"robot", "ur-class"},
+      {"duration_s", 8},
+      {"joints",
+       {{"1", {{"type", "sine_pair"}, {"amplitude_deg", 30}, {"omega_rad_s", 1.1}}},
+        {"2", {{"type", "cosine_ramp"}, {"amplitude_deg", 25}, {"period_s", 4}}},
+        {"3", {{"type", "sine_pair"}, {"amplitude_deg", 25}, {"omega_rad_s", 1.2732}}},
+        {"4", {{"type", "sine_pair"}, {"amplitude_deg", 35}, {"omega_rad_s", 1.5}}},
+        {"5", {{"type", "cosine_ramp"}, {"amplitude_deg", 30}, {"period_s", 3}}},
+        {"6", {{"type", "sine_pair"}, {"amplitude_deg", 45}, {"omega_rad_s", 2.0}}}}}};
+  const RunConfig run = RunConfigFromJson(run_json, "", InputContext{});
+  const ArmModel model(run.robot);
+  testing_support::Recording rec;
+  const RunResult r = Simulate(model, MakeRunSpec(run), rec.Observer());
+  ASSERT_TRUE(r.ok) << r.failure_reason;
+  double supply = 0, losses = 0, emf = 0, friction = 0, moved = 0;
+  for (const JointEnergy& e : r.energy) {
+    supply += e.supply_J;
+    losses += e.copper_J + e.inverter_J + e.quiescent_J + e.friction_J + e.magnetic_J;
+    emf += e.emf_J;
+    friction += e.friction_J;
+  }
+  const double stored = (r.kinetic_end_J - r.kinetic_start_J) + (r.potential_end_J - r.potential_start_J);
+  std::vector<double> worst_deg(6, 0.0);
+  for (const auto& tick : rec.ticks) {
+    for (int j = 0; j < 6; ++j) {
+      moved += std::fabs(tick[j].p_emf_W) * model.control_dt_s();
+      worst_deg[j] = std::max(worst_deg[j], std::fabs(tick[j].q_rad - tick[j].signals.q_ref_rad) * 180 / M_PI);
+    }
+  }
+  EXPECT_GT(moved, 50.0);
+  EXPECT_NEAR(supply, stored + losses, 0.01 * supply);
+  EXPECT_NEAR(emf, stored + friction, 0.01 * moved)
+      << "emf " << emf << " J, stored " << stored << " J, friction " << friction << " J, moved " << moved << " J";
+  for (int j = 0; j < 6; ++j) {
+    RecordProperty("worst_tracking_deg_joint_" + std::to_string(j + 1), std::to_string(worst_deg[j]));
+    EXPECT_LT(worst_deg[j], 0.2) << "joint " << j + 1;
   }
 }
 
