@@ -267,15 +267,19 @@ ModuleParams DriveOf(const nlohmann::json& entry, const std::string& pointer, co
   }
   const bool friction_given = module.is_object() && module.contains("friction");
   const auto& dyn = joint.dynamics;
-  if (!friction_given && dyn && (dyn->damping > 0 || dyn->friction > 0) && std::isfinite(dyn->damping) &&
-      std::isfinite(dyn->friction)) {
+  // Each value above 0 replaces its part (damping the viscous term, friction the Coulomb and
+  // static ones); a value of 0, what most published files carry, leaves the drive type's.
+  if (!friction_given && dyn) {
     const double ratio = m.drive.ratio;
-    m.friction.viscous_Nm_s_per_rad = dyn->damping / ratio;
-    m.friction.coulomb_Nm = dyn->friction / ratio;
-    m.friction.static_Nm = dyn->friction / ratio;
-    m.controller.b_hat = m.friction.viscous_Nm_s_per_rad;
-    m.controller.fc_hat_Nm = m.friction.coulomb_Nm;
-    m.controller.fs_hat_Nm = m.friction.static_Nm;
+    if (dyn->damping > 0 && std::isfinite(dyn->damping)) {
+      m.friction.viscous_Nm_s_per_rad = dyn->damping / ratio;
+      m.controller.b_hat = m.friction.viscous_Nm_s_per_rad;
+    }
+    if (dyn->friction > 0 && std::isfinite(dyn->friction)) {
+      m.friction.coulomb_Nm = m.friction.static_Nm = dyn->friction / ratio;
+      m.controller.fc_hat_Nm = m.controller.fs_hat_Nm = m.friction.coulomb_Nm;
+      m.controller.ku_robust_Nm = m.friction.coulomb_Nm;  // the gain rule (docs/assumptions.md)
+    }
   }
   return m;
 }

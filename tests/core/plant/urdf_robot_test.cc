@@ -176,6 +176,12 @@ TEST(UrdfRobotTest, DynamicsGiveTheFrictionWhereTheDriveGivesNone) {
                               {"j2", {{"type", "industrial-small"}, {"friction", {{"coulomb_Nm", 0.01}}}}}};
   const RobotConfig r2 = RobotFromUrdfText(with_dyn, "arm.urdf", own, "/drives");
   EXPECT_DOUBLE_EQ(r2.modules[1].friction.coulomb_Nm, 0.01);
+  // Damping alone (as published files often give) leaves the drive's Coulomb friction.
+  std::string damping_only = urdf;
+  damping_only.replace(damping_only.find("<limit lower=\"-1.5\""), 0, "<dynamics damping=\"0.5\"/>");
+  const RobotConfig r3 = RobotFromUrdfText(damping_only, "arm.urdf", kTwoDrives, "/drives");
+  EXPECT_DOUBLE_EQ(r3.modules[1].friction.viscous_Nm_s_per_rad, 0.5 / 100);
+  EXPECT_DOUBLE_EQ(r3.modules[1].friction.coulomb_Nm, ModuleDefaults("industrial-small", "").friction.coulomb_Nm);
 }
 
 TEST(UrdfRobotTest, RobotJsonReadsTheFileRelativeToItsDirectory) {
