@@ -7,10 +7,50 @@
 
 namespace armfault {
 
+namespace {
+
+// An onset at or after the end of the run (a value of a list or grid, the upper end of a
+// uniform range, a compound element's): that fault would never act, an error naming its pointer
+// (a uniform range may end at the end of the run: its draws fall below it).
+void CheckOnsetsWithinRun(const CampaignSpec& c, const std::string& source) {
+  ErrorList errors;
+  auto late = [&](const std::string& pointer, const std::string& what) {
+    errors.Add(InputError(source, pointer, what + " is at or after the end of the run (duration_s " + FormatNumber(c.duration_s) +
+                                               "): the fault would never act"));
+  };
+  for (const FaultEntry& e : c.faults) {
+    for (const auto& [key, sweep] : e.keys) {
+      if (key != "onset_s") continue;
+      if (sweep.uniform) {
+        // Draws fall below the upper end: a range ending at the run's end is allowed.
+        if (sweep.high > c.duration_s) late(sweep.pointer, "onset_s up to " + FormatNumber(sweep.high) + " s");
+        continue;
+      }
+      for (const nlohmann::json& v : sweep.values) {
+        if (v.is_number() && v.get<double>() >= c.duration_s) {
+          late(sweep.pointer, "onset_s " + FormatNumber(v.get<double>()) + " s");
+          break;
+        }
+      }
+    }
+    for (size_t i = 0; i < e.elements.size(); ++i) {
+      const nlohmann::json& el = e.elements[i];
+      if (el.contains("onset_s") && el["onset_s"].is_number() && el["onset_s"].get<double>() >= c.duration_s) {
+        late(PointerJoin(PointerJoin(PointerJoin(e.pointer, "compound"), i), "onset_s"),
+             "onset_s " + FormatNumber(el["onset_s"].get<double>()) + " s");
+      }
+    }
+  }
+  errors.ThrowIfAny();
+}
+
+}  // namespace
+
 Campaign CampaignFromJson(const nlohmann::json& value, const std::string& source, const std::string& base_dir,
                           MonitorLoading loading) {
   Campaign c;
   static_cast<CampaignSpec&>(c) = CampaignSpecFromJson(value, source, base_dir, &c.loaded_trajectories);
+  CheckOnsetsWithinRun(c, source);
   if (loading == MonitorLoading::kSkipUserCode && MonitorRunsUserCode(c.monitor.type)) return c;
   try {
     c.monitor_model = MakeMonitorModel(c.monitor, MonitorContextOf(c), "/monitor");
@@ -26,43 +66,9 @@ Campaign ReadCampaignFile(const std::string& path, MonitorLoading loading) {
   return CampaignFromJson(ReadJsonFile(path), path, base, loading);
 }
 
-namespace {
-
-// "…/onset_s: …" for onsets at or after the end of the run: those faults never act.
-void WarnLateOnsets(const Campaign& c, std::vector<std::string>* out) {
-  auto warn = [&](const std::string& pointer, const std::string& what) {
-    out->push_back(pointer + ": " + what + " is at or after the end of the run (duration_s " + FormatNumber(c.duration_s) +
-                   "): the fault never acts in those runs, which are left out of the rates");
-  };
-  for (const FaultEntry& e : c.faults) {
-    for (const auto& [key, sweep] : e.keys) {
-      if (key != "onset_s") continue;
-      if (sweep.uniform) {
-        if (sweep.high >= c.duration_s) warn(sweep.pointer, "onset_s up to " + FormatNumber(sweep.high) + " s");
-        continue;
-      }
-      for (const nlohmann::json& v : sweep.values) {
-        if (v.is_number() && v.get<double>() >= c.duration_s) {
-          warn(sweep.pointer, "onset_s " + FormatNumber(v.get<double>()) + " s");
-          break;
-        }
-      }
-    }
-    for (size_t i = 0; i < e.elements.size(); ++i) {
-      const nlohmann::json& el = e.elements[i];
-      if (el.contains("onset_s") && el["onset_s"].is_number() && el["onset_s"].get<double>() >= c.duration_s) {
-        warn(PointerJoin(PointerJoin(PointerJoin(e.pointer, "compound"), i), "onset_s"),
-             "onset_s " + FormatNumber(el["onset_s"].get<double>()) + " s");
-      }
-    }
-  }
-}
-
-}  // namespace
 
 std::vector<std::string> CampaignWarnings(const Campaign& c) {
   std::vector<std::string> out;
-  WarnLateOnsets(c, &out);
   for (size_t ti = 0; ti < c.trajectories.size(); ++ti) {
     const CampaignTrajectory& t = c.trajectories[ti];
     const auto& loaded = c.loaded_trajectories[ti];

@@ -556,19 +556,24 @@ TEST(CampaignWarnings, AFaultOnAJointATrajectoryLeavesStillIsNamed) {
   EXPECT_TRUE(CampaignWarnings(Parse(moving)).empty());
 }
 
-TEST(CampaignWarnings, AnOnsetAtOrAfterTheEndOfTheRunIsNamed) {
+TEST(CampaignErrors, AnOnsetAtOrAfterTheEndOfTheRunIsAnError) {
   // Small() runs 3 s; its second entry's onset is uniform on [0.5, 1.5].
   json late = Small();
   late["trajectories"][0]["joints"]["2"] = {{"type", "sine_pair"}, {"amplitude_deg", 10}, {"omega_rad_s", 1.0}};
   late["faults"][0]["onset_s"] = {1, 3};
   late["faults"][1]["onset_s"] = {{"uniform", {2, 4}}};
-  const std::vector<std::string> w = CampaignWarnings(Parse(late));
-  ASSERT_EQ(w.size(), 2u);
-  EXPECT_EQ(w[0], "/faults/0/onset_s: onset_s 3 s is at or after the end of the run (duration_s 3): the fault never "
-                  "acts in those runs, which are left out of the rates");
-  EXPECT_THAT(w[1], testing::StartsWith("/faults/1/onset_s: onset_s up to 4 s is at or after the end of the run"));
+  try {
+    CampaignFromJson(late, "c.json", ".");
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    ASSERT_EQ(e.count(), 2u);
+    EXPECT_STREQ(e.errors()[0].what(), "c.json: /faults/0/onset_s: onset_s 3 s is at or after the end of the run "
+                                       "(duration_s 3): the fault would never act");
+    EXPECT_THAT(e.errors()[1].what(), testing::StartsWith("c.json: /faults/1/onset_s: onset_s up to 4 s is at or after"));
+  }
   late["faults"][0]["onset_s"] = {1, 2.999};
   late["faults"][1]["onset_s"] = {{"uniform", {2, 2.9}}};
+  EXPECT_NO_THROW(CampaignFromJson(late, "c.json", "."));
   EXPECT_TRUE(CampaignWarnings(Parse(late)).empty());
 }
 
