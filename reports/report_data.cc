@@ -264,8 +264,9 @@ void ReadBoundary(const ReportOptions& options, std::vector<CampaignClaim>* clai
   }
 }
 
-// Thesis table 5-3 into d: the directory's own, else simulated.
-void ReadThesisTable(const ReportOptions& options, ReportData* d_out) {
+// Thesis table 5-3 into d: the directory's own, else simulated; not for a campaign whose robot
+// is not built from the thesis's modules (the table is about mrr-config1's top joint).
+void ReadThesisTable(const ReportOptions& options, const CampaignFiles& files, ReportData* d_out) {
   ReportData& d = *d_out;
   const fs::path dir(options.dir);
   const fs::path thesis_path = dir / "thesis.json";
@@ -286,6 +287,10 @@ void ReadThesisTable(const ReportOptions& options, ReportData* d_out) {
         d.table_5_3.push_back(r);
       }
     }
+  } else if (files.campaign && std::any_of(files.campaign->robot.modules.begin(), files.campaign->robot.modules.end(),
+                                           [](const ModuleParams& m) { return m.type != "MRR1" && m.type != "MRR2"; })) {
+    d.thesis_source = "not shown: the thesis's table is about mrr-config1's top joint, and this campaign's robot \"" +
+                      files.campaign->robot.name + "\" is not built from the thesis's modules";
   } else {
     const ThesisResults t = RunThesisExperiments(options.thesis_seed);
     d.thesis_source = "simulated now with seed " + std::to_string(options.thesis_seed) +
@@ -342,7 +347,7 @@ ReportData GatherReportData(const ReportOptions& options) {
   const RunCandidates candidates = ReadResults(options, files, &d);
   ReadTuningResults(options, &files.claims, &d);
   ReadBoundary(options, &files.claims, &d);
-  ReadThesisTable(options, &d);
+  ReadThesisTable(options, files, &d);
   SimulateChosenRun(options, files, candidates, &d);
   return d;
 }

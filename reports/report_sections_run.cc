@@ -15,6 +15,7 @@ using svg::Fixed;
 std::string ThesisSection(const ReportData& d) {
   std::string o = "<section id=\"thesis\"><h2>Efficiency against K_T factor (thesis table 5-3)</h2>";
   if (d.table_5_3.empty()) {
+    if (d.thesis_source.rfind("not shown", 0) == 0) return o + "<p class=\"missing\">" + Escape(d.thesis_source) + ".</p></section>";
     return o + "<p class=\"missing\">No thesis results: " + Escape(d.thesis_source) + " holds no table_5_3 rows.</p></section>";
   }
   svg::Plot plot("thesis-table-5-3", "Top-joint efficiency (eq 5-5) as the torque constant degrades", kHalfWidth, 340);

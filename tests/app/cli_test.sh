@@ -816,5 +816,17 @@ if [[ $(grep -c '"sensor_saturated_s":{"3":' "$tmp/saturating/results.jsonl") -e
   fail "sensor_saturated_s: $(head -c 600 "$tmp/saturating/results.jsonl")"
 fi
 
+
+# The report's thesis table is about mrr-config1's top joint: not shown for another robot.
+printf '{"robot": "ur-class", "duration_s": 1, "healthy": 1, "trajectories": [{"name": "a", "joints": {"2": {"type": "sine_pair", "amplitude_deg": 5, "omega_rad_s": 1}}}]}\n' >"$tmp/ur_tiny.json"
+run ur_tiny "$armfault" run "$tmp/ur_tiny.json" -o "$tmp/ur_tiny" -q
+expect_status 0
+run report_no_thesis "$armfault" report "$tmp/ur_tiny"
+expect_status 0
+current=report_no_thesis_table
+if grep -q "not shown: the thesis&#39;s table is about mrr-config1&#39;s top joint" "$tmp/ur_tiny/report.html"; then pass; else
+  fail "the ur-class report shows the thesis table"
+fi
+
 echo "$passed passed, $failed failed"
 [[ $failed -eq 0 ]]

@@ -12,7 +12,7 @@
 #   tests/fuzz/fuzz_test.sh --regressions-only
 #
 # Options: --seconds N (total fuzzing time, split evenly between the targets run; default 60),
-# --build-dir DIR (default build/fuzz), --only TARGET (campaign, robot, monitor, verdicts, run),
+# --build-dir DIR (default build/fuzz), --only TARGET (campaign, robot, monitor, verdicts, run, urdf),
 # --regressions-only. New inputs the fuzzer finds go to BUILD/corpus/<target>/ (kept between
 # runs, never into the repository); the shipped seeds are only read.
 set -euo pipefail
@@ -62,6 +62,9 @@ for t in "${targets[@]}"; do names+=("fuzz_$t"); done
 cmake --build "$build" -j "${ARMFAULT_FUZZ_BUILD_JOBS:-2}" --target "${names[@]}" >"$build.build.log" 2>&1 \
   || { tail -40 "$build.build.log" >&2; echo "fuzz_test.sh: build failed (log: $build.build.log)" >&2; exit 2; }
 bin="$build/tests/fuzz"
+
+# Leaks inside third-party parsers on their own error paths (tests/fuzz/lsan.supp).
+export LSAN_OPTIONS="suppressions=$src/tests/fuzz/lsan.supp${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
 
 failed=()
 # Every crash ever found, run as a plain input (no fuzzing).
