@@ -403,6 +403,83 @@ TEST(UrdfRobotTest, SixJointArmClosesItsEnergyBalanceAndTracks) {
   }
 }
 
+// Along a motion: the frictionless, unpowered arm falls from a pose for 0.3 s. The reference
+// integrates the independent model (M(q) qdd = g(q) - C(q, qd) qd, the Coriolis and centrifugal
+// terms from M's derivatives by central differences) with RK4 at 20 us. ODE's error is first
+// order in its step: within 2 % of the motion at 1 kHz, falling in proportion to the step.
+// Measured: 0.23 % at 1 kHz, 0.14 % at 2 kHz, 0.064 % at 5 kHz, 0.034 % at 10 kHz.
+VectorXd Accelerations(const ArmModel& model, const VectorXd& q, const VectorXd& qd) {
+  const int n = model.joint_count();
+  auto mass = [&](const VectorXd& x) { return Independent(model, std::vector<double>(x.data(), x.data() + n)).mass; };
+  const RigidModel here = Independent(model, std::vector<double>(q.data(), q.data() + n));
+  // h = Mdot qd - 1/2 d(qd' M qd)/dq, with dM/dq_k by central differences.
+  const double e = 1e-6;
+  VectorXd h = VectorXd::Zero(n);
+  for (int k = 0; k < n; ++k) {
+    VectorXd up = q, down = q;
+    up[k] += e;
+    down[k] -= e;
+    const MatrixXd dM = (mass(up) - mass(down)) / (2 * e);
+    h += dM * qd * qd[k];
+    h[k] -= 0.5 * qd.dot(dM * qd);
+  }
+  return here.mass.ldlt().solve(here.gravity - h);
+}
+
+VectorXd ReferenceFall(const ArmModel& model, const VectorXd& q0, double duration_s) {
+  const double dt = 2e-5;  // RK4: its error (dt^4) is far below ODE's at 10 kHz
+  VectorXd q = q0, qd = VectorXd::Zero(q0.size());
+  for (long k = 0; k < std::lround(duration_s / dt); ++k) {
+    const VectorXd a1 = Accelerations(model, q, qd);
+    const VectorXd v2 = qd + 0.5 * dt * a1, a2 = Accelerations(model, q + 0.5 * dt * qd, v2);
+    const VectorXd v3 = qd + 0.5 * dt * a2, a3 = Accelerations(model, q + 0.5 * dt * v2, v3);
+    const VectorXd v4 = qd + dt * a3, a4 = Accelerations(model, q + dt * v3, v4);
+    q += dt / 6 * (qd + 2 * v2 + 2 * v3 + v4);
+    qd += dt / 6 * (a1 + 2 * a2 + 2 * a3 + a4);
+  }
+  return q;
+}
+
+TEST(UrdfRobotTest, OdeFollowsTheIndependentModelAlongAFallToFirstOrderInItsStep) {
+  const std::vector<double> pose = {0.3, -1.0, 1.2, -0.7, 0.9, 0.2};
+  const double duration_s = 0.3;
+  RobotConfig robot = Frictionless(RobotPreset("ur-class"));
+  robot.physics_rate_Hz = 1000;
+  const VectorXd q0 = Eigen::Map<const VectorXd>(pose.data(), 6);
+  const VectorXd reference = ReferenceFall(ArmModel(robot), q0, duration_s);
+  const double motion = (reference - q0).norm();
+  ASSERT_GT(motion, 0.05);  // it really falls
+  std::vector<double> errors;
+  for (const double rate_Hz : {1000.0, 2000.0, 5000.0, 10000.0}) {
+    robot.physics_rate_Hz = rate_Hz;
+    const ArmModel model(robot);
+    RunSpec spec;
+    spec.duration_s = duration_s;
+    for (double angle : pose) {
+      JointRunOptions o;
+      o.powered = false;
+      o.brake_held_released = true;
+      o.has_initial_angle = true;
+      o.initial_angle_rad = angle;
+      spec.joints.push_back(o);
+    }
+    VectorXd q(6);
+    ASSERT_TRUE(Simulate(model, spec, [&](const Tick& tick) {
+      for (int j = 0; j < 6; ++j) q[j] = (*tick.joints)[j].q_rad;
+    }).ok);
+    errors.push_back((q - reference).norm() / motion);
+    RecordProperty("relative_error_at_" + std::to_string(static_cast<int>(rate_Hz)) + "_Hz", std::to_string(errors.back()));
+  }
+  EXPECT_LT(errors[0], 0.02);
+  // First order: the error times the rate stays within a factor 2 of the 1 kHz one.
+  const double rates[] = {1000, 2000, 5000, 10000};
+  for (int k = 1; k < 4; ++k) {
+    const double scaled = errors[k] * rates[k] / (errors[0] * rates[0]);
+    EXPECT_GT(scaled, 0.5) << rates[k] << " Hz: " << errors[k];
+    EXPECT_LT(scaled, 2.0) << rates[k] << " Hz: " << errors[k];
+  }
+}
+
 // The URDF armfault writes for a links-shorthand robot, read back, is the same plant.
 TEST(UrdfRobotTest, WrittenUrdfOfMrrConfig1GivesThePresetsResults) {
   const RobotConfig preset = RobotPreset("mrr-config1");
