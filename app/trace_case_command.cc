@@ -22,25 +22,12 @@ namespace {
 // The run_id nearest to `id`: among the ids sharing the longest prefix with it (a typo is
 // usually in a value or the repetition near the end), the one with the fewest edits. Bounded
 // work for campaigns of millions of runs.
+// The run_id nearest to `id` (core/base/suggest.h, NearestId); only on the error path.
 std::string Nearest(const std::vector<CaseSpec>& cases, const std::string& id) {
-  size_t best_prefix = 0;
-  std::vector<const std::string*> candidates;
-  for (const CaseSpec& c : cases) {
-    const auto end = std::mismatch(id.begin(), id.end(), c.run_id.begin(), c.run_id.end()).first;
-    const size_t prefix = static_cast<size_t>(end - id.begin());
-    if (prefix > best_prefix) {
-      best_prefix = prefix;
-      candidates.clear();
-    }
-    if (prefix == best_prefix && candidates.size() < 1000) candidates.push_back(&c.run_id);
-  }
-  const std::string* best = nullptr;
-  size_t best_distance = 0;
-  for (const std::string* c : candidates) {
-    const size_t d = EditDistance(id, *c);
-    if (!best || d < best_distance) best = c, best_distance = d;
-  }
-  return best ? *best : std::string();
+  std::vector<std::string> ids;
+  ids.reserve(cases.size());
+  for (const CaseSpec& c : cases) ids.push_back(c.run_id);
+  return NearestId(id, ids);
 }
 
 const CaseSpec& FindCase(const std::vector<CaseSpec>& cases, const std::string& id) {

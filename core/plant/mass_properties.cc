@@ -30,6 +30,15 @@ Eigen::Matrix3d PointInertia(double mass, const Eigen::Vector3d& r) {
   return mass * (r.squaredNorm() * Eigen::Matrix3d::Identity() - r * r.transpose());
 }
 
+// Lumps a point mass `mass_kg` at `at` into `b` (parallel-axis theorem): the payload at the tool.
+void AddPointMass(double mass_kg, const Eigen::Vector3d& at, BodyMass* b) {
+  const double m = b->mass_kg;
+  const Eigen::Vector3d c = (m * b->com_m + mass_kg * at) / (m + mass_kg);
+  b->inertia_kg_m2 += PointInertia(m, b->com_m - c) + PointInertia(mass_kg, at - c);
+  b->mass_kg += mass_kg;
+  b->com_m = c;
+}
+
 }  // namespace
 
 BodyMass LinkBody(const LinkParams& l, const Eigen::Vector3d& anchor_m, const Eigen::Vector3d& dir,
@@ -39,13 +48,7 @@ BodyMass LinkBody(const LinkParams& l, const Eigen::Vector3d& anchor_m, const Ei
   b.com_m = anchor_m + l.com_fraction * l.length_m * dir;
   b.inertia_kg_m2 = LinkInertia(l, dir, axis);
   b.mass_kg = l.mass_kg;
-  if (payload_kg > 0) {
-    const double m = l.mass_kg;
-    const Eigen::Vector3d c = (m * b.com_m + payload_kg * end) / (m + payload_kg);
-    b.inertia_kg_m2 += PointInertia(m, b.com_m - c) + PointInertia(payload_kg, end - c);
-    b.mass_kg += payload_kg;
-    b.com_m = c;
-  }
+  if (payload_kg > 0) AddPointMass(payload_kg, end, &b);
   return b;
 }
 
@@ -57,12 +60,7 @@ BodyMass BodyOfJoint(const RobotConfig& robot, int joint, double payload_kg) {
   const auto& I = jb.inertia_kg_m2;
   b.inertia_kg_m2 << I[0], I[3], I[4], I[3], I[1], I[5], I[4], I[5], I[2];
   if (payload_kg > 0) {
-    const Eigen::Vector3d end(robot.payload_point_m[0], robot.payload_point_m[1], robot.payload_point_m[2]);
-    const double m = b.mass_kg;
-    const Eigen::Vector3d c = (m * b.com_m + payload_kg * end) / (m + payload_kg);
-    b.inertia_kg_m2 += PointInertia(m, b.com_m - c) + PointInertia(payload_kg, end - c);
-    b.mass_kg += payload_kg;
-    b.com_m = c;
+    AddPointMass(payload_kg, Eigen::Vector3d(robot.payload_point_m[0], robot.payload_point_m[1], robot.payload_point_m[2]), &b);
   }
   return b;
 }

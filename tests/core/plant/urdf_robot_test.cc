@@ -268,10 +268,9 @@ RigidModel Independent(const ArmModel& model, const std::vector<double>& q) {
     Rp = R[i];
     tp = t[i];
   }
-  auto add_body = [&](double m, const Vector3d& c, const Matrix3d& I, const MatrixXd& Jv, const MatrixXd& Jw) {
+  auto add_body = [&](double m, const Matrix3d& I, const MatrixXd& Jv, const MatrixXd& Jw) {
     out.mass += m * Jv.transpose() * Jv + Jw.transpose() * I * Jw;
     out.gravity += Jv.transpose() * (m * Vector3d(0, 0, -g));
-    (void)c;
   };
   for (int i = 0; i < n; ++i) {
     const JointModel& jm = model.joint(i);
@@ -284,10 +283,24 @@ RigidModel Independent(const ArmModel& model, const std::vector<double>& q) {
       Jvr.col(k) = z[k].cross(cr - p[k]);
       Jwr.col(k) = k < i ? z[k] : Vector3d(jm.ratio * z[k]);
     }
-    add_body(jm.mass_kg, c, R[i] * jm.inertia_kg_m2 * R[i].transpose(), Jv, Jw);
-    add_body(kRotorMass_kg, cr, jm.rotor_inertia_kg_m2 * Matrix3d::Identity(), Jvr, Jwr);
+    add_body(jm.mass_kg, R[i] * jm.inertia_kg_m2 * R[i].transpose(), Jv, Jw);
+    add_body(kRotorMass_kg, jm.rotor_inertia_kg_m2 * Matrix3d::Identity(), Jvr, Jwr);
   }
   return out;
+}
+
+// Every joint unpowered at `pose`, its brake held engaged or released.
+std::vector<JointRunOptions> UnpoweredAt(const std::vector<double>& pose, bool brake_released) {
+  std::vector<JointRunOptions> joints;
+  for (double angle : pose) {
+    JointRunOptions o;
+    o.powered = false;
+    o.brake_held_released = brake_released;
+    o.has_initial_angle = true;
+    o.initial_angle_rad = angle;
+    joints.push_back(o);
+  }
+  return joints;
 }
 
 RobotConfig Frictionless(RobotConfig r) {
@@ -308,14 +321,7 @@ TEST(UrdfRobotTest, OdeAccelerationsFromRestMatchAnIndependentMassMatrix) {
     const VectorXd qdd = rigid.mass.ldlt().solve(rigid.gravity);
     RunSpec spec;
     spec.duration_s = model.control_dt_s();
-    for (double angle : q) {
-      JointRunOptions o;
-      o.powered = false;
-      o.brake_held_released = true;
-      o.has_initial_angle = true;
-      o.initial_angle_rad = angle;
-      spec.joints.push_back(o);
-    }
+    spec.joints = UnpoweredAt(q, /*brake_released=*/true);
     std::vector<double> qd;
     ASSERT_TRUE(Simulate(model, spec, [&](const Tick& tick) {
       if (tick.t_s > 0) {
@@ -339,13 +345,7 @@ TEST(UrdfRobotTest, BrakedArmHoldsTheIndependentGravityTorques) {
   const RigidModel rigid = Independent(model, q);
   RunSpec spec;
   spec.duration_s = 0.1;
-  for (double angle : q) {
-    JointRunOptions o;
-    o.powered = false;  // driver off, brake engaged: a rigid, static arm
-    o.has_initial_angle = true;
-    o.initial_angle_rad = angle;
-    spec.joints.push_back(o);
-  }
+  spec.joints = UnpoweredAt(q, /*brake_released=*/false);  // driver off, brake engaged: a rigid, static arm
   std::vector<double> tau;
   ASSERT_TRUE(Simulate(model, spec, [&](const Tick& tick) {
     tau.clear();
@@ -455,14 +455,7 @@ TEST(UrdfRobotTest, OdeFollowsTheIndependentModelAlongAFallToFirstOrderInItsStep
     const ArmModel model(robot);
     RunSpec spec;
     spec.duration_s = duration_s;
-    for (double angle : pose) {
-      JointRunOptions o;
-      o.powered = false;
-      o.brake_held_released = true;
-      o.has_initial_angle = true;
-      o.initial_angle_rad = angle;
-      spec.joints.push_back(o);
-    }
+    spec.joints = UnpoweredAt(pose, /*brake_released=*/true);
     VectorXd q(6);
     ASSERT_TRUE(Simulate(model, spec, [&](const Tick& tick) {
       for (int j = 0; j < 6; ++j) q[j] = (*tick.joints)[j].q_rad;
