@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "app/commands.h"
+#include "app/progress.h"
 #include "campaigns/campaign.h"
 #include "campaigns/export.h"
 #include "campaigns/runner.h"
@@ -22,15 +23,8 @@ int ExportCommand(const ExportCommandOptions& o) {
   eo.threads = o.threads;
   eo.shard = ResolveShard(shard);
   eo.split = ParseSplit(o.split);
-  long last_percent = -1;
-  if (!o.quiet) {
-    eo.progress = [&](long done, long total) {
-      const long percent = total > 0 ? 100 * done / total : 100;
-      if (percent / 10 == last_percent / 10 && done != total) return;
-      last_percent = percent;
-      std::fprintf(stderr, "export: %ld/%ld runs\n", done, total);
-    };
-  }
+  Progress progress(!o.quiet);  // the same line as `armfault run`'s
+  eo.progress = [&](long done, long total) { progress.Update(done, total); };
   const OutputLock lock(o.output_dir, "armfault export " + o.campaign_file);
   const ExportResult r = ExportCampaign(campaign, eo);
   std::printf("exported %ld runs of %s (%ld failed) -> %s/manifest.jsonl, manifest.csv, runs/*.csv.gz\n", r.runs,

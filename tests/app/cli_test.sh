@@ -828,5 +828,14 @@ if grep -q "not shown: the thesis&#39;s table is about mrr-config1&#39;s top joi
   fail "the ur-class report shows the thesis table"
 fi
 
+
+# export shows the same progress line as run (rate and time left).
+run export_progress "$armfault" export "$tmp/exp.json" -o "$tmp/exp_progress"
+expect_status 0
+current=export_progress_line
+if grep -Eq '^progress: ([0-9]+)/\1 runs, [0-9.]+ runs/s, [0-9]+ s left$' "$tmp/stderr"; then pass; else
+  fail "export's progress line: $(head -c 400 "$tmp/stderr")"
+fi
+
 echo "$passed passed, $failed failed"
 [[ $failed -eq 0 ]]
