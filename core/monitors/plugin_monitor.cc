@@ -10,6 +10,7 @@
 
 #include "armfault/monitor_plugin.h"
 #include "core/monitors/threshold_statistics.h"
+#include "core/plant/simulation.h"
 
 namespace armfault {
 
@@ -39,6 +40,8 @@ struct PluginLibrary {
   void* handle = nullptr;
   armfault_monitor_abi_version_fn abi_version = nullptr;
   armfault_monitor_create_fn create = nullptr;
+  // Optional (ABI minor 1), called instead of create when exported: create or it is required.
+  armfault_monitor_create_v2_fn create_v2 = nullptr;
   armfault_monitor_step_fn step = nullptr;
   armfault_monitor_finish_fn finish = nullptr;
   armfault_monitor_verdicts_fn verdicts = nullptr;
@@ -227,7 +230,12 @@ std::shared_ptr<const PluginLibrary> OpenLibrary(const std::string& path, const 
     *out = reinterpret_cast<std::remove_pointer_t<decltype(out)>>(symbol);
   };
   resolve("armfault_monitor_abi_version", &library->abi_version);
-  resolve("armfault_monitor_create", &library->create);
+  // create_v2 (ABI minor 1) when exported, else create: one of them.
+  library->create_v2 = reinterpret_cast<armfault_monitor_create_v2_fn>(dlsym(library->handle, "armfault_monitor_create_v2"));
+  if (!library->create_v2) {
+    library->create = reinterpret_cast<armfault_monitor_create_fn>(dlsym(library->handle, "armfault_monitor_create"));
+    if (!library->create) missing += std::string(missing.empty() ? "" : ", ") + "armfault_monitor_create (or armfault_monitor_create_v2)";
+  }
   resolve("armfault_monitor_step", &library->step);
   resolve("armfault_monitor_finish", &library->finish);
   resolve("armfault_monitor_verdicts", &library->verdicts);
@@ -244,7 +252,8 @@ std::shared_ptr<const PluginLibrary> OpenLibrary(const std::string& path, const 
   if (!missing.empty()) {
     throw InputError(source, pointer,
                      named + " does not export " + missing + " (include/armfault/monitor_plugin.h, ABI version " +
-                         std::to_string(ARMFAULT_MONITOR_PLUGIN_ABI_VERSION) + ")");
+                         std::to_string(ARMFAULT_MONITOR_PLUGIN_ABI_VERSION) + "." +
+                         std::to_string(ARMFAULT_MONITOR_PLUGIN_ABI_MINOR) + ")");
   }
   const int version = library->abi_version();
   if (version != ARMFAULT_MONITOR_PLUGIN_ABI_VERSION) {
@@ -262,15 +271,16 @@ PluginMonitorModel::PluginMonitorModel(const std::string& library, const nlohman
                                        const RobotConfig& robot, const std::string& source,
                                        const std::string& pointer)
     : robot_json_(RobotToJson(robot).dump()), settings_json_(settings.dump()),
-      joints_(static_cast<int>(robot.modules.size())) {
+      joints_(static_cast<int>(robot.modules.size())), dt_s_(ArmModel(robot).control_dt_s()) {
   const std::string at = PointerJoin(pointer, "library");
   library_ = OpenLibrary(library, source, at);
   // One instance at load, so settings the plugin refuses stop the campaign before any run.
   char error[kErrorSize] = {};
-  void* probe = library_->create(robot_json_.c_str(), settings_json_.c_str(), error, kErrorSize);
+  void* probe = Create(error);
   if (!probe) {
     throw InputError(source, at,
-                     "plugin library " + Quoted(library) + ": armfault_monitor_create returned NULL for the settings " +
+                     "plugin library " + Quoted(library) + ": armfault_monitor_create" +
+                         (library_->create_v2 ? "_v2" : "") + " returned NULL for the settings " +
                          settings_json_ + ": " + MessageOf(error, 0));
   }
   // Statistics declared against the contract are the plugin's input error too.
@@ -284,9 +294,22 @@ PluginMonitorModel::PluginMonitorModel(const std::string& library, const nlohman
 
 const std::string& PluginMonitorModel::library() const { return library_->path; }
 
+void* PluginMonitorModel::Create(char* error) const {
+  if (library_->create_v2) {
+    armfault_monitor_create_args args{};
+    args.struct_size = sizeof args;
+    args.robot_json = robot_json_.c_str();
+    args.settings_json = settings_json_.c_str();
+    args.dt_s = dt_s_;
+    args.joint_count = joints_;
+    return library_->create_v2(&args, error, kErrorSize);
+  }
+  return library_->create(robot_json_.c_str(), settings_json_.c_str(), error, kErrorSize);
+}
+
 std::unique_ptr<HealthMonitor> PluginMonitorModel::NewMonitor() const {
   char error[kErrorSize] = {};
-  void* self = library_->create(robot_json_.c_str(), settings_json_.c_str(), error, kErrorSize);
+  void* self = Create(error);
   // Thrown where every caller expects a monitor to fail, at its first tick.
   return std::make_unique<PluginMonitor>(library_, self, self ? "" : "create returned NULL: " + MessageOf(error, 0),
                                          joints_);

@@ -35,9 +35,14 @@ class PluginMonitorModel : public MonitorModel {
   const std::string& library() const;
 
  private:
+  // A new instance: create_v2 when the library exports it (with dt_s_ and joints_), else
+  // create; NULL with the plugin's message in `error` (kErrorSize bytes).
+  void* Create(char* error) const;
+
   std::shared_ptr<const PluginLibrary> library_;
   std::string robot_json_, settings_json_;  // what create gets, the same for every run
   int joints_;
+  double dt_s_;  // the control period [s] (ArmModel::control_dt_s: the ticks are k * dt_s_)
 };
 
 // The registry's row (core/monitors/registry.cc). Settings: "library" (required; a path relative

@@ -1,4 +1,5 @@
-/* Example armfault monitor plugin (plain C99, include/armfault/monitor_plugin.h only): a
+/* Example armfault monitor plugin (plain C99, include/armfault/monitor_plugin.h and its
+ * settings helper monitor_settings.h only; ABI 1.1, armfault_monitor_create_v2): a
  * current-residual monitor.
  *
  * Each joint's motor must supply, on its shaft, the torque the torque sensor measures (through
@@ -13,9 +14,10 @@
  * the ticks from then on names the fault and keeps refining its size. It sees only the signals
  * and the robot as designed, as any monitor (docs/monitor-api.md).
  *
- * Settings (all optional, numbers): window_s 2 (the fits' time constant), min_speed_rad_s 0.05
- * (slower ticks are left out: the friction's sign is unknown), min_moving_s 1 (motion in the
- * window before the watch trusts its fit), judge_moving_s 0.5 (motion after a change before it
+ * Settings (all optional, numbers; read with include/armfault/monitor_settings.h): window_s 2
+ * (the fits' time constant), min_speed_rad_s 0.05 (slower ticks are left out: the friction's
+ * sign is unknown), min_moving_s 1 (motion in the window before the watch trusts its fit; at
+ * least 10 control periods, which create_v2 is told), judge_moving_s 0.5 (motion after a change before it
  * is named), debounce_s 0.3, kt_worn 0.85, kt_defective 0.65, friction_worn 1.4,
  * friction_defective 2.5, refine_step 0.05 (a new verdict when the size estimate moved by more).
  *
@@ -36,6 +38,7 @@
 #include <string.h>
 
 #include "armfault/monitor_plugin.h"
+#include "armfault/monitor_settings.h"
 
 /* ------------------------------------------------------------------ settings */
 
@@ -66,11 +69,13 @@ static double* setting_slot(settings* s, int k) {
   return slots[k];
 }
 
-/* Reads a flat JSON object of numbers, as armfault passes it (compact, no spaces); unknown
- * keys and non-numbers are errors. Returns 0 or -1 with a message. */
-static int parse_settings(const char* json, settings* s, char* error, size_t error_size) {
-  const char* p = json;
+/* Reads the settings with include/armfault/monitor_settings.h: every key must be one of
+ * kSettingNames and a number; absent ones keep their defaults. `dt_s` is the control period
+ * (create_v2): the fits' window must hold enough ticks to fit two unknowns. Returns 0 or -1 with
+ * a message. */
+static int parse_settings(const char* json, double dt_s, settings* s, char* error, size_t error_size) {
   const int count = (int)(sizeof kSettingNames / sizeof kSettingNames[0]);
+  int k;
   s->window_s = 2.0;
   s->min_speed_rad_s = 0.05;
   s->min_moving_s = 1.0;
@@ -84,43 +89,10 @@ static int parse_settings(const char* json, settings* s, char* error, size_t err
   s->threshold_alarm = 0;
   s->kt_deficit_threshold = 0.15;
   s->friction_excess_threshold = 0.4;
-  if (*p++ != '{') goto bad;
-  if (*p == '}') goto check;
-  for (;;) {
-    const char* key;
-    size_t key_size;
-    int k;
-    char* end;
-    double value;
-    if (*p++ != '"') goto bad;
-    key = p;
-    while (*p && *p != '"') p++;
-    if (*p != '"') goto bad;
-    key_size = (size_t)(p - key);
-    p++;
-    if (*p++ != ':') goto bad;
-    for (k = 0; k < count; k++) {
-      if (strlen(kSettingNames[k]) == key_size && strncmp(kSettingNames[k], key, key_size) == 0) break;
-    }
-    if (k == count) {
-      snprintf(error, error_size,
-               "unknown setting \"%.*s\" (known: window_s, min_speed_rad_s, min_moving_s, judge_moving_s, "
-               "debounce_s, kt_worn, kt_defective, friction_worn, friction_defective, refine_step, "
-               "threshold_alarm, kt_deficit_threshold, friction_excess_threshold)",
-               (int)key_size, key);
-      return -1;
-    }
-    value = strtod(p, &end);
-    if (end == p || !isfinite(value)) {
-      snprintf(error, error_size, "setting \"%s\": expected a number", kSettingNames[k]);
-      return -1;
-    }
-    *setting_slot(s, k) = value;
-    p = end;
-    if (*p == '}') break;
-    if (*p++ != ',') goto bad;
+  if (armfault_setting_check_keys(json, kSettingNames, count, error, error_size) < 0) return -1;
+  for (k = 0; k < count; k++) {
+    if (armfault_setting_number(json, kSettingNames[k], setting_slot(s, k), error, error_size) < 0) return -1;
   }
-check:
   if (!(s->window_s > 0 && s->min_speed_rad_s > 0 && s->min_moving_s > 0 && s->judge_moving_s > 0 &&
         s->debounce_s >= 0 && s->refine_step > 0)) {
     snprintf(error, error_size,
@@ -147,10 +119,12 @@ check:
              s->friction_defective);
     return -1;
   }
+  if (!(s->min_moving_s >= 10 * dt_s)) {
+    snprintf(error, error_size, "min_moving_s (%g) must hold at least 10 control periods (%g s)", s->min_moving_s,
+             10 * dt_s);
+    return -1;
+  }
   return 0;
-bad:
-  snprintf(error, error_size, "settings: expected a flat object of numbers, got %.60s", json);
-  return -1;
 }
 
 /* ------------------------------------------------------------------ the robot as designed */
@@ -284,8 +258,11 @@ static void classify(const settings* s, double kt_factor, double friction_factor
 
 ARMFAULT_PLUGIN_EXPORT int armfault_monitor_abi_version(void) { return ARMFAULT_MONITOR_PLUGIN_ABI_VERSION; }
 
-ARMFAULT_PLUGIN_EXPORT void* armfault_monitor_create(const char* robot_json, const char* settings_json, char* error,
-                                                     size_t error_size) {
+/* ABI minor 1: told the control period and the joint count (no create of minor 0: this example
+ * ships with the armfault that loads it). */
+ARMFAULT_PLUGIN_EXPORT void* armfault_monitor_create_v2(const armfault_monitor_create_args* args, char* error,
+                                                        size_t error_size) {
+  const char* robot_json = args->robot_json;
   static const char* const keys[] = {"kt_Nm_per_A",          "ratio",      "mesh_loss_fraction",
                                      "viscous_Nm_s_per_rad", "coulomb_Nm", "static_Nm",
                                      "stribeck_s2_per_rad2"};
@@ -295,10 +272,11 @@ ARMFAULT_PLUGIN_EXPORT void* armfault_monitor_create(const char* robot_json, con
     snprintf(error, error_size, "out of memory");
     return NULL;
   }
-  if (parse_settings(settings_json, &self->s, error, error_size) != 0) goto fail;
-  self->joints = count_of(robot_json, "kt_Nm_per_A");
-  if (self->joints < 1) {
-    snprintf(error, error_size, "robot_json has no module with motor/kt_Nm_per_A");
+  if (parse_settings(args->settings_json, args->dt_s, &self->s, error, error_size) != 0) goto fail;
+  self->joints = args->joint_count;
+  if (count_of(robot_json, "kt_Nm_per_A") != self->joints) {
+    snprintf(error, error_size, "robot_json has %d modules with motor/kt_Nm_per_A, expected %d", count_of(robot_json, "kt_Nm_per_A"),
+             self->joints);
     goto fail;
   }
   self->joint = calloc((size_t)self->joints, sizeof *self->joint);

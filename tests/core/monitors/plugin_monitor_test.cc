@@ -16,6 +16,8 @@
 #include "core/monitors/plugin_monitor.h"
 #include "core/monitors/threshold_statistics.h"
 #include "core/monitors/registry.h"
+#include "core/plant/simulation.h"
+#include "armfault/monitor_settings.h"  // C++ includes the C helper too
 #include "tests/core/test_support.h"
 
 namespace armfault {
@@ -31,6 +33,9 @@ const char* const kExample = ARMFAULT_EXAMPLE_PLUGIN;
 const char* const kTest = ARMFAULT_TEST_PLUGIN;
 const char* const kTestAbi2 = ARMFAULT_TEST_PLUGIN_ABI2;
 const char* const kTestNoFinish = ARMFAULT_TEST_PLUGIN_NOFINISH;
+const char* const kTestV2 = ARMFAULT_TEST_PLUGIN_V2;
+const char* const kTestV2Only = ARMFAULT_TEST_PLUGIN_V2ONLY;
+const char* const kTestNoCreate = ARMFAULT_TEST_PLUGIN_NOCREATE;
 
 // Two trajectories, as the runner's own monitor tests: joint 3 moves in exp1 (where the test
 // plugin acts), joint 2 in j2; one fault and one healthy run each.
@@ -283,6 +288,64 @@ TEST(PluginMonitor, TuneRefusesStatisticsThatDoNotGiveTheAlarms) {
   EXPECT_THAT(ErrorOf([&] { CampaignFromJson(TwoRuns(TestPlugin("stats_zero")), "c.json", "."); }).what(),
               HasSubstr("c.json: /monitor/library: plugin library \"" + std::string(kTest) +
                         "\": statistic 1 (\"alarmed\"): threshold 0 is not a number > 0"));
+}
+
+// ABI minor 1: a plugin exporting armfault_monitor_create_v2 is told the control period and the
+// joint count (and armfault prefers it to create); one exporting only it loads; an old plugin
+// (create alone) loads and runs unchanged; one with neither create is refused naming both.
+TEST(PluginMonitor, CreateV2GetsTheControlPeriodAndTheJointCount) {
+  // The verdict "context" emits at its first tick: joint = joint count, magnitude = dt_s.
+  auto context_of = [](const char* library) {
+    const Campaign c = CampaignFromJson(TwoRuns(TestPlugin("context", library)), "c.json", ".");
+    std::unique_ptr<HealthMonitor> monitor = c.monitor_model->NewMonitor();
+    std::vector<JointSignals> ticks(3);
+    monitor->Observe(0.0, ticks);
+    monitor->Finish(0.0);
+    EXPECT_EQ(monitor->output().verdicts.size(), 1u) << library;
+    return monitor->output().verdicts.empty() ? Verdict{} : monitor->output().verdicts[0];
+  };
+  const double dt_s = ArmModel(CampaignFromJson(TwoRuns(json::object()), "c.json", ".").robot).control_dt_s();
+  ASSERT_GT(dt_s, 0);
+  for (const char* library : {kTestV2, kTestV2Only}) {
+    const Verdict v = context_of(library);
+    EXPECT_EQ(v.magnitude_name, "dt_s") << library;
+    EXPECT_EQ(v.magnitude, dt_s) << library;  // exactly: the ticks are k * dt_s
+    EXPECT_EQ(v.joint, 3) << library;
+  }
+  const Verdict old = context_of(kTest);  // create alone: as before minor 1
+  EXPECT_EQ(old.magnitude, -1);
+  EXPECT_EQ(old.joint, 0);
+
+  // A whole run of a create_v2-only plugin, scored as any other.
+  const Campaign c = CampaignFromJson(TwoRuns(TestPlugin("alarm", kTestV2Only)), "c.json", ".");
+  const RunRecord faulty = RunCase(c, ExpandCases(c)[0]);
+  ASSERT_TRUE(faulty.ok) << faulty.failure_reason;
+  EXPECT_EQ(faulty.isolated_family, "friction_increase");
+
+  ScratchDir dir("plugin_v2");
+  const std::string campaign = (dir.path() / "c.json").string();
+  auto error_of = [&](const json& monitor) {
+    return ErrorOf([&] { ReadCampaignFile(dir.Write("c.json", TwoRuns(monitor).dump())); });
+  };
+  const InputError none = error_of(TestPlugin("quiet", kTestNoCreate));
+  EXPECT_EQ(none.pointer(), "/monitor/library");
+  EXPECT_THAT(none.message(), HasSubstr("does not export armfault_monitor_create (or armfault_monitor_create_v2) "
+                                        "(include/armfault/monitor_plugin.h, ABI version 1.1)"));
+  // create_v2's refusal is named as create_v2's (here: the settings helper's message).
+  const InputError refused = error_of({{"type", "plugin"}, {"library", kTestV2Only}, {"settings", {{"mode", 3}}}});
+  EXPECT_THAT(refused.message(), HasSubstr("armfault_monitor_create_v2 returned NULL for the settings {\"mode\":3}: "
+                                           "setting \"mode\": expected a string, got a number"));
+  const InputError unknown = error_of({{"type", "plugin"}, {"library", kTestV2Only}, {"settings", {{"mdoe", "x"}}}});
+  EXPECT_THAT(unknown.message(), HasSubstr("unknown setting \"mdoe\" (known: mode)"));
+}
+
+// The settings helper is C++ too (a C++ plugin includes it); tests/core/monitors/
+// settings_helper_test.c tests it in C.
+TEST(PluginMonitor, TheSettingsHelperCompilesAsCpp) {
+  char error[128] = "";
+  double x = 0;
+  EXPECT_EQ(armfault_setting_number(R"({"kt_worn":0.8})", "kt_worn", &x, error, sizeof error), ARMFAULT_SETTING_FOUND);
+  EXPECT_EQ(x, 0.8);
 }
 
 }  // namespace
