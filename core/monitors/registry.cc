@@ -127,6 +127,32 @@ MonitorConfig PowerEfficiencyConfig(const MonitorConfig& as_given, const Monitor
 PowerEfficiencyModel::PowerEfficiencyModel(const MonitorConfig& as_given, PowerMonitorModel model)
     : as_given_(as_given), model_(std::move(model)) {}
 
+namespace {
+
+// The built-in monitor's fit needs the whole run (core/monitors/commissioning.cc): it is kept.
+class RecordingSink : public CommissioningSink {
+ public:
+  RecordingSink(const MonitorModel& model, double control_dt_s) : model_(model) { data_.control_dt_s = control_dt_s; }
+  void Tick(double t_s, const std::vector<JointSignals>& joints) override {
+    data_.t_s.push_back(t_s);
+    data_.signals.push_back(joints);
+  }
+  std::shared_ptr<const MonitorModel> End(double t_end_s) override {
+    (void)t_end_s;
+    return model_.Commissioned(data_);
+  }
+
+ private:
+  const MonitorModel& model_;
+  CommissioningData data_;
+};
+
+}  // namespace
+
+std::unique_ptr<CommissioningSink> PowerEfficiencyModel::BeginCommissioning(double control_dt_s) const {
+  return std::make_unique<RecordingSink>(*this, control_dt_s);
+}
+
 std::shared_ptr<const MonitorModel> PowerEfficiencyModel::Commissioned(const CommissioningData& data) const {
   return std::make_shared<PowerEfficiencyModel>(as_given_, CommissionMonitorModel(model_, data));
 }

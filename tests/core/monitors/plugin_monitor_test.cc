@@ -5,12 +5,15 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
+#include <map>
 #include <fstream>
 #include <sstream>
 
 #include "campaigns/campaign.h"
 #include "campaigns/run_record.h"
+#include "campaigns/run_pipeline.h"
 #include "campaigns/runner.h"
 #include "campaigns/tuning.h"
 #include "core/monitors/plugin_monitor.h"
@@ -346,6 +349,50 @@ TEST(PluginMonitor, TheSettingsHelperCompilesAsCpp) {
   double x = 0;
   EXPECT_EQ(armfault_setting_number(R"({"kt_worn":0.8})", "kt_worn", &x, error, sizeof error), ARMFAULT_SETTING_FOUND);
   EXPECT_EQ(x, 0.8);
+}
+
+// Commissioning (ABI minor 1): each unit's commissioning run is streamed to the plugin once; the
+// blob its commission_end returns is kept per unit and every run of that unit gets it at
+// create_v2; without commissioning no blob; a failing commission_tick fails the unit's runs
+// naming the library and the message.
+TEST(PluginMonitor, CommissioningStreamsEachUnitAndEveryRunOfItGetsItsBlob) {
+  json campaign = TwoRuns(TestPlugin("commissioned", kTestV2Only));
+  campaign["healthy"] = 3;
+  campaign["variation"] = {{"tolerances", "datasheet"}, {"units", 2}};
+  const Campaign c = CampaignFromJson(campaign, "c.json", ".");
+  ASSERT_TRUE(c.commissioning);
+  const double dt_s = ArmModel(c.robot).control_dt_s();
+  const double ticks = static_cast<double>(std::lround(16.0 / dt_s) + 1);  // 16 s, both ends
+  UnitMonitors units(c);
+  std::map<int, double> mean_by_unit;
+  for (const CaseSpec& spec : ExpandCases(c)) {
+    MonitorOutput out;
+    const RunRecord r = RunCase(c, spec, nullptr, &units, &out);
+    ASSERT_TRUE(r.ok) << r.failure_reason;
+    ASSERT_EQ(out.verdicts.size(), 2u);
+    EXPECT_EQ(out.verdicts[0].magnitude, ticks);
+    const double mean = out.verdicts[1].magnitude;
+    EXPECT_GT(mean, 0);
+    const auto [it, first] = mean_by_unit.emplace(spec.unit, mean);
+    if (!first) EXPECT_EQ(it->second, mean) << "unit " << spec.unit;  // the unit's one blob
+  }
+  ASSERT_EQ(mean_by_unit.size(), 2u);
+  EXPECT_NE(mean_by_unit.begin()->second, mean_by_unit.rbegin()->second);  // each unit its own run
+
+  campaign["commissioning"] = false;
+  const Campaign off = CampaignFromJson(campaign, "c.json", ".");
+  MonitorOutput out;
+  ASSERT_TRUE(RunCase(off, ExpandCases(off)[0], nullptr, nullptr, &out).ok);
+  ASSERT_EQ(out.verdicts.size(), 2u);
+  EXPECT_EQ(out.verdicts[0].magnitude, -1);
+
+  campaign["commissioning"] = true;
+  campaign["monitor"] = TestPlugin("commission_error", kTestV2Only);
+  const Campaign failing = CampaignFromJson(campaign, "c.json", ".");
+  const RunRecord r = RunCase(failing, ExpandCases(failing)[0]);
+  EXPECT_FALSE(r.ok);
+  EXPECT_THAT(r.failure_reason, HasSubstr(std::string(kTestV2Only) +
+                                          ": commission_tick returned error at t_s 1: commissioning diverged at t = 1 s"));
 }
 
 }  // namespace

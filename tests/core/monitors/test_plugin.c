@@ -16,6 +16,11 @@
  *   "context"      at its first tick, a healthy verdict telling what create got: joint = the
  *                  joint count, magnitude = dt_s (magnitude_name "dt_s"); create (ABI minor 0)
  *                  gives joint 0 and dt_s -1, create_v2 what armfault passed
+ *   "commissioned" (create_v2 builds, which also commission) at its first tick two healthy
+ *                  verdicts from the unit's blob: joint 1's magnitude the commissioning run's
+ *                  tick count, joint 2's the mean |i_cmd_A| of the last joint over it (-1 and
+ *                  -1 without a blob)
+ *   "commission_error" commission_tick returns an error at t >= 1 s
  * Built six times (tests/CMakeLists.txt): as is; with TEST_PLUGIN_ABI_VERSION=2 (another
  * ABI); with TEST_PLUGIN_WITHOUT_FINISH (a missing function); with TEST_PLUGIN_CREATE_V2 (also
  * armfault_monitor_create_v2, which reads its settings with include/armfault/monitor_settings.h);
@@ -44,7 +49,14 @@ typedef struct {
   double values[16]; /* [joint][1] */
   double dt_s;       /* as create_v2 got it; -1 from create */
   int joints;        /* as create_v2 got it; 0 from create */
+  double blob_ticks, blob_mean_abs_i_A; /* from the unit's commissioning blob, or -1 */
 } test_plugin;
+
+/* What commissioning learns: the blob's layout. */
+typedef struct {
+  double ticks;
+  double sum_abs_i_A; /* |i_cmd_A| of the last joint, summed over the ticks */
+} test_blob;
 
 ARMFAULT_PLUGIN_EXPORT int armfault_monitor_abi_version(void) { return TEST_PLUGIN_ABI_VERSION; }
 
@@ -115,14 +127,87 @@ ARMFAULT_PLUGIN_EXPORT void* armfault_monitor_create_v2(const armfault_monitor_c
   }
   self->dt_s = args->dt_s;
   self->joints = args->joint_count;
+  self->blob_ticks = self->blob_mean_abs_i_A = -1;
+  if (args->commissioning) {
+    const test_blob* blob = (const test_blob*)args->commissioning;
+    if (args->commissioning_size != sizeof *blob) {
+      snprintf(error, error_size, "a commissioning blob of %lu bytes", (unsigned long)args->commissioning_size);
+      free(self);
+      return NULL;
+    }
+    self->blob_ticks = blob->ticks;
+    self->blob_mean_abs_i_A = blob->ticks > 0 ? blob->sum_abs_i_A / blob->ticks : 0;
+  }
   return make(self, error, error_size);
 }
+
+typedef struct {
+  char mode[32];
+  test_blob blob;
+} test_commissioning;
+
+ARMFAULT_PLUGIN_EXPORT void* armfault_monitor_commission_begin(const armfault_monitor_create_args* args, char* error,
+                                                               size_t error_size) {
+  test_commissioning* c = calloc(1, sizeof *c);
+  if (!c) {
+    snprintf(error, error_size, "out of memory");
+    return NULL;
+  }
+  strcpy(c->mode, "quiet");
+  if (args->commissioning != NULL) {
+    snprintf(error, error_size, "commission_begin got a blob");
+    free(c);
+    return NULL;
+  }
+  if (armfault_setting_string(args->settings_json, "mode", c->mode, sizeof c->mode, error, error_size) < 0) {
+    free(c);
+    return NULL;
+  }
+  return c;
+}
+
+ARMFAULT_PLUGIN_EXPORT int armfault_monitor_commission_tick(void* handle, double t_s, const armfault_joint_signals* joints,
+                                                            int joint_count, char* error, size_t error_size) {
+  test_commissioning* c = handle;
+  if (strcmp(c->mode, "commission_error") == 0 && t_s >= 1.0) {
+    snprintf(error, error_size, "commissioning diverged at t = %g s", t_s);
+    return 2;
+  }
+  c->blob.ticks += 1;
+  c->blob.sum_abs_i_A += fabs(joints[joint_count - 1].i_cmd_A);
+  return 0;
+}
+
+ARMFAULT_PLUGIN_EXPORT int armfault_monitor_commission_end(void* handle, double t_end_s, const void** blob,
+                                                           size_t* blob_size, char* error, size_t error_size) {
+  test_commissioning* c = handle;
+  (void)t_end_s;
+  (void)error;
+  (void)error_size;
+  *blob = &c->blob;
+  *blob_size = sizeof c->blob;
+  return 0;
+}
+
+ARMFAULT_PLUGIN_EXPORT void armfault_monitor_commission_free(void* handle) { free(handle); }
 #endif
 
 ARMFAULT_PLUGIN_EXPORT int armfault_monitor_step(void* handle, double t_s, const armfault_joint_signals* joints,
                                                  int joint_count, char* error, size_t error_size) {
   test_plugin* self = handle;
   armfault_verdict* v = &self->verdicts[0];
+  if (!self->fired && strcmp(self->mode, "commissioned") == 0) {
+    self->fired = 1;
+    memset(self->verdicts, 0, sizeof self->verdicts);
+    self->verdicts[0].t_s = self->verdicts[1].t_s = t_s;
+    self->verdicts[0].joint = 1;
+    self->verdicts[1].joint = 2;
+    self->verdicts[0].magnitude = self->blob_ticks;
+    self->verdicts[1].magnitude = self->blob_mean_abs_i_A;
+    self->verdicts[0].confidence = self->verdicts[1].confidence = 1;
+    self->count = 2;
+    return 0;
+  }
   if (!self->fired && strcmp(self->mode, "context") == 0) {
     self->fired = 1;
     memset(v, 0, sizeof *v);
