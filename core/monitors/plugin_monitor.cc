@@ -414,6 +414,8 @@ class PluginCommissioning : public CommissioningSink {
 
 }  // namespace
 
+bool PluginMonitorModel::LearnsFromCommissioning() const { return library_->commission_begin != nullptr; }
+
 std::unique_ptr<CommissioningSink> PluginMonitorModel::BeginCommissioning(double control_dt_s) const {
   (void)control_dt_s;  // the robot's, which dt_s_ is already
   if (!library_->commission_begin) return nullptr;

@@ -36,6 +36,7 @@ class PluginMonitorModel : public MonitorModel {
   // gives this model with the unit's blob, which create_v2 then gets for every run of the unit.
   // nullptr without them. Failures throw MonitorFailure naming the library.
   std::unique_ptr<CommissioningSink> BeginCommissioning(double control_dt_s) const override;
+  bool LearnsFromCommissioning() const override;
   const std::string& library() const;
   // The unit's commissioning blob (null: not commissioned), for tests.
   const std::shared_ptr<const std::string>& commissioning() const { return commissioning_; }

@@ -63,6 +63,9 @@ class MonitorModel {
     (void)control_dt_s;
     return nullptr;
   }
+  // Whether BeginCommissioning gives a sink (without running anything): false for a monitor
+  // that learns nothing from commissioning, whose campaign then says so (CampaignWarnings).
+  virtual bool LearnsFromCommissioning() const { return false; }
   // The model of one robot unit after the monitor watched that unit's whole healthy
   // commissioning run at once (a monitor whose sink keeps the recording, as the built-in one).
   // nullptr: this monitor learns nothing from commissioning.
@@ -113,6 +116,7 @@ class PowerEfficiencyModel : public MonitorModel {
   std::string type() const override { return "power_efficiency"; }
   // Keeps every tick (CommissioningData), then fits the unit (CommissionMonitorModel) at End.
   std::unique_ptr<CommissioningSink> BeginCommissioning(double control_dt_s) const override;
+  bool LearnsFromCommissioning() const override { return true; }
   std::shared_ptr<const MonitorModel> Commissioned(const CommissioningData& data) const override;
   std::unique_ptr<HealthMonitor> NewMonitor() const override;
   const MonitorConfig& as_given() const { return as_given_; }  // the settings before widening

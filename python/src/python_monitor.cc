@@ -167,6 +167,14 @@ class PythonCommissioningSink : public CommissioningSink {
 
 }  // namespace
 
+bool PythonMonitorModel::LearnsFromCommissioning() const {
+  if (!factory_ || factory_ == Py_None) return false;
+  const PyGILState_STATE state = PyGILState_Ensure();
+  const bool learns = PyObject_HasAttrString(factory_, "commission_tick") == 1;
+  PyGILState_Release(state);
+  return learns;
+}
+
 std::unique_ptr<CommissioningSink> PythonMonitorModel::BeginCommissioning(double control_dt_s) const {
   (void)control_dt_s;  // the instance has self.dt_s
   auto monitor = std::make_unique<PythonMonitor>(*this, nullptr, nullptr, true);

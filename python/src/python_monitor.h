@@ -68,6 +68,8 @@ class PythonMonitorModel : public MonitorModel, public std::enable_shared_from_t
   // get it as self.commissioning before their first step. nullptr without commission_tick.
   // Needs the model to be owned by a shared_ptr (the unit's model keeps it).
   std::unique_ptr<CommissioningSink> BeginCommissioning(double control_dt_s) const override;
+  // The factory (a class) has commission_tick. Takes the GIL itself.
+  bool LearnsFromCommissioning() const override;
 
   const std::string& name() const { return name_; }
   PyObject* factory() const { return factory_; }

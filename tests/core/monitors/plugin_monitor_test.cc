@@ -379,8 +379,23 @@ TEST(PluginMonitor, CommissioningStreamsEachUnitAndEveryRunOfItGetsItsBlob) {
   ASSERT_EQ(mean_by_unit.size(), 2u);
   EXPECT_NE(mean_by_unit.begin()->second, mean_by_unit.rbegin()->second);  // each unit its own run
 
+  // A monitor that learns from commissioning is not warned about; one that does not is, once.
+  auto commissioning_warnings = [](const Campaign& c) {
+    int n = 0;
+    for (const std::string& w : CampaignWarnings(c)) n += w.find("learns nothing from commissioning") != std::string::npos;
+    return n;
+  };
+  EXPECT_EQ(commissioning_warnings(c), 0);
+  json old_plugin = campaign;
+  old_plugin["monitor"] = TestPlugin("quiet", kTest);
+  const Campaign ignores = CampaignFromJson(old_plugin, "c.json", ".");
+  EXPECT_EQ(commissioning_warnings(ignores), 1);
+  EXPECT_THAT(CampaignWarnings(ignores).front(),
+              HasSubstr("/commissioning: monitor plugin (" + std::string(kTest) + ") learns nothing from commissioning"));
+
   campaign["commissioning"] = false;
   const Campaign off = CampaignFromJson(campaign, "c.json", ".");
+  EXPECT_EQ(commissioning_warnings(off), 0);
   MonitorOutput out;
   ASSERT_TRUE(RunCase(off, ExpandCases(off)[0], nullptr, nullptr, &out).ok);
   ASSERT_EQ(out.verdicts.size(), 2u);
