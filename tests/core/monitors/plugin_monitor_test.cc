@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <map>
 #include <fstream>
@@ -408,6 +409,35 @@ TEST(PluginMonitor, CommissioningStreamsEachUnitAndEveryRunOfItGetsItsBlob) {
   EXPECT_FALSE(r.ok);
   EXPECT_THAT(r.failure_reason, HasSubstr(std::string(kTestV2Only) +
                                           ": commission_tick returned error at t_s 1: commissioning diverged at t = 1 s"));
+}
+
+// The example plugin learns each unit: its blob holds, per joint, the unit's own 1/a and c/a
+// near the datasheet's 1 for the moving joint, and the scatter of its healthy windowed fit;
+// a run of the commissioned unit with a strong friction fault still detects and names it.
+TEST(PluginMonitor, TheExampleLearnsItsUnitByCommissioning) {
+  json campaign = TwoRuns({{"type", "plugin"}, {"library", kExample}}, 6);
+  campaign["variation"] = {{"tolerances", "datasheet"}, {"units", 1}};
+  const Campaign c = CampaignFromJson(campaign, "c.json", ".");
+  ASSERT_TRUE(c.commissioning);
+  EXPECT_TRUE(c.monitor_model->LearnsFromCommissioning());
+  const std::vector<CaseSpec> cases = ExpandCases(c);
+  const UnitMonitor unit = CommissionUnit(c, cases[0]);
+  ASSERT_TRUE(unit.failure.empty()) << unit.failure;
+  const auto& model = dynamic_cast<const PluginMonitorModel&>(*unit.model);
+  ASSERT_NE(model.commissioning(), nullptr);
+  ASSERT_EQ(model.commissioning()->size(), 4 * 3 * sizeof(double));
+  double learned[12];
+  std::memcpy(learned, model.commissioning()->data(), sizeof learned);
+  EXPECT_NEAR(learned[8], 1.0, 0.25);   // joint 3: 1/a, the unit's K_T against the datasheet's
+  EXPECT_NEAR(learned[9], 1.0, 0.6);    // c/a, its friction
+  EXPECT_LE(learned[10], 1.0 + 1e-12);  // the lowest windowed 1/a, relative
+  EXPECT_GE(learned[11], 1.0 - 1e-12);  // the highest windowed c/a, relative
+  UnitMonitors units(c);
+  const RunRecord faulty = RunCase(c, cases[0], nullptr, &units);  // friction x2 on joint 3
+  ASSERT_TRUE(faulty.ok) << faulty.failure_reason;
+  EXPECT_TRUE(faulty.detected);
+  EXPECT_EQ(faulty.isolated_family, "friction_increase");
+  EXPECT_EQ(faulty.isolated_joint, 3);
 }
 
 }  // namespace
