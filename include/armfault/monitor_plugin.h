@@ -105,7 +105,8 @@ ARMFAULT_PLUGIN_EXPORT int armfault_monitor_abi_version(void);
 /* A new instance for one run (required unless armfault_monitor_create_v2 is exported, which
  * armfault then calls instead). robot_json: the robot as designed (datasheet values, never a
  * unit's draw or the fault), as armfault's robot JSON (docs/robot-format.md; "modules" is the
- * array of joints, base first). settings_json: the campaign's "settings" object as JSON text
+ * array of joints, base first), complete: every key of every module and link is written out with
+ * its value, defaults filled in, so a plugin never needs armfault's defaults. settings_json: the campaign's "settings" object as JSON text
  * ("{}" when absent). Returns NULL on error, with the message in `error`. */
 ARMFAULT_PLUGIN_EXPORT void* armfault_monitor_create(const char* robot_json, const char* settings_json, char* error,
                                                      size_t error_size);
