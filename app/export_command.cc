@@ -45,7 +45,7 @@ int ScoreCommand(const ScoreCommandOptions& o) {
   const ScoreResult r = ScoreExternalVerdicts(campaign, o.dir, o.verdicts_file, out);
   std::printf("scored %ld verdicts on %ld runs (%ld runs without a verdict) -> %s\n", r.verdicts, r.runs,
               r.runs_without_verdicts, out.c_str());
-  const int status = FinishCampaignOutputs(out, campaign);
+  const int status = FinishCampaignOutputs(out, r.campaign);  // the campaign of the verdicts (its monitor)
   std::printf("wrote %s/results.jsonl, results.csv, summary.json, junit.xml\nnext: armfault report %s\n", out.c_str(),
               out.c_str());
   return status;

@@ -69,6 +69,13 @@ Campaign ReadCampaignFile(const std::string& path, MonitorLoading loading) {
 
 std::vector<std::string> CampaignWarnings(const Campaign& c) {
   std::vector<std::string> out;
+  // Commissioning that the monitor does not learn from costs a run per unit and changes nothing.
+  if (c.commissioning && c.monitor_model && !c.monitor_model->LearnsFromCommissioning()) {
+    const std::string source = c.monitor_model->source();
+    out.push_back("/commissioning: monitor " + c.monitor_model->type() + (source.empty() ? "" : " (" + source + ")") +
+                  " learns nothing from commissioning (docs/monitor-api.md, \"Commissioning\"): its runs are as "
+                  "without it, and each unit's commissioning run only costs time");
+  }
   for (size_t ti = 0; ti < c.trajectories.size(); ++ti) {
     const CampaignTrajectory& t = c.trajectories[ti];
     const auto& loaded = c.loaded_trajectories[ti];

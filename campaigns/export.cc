@@ -22,6 +22,7 @@
 #include "core/base/suggest.h"
 #include "core/monitors/monitor.h"
 #include "core/plant/simulation.h"
+#include "campaigns/provenance.h"
 #include "faults/fault.h"
 
 namespace armfault {
@@ -422,6 +423,14 @@ void ReadVerdicts(std::istream& in, const std::string& path, const VerdictLimits
   if (!errors.empty()) throw InputError(errors.errors(), unlisted);
 }
 
+CampaignSpec ScoredCampaign(const CampaignSpec& campaign, const std::string& verdicts_path) {
+  CampaignSpec scored = campaign;
+  scored.monitor.type = "verdicts";
+  scored.monitor.settings = {{"file", verdicts_path}, {"sha256", Sha256FileHex(verdicts_path)}};
+  scored.resolved["monitor"] = scored.monitor.ToJson();
+  return scored;
+}
+
 ScoreResult ScoreExternalVerdicts(const CampaignSpec& campaign, const std::string& dir_name, const std::string& verdicts_path,
                                   const std::string& output_dir) {
   const fs::path dir(dir_name);
@@ -500,7 +509,8 @@ ScoreResult ScoreExternalVerdicts(const CampaignSpec& campaign, const std::strin
     ++result.runs;
   }
   // The campaign as `run` writes it, then the records: the summary, JUnit and report read them.
-  WriteAtomically(out_dir / run_dir::kCampaign, CampaignFileJson(campaign, ShardSpec{}).dump(2) + "\n");
+  result.campaign = ScoredCampaign(campaign, verdicts_path);
+  WriteAtomically(out_dir / run_dir::kCampaign, CampaignFileJson(result.campaign, ShardSpec{}).dump(2) + "\n");
   WriteAtomically(out_dir / run_dir::kResults, lines.str());
   return result;
 }

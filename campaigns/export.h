@@ -67,6 +67,7 @@ struct ScoreResult {
   long runs = 0;
   long verdicts = 0;
   long runs_without_verdicts = 0;
+  CampaignSpec campaign;  // the scored campaign (ScoredCampaign), as campaign.json holds it
 };
 // Reads a verdicts file (JSON Lines, as `armfault score` takes it) from `in`: each line parsed
 // strictly (core/base ParseJsonText: a duplicate key or a number beyond a double is an error
@@ -88,7 +89,16 @@ void ReadVerdicts(std::istream& in, const std::string& path, const VerdictLimits
                   const std::function<std::string(const std::string& run_id, std::string* hint)>& run_known,
                   const std::function<void(const std::string& run_id, const Verdict& verdict)>& each);
 
+// `campaign` is DIR's campaign; the scored directory's campaign (ScoredCampaign, returned in
+// ScoreResult::campaign) records the verdicts file as its monitor: campaign.json holds it, and
+// the summary must be made of it (FinishCampaignOutputs).
 ScoreResult ScoreExternalVerdicts(const CampaignSpec& campaign, const std::string& dir, const std::string& verdicts_path,
                                   const std::string& output_dir);
+
+// `campaign` with its monitor replaced by the verdicts' source, {"type": "verdicts", "file":
+// `verdicts_path` as given, "sha256": SHA-256 of the file's bytes}, in `monitor` and in
+// `resolved` (so the campaign hash is of the scored campaign: two detectors' verdicts on one
+// export are two campaigns to `diff`, and `tune` refuses a detector it cannot re-threshold).
+CampaignSpec ScoredCampaign(const CampaignSpec& campaign, const std::string& verdicts_path);
 
 }  // namespace armfault

@@ -4,7 +4,12 @@
 #include <array>
 #include <cstdio>
 
+#include <openssl/evp.h>
 #include <openssl/sha.h>
+
+#include <fstream>
+#include <memory>
+#include <vector>
 
 #include "core/base/json_input.h"
 #include "campaigns/cases.h"
@@ -18,6 +23,29 @@ std::string Sha256Hex(std::string_view bytes) {
   char buf[3];
   for (unsigned char byte : digest) {
     std::snprintf(buf, sizeof buf, "%02x", byte);
+    hex += buf;
+  }
+  return hex;
+}
+
+std::string Sha256FileHex(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, "", "cannot read the file");
+  const std::unique_ptr<EVP_MD_CTX, void (*)(EVP_MD_CTX*)> ctx(EVP_MD_CTX_new(), &EVP_MD_CTX_free);
+  if (!ctx || EVP_DigestInit_ex(ctx.get(), EVP_sha256(), nullptr) != 1) throw std::runtime_error("SHA-256: cannot start a digest");
+  std::vector<char> block(1 << 20);
+  while (in) {
+    in.read(block.data(), static_cast<std::streamsize>(block.size()));
+    if (in.gcount() > 0) EVP_DigestUpdate(ctx.get(), block.data(), static_cast<size_t>(in.gcount()));
+  }
+  if (in.bad()) throw InputError(path, "", "cannot read the file");
+  unsigned char digest[EVP_MAX_MD_SIZE];
+  unsigned int length = 0;
+  EVP_DigestFinal_ex(ctx.get(), digest, &length);
+  std::string hex;
+  char buf[3];
+  for (unsigned int k = 0; k < length; ++k) {
+    std::snprintf(buf, sizeof buf, "%02x", digest[k]);
     hex += buf;
   }
   return hex;

@@ -22,6 +22,9 @@ namespace armfault {
 
 // SHA-256 (FIPS 180-4) of `bytes`, as 64 lowercase hex digits.
 std::string Sha256Hex(std::string_view bytes);
+// SHA-256 of the bytes of the file at `path`, read in 1 MiB blocks (a verdicts file may be
+// larger than memory), as 64 lowercase hex digits. InputError naming `path` when it cannot be read.
+std::string Sha256FileHex(const std::string& path);
 
 // The campaign's content hash, "sha256:" + 64 hex digits: SHA-256 of the resolved campaign
 // JSON (the "campaign" object of campaign.json and summary.json) serialised by nlohmann's

@@ -68,22 +68,21 @@ UnitMonitor CommissionUnit(const Campaign& campaign, const CaseSpec& spec) {
          JointTrajectoriesFromJson(CommissioningMotion(robot), "/commissioning", robot, run.duration_s, context)) {
       run.joints[joint - 1].trajectory = trajectory;
     }
-    CommissioningData data;
-    data.control_dt_s = model.control_dt_s();
+    // Streamed tick by tick to the monitor (CommissioningSink); one that learns nothing from it
+    // (no sink) still has its unit commissioned, so a unit that cannot be fails its runs alike.
+    const std::unique_ptr<CommissioningSink> sink = campaign.monitor_model->BeginCommissioning(model.control_dt_s());
+    std::vector<JointSignals> signals;
     const RunResult result = Simulate(model, run, [&](const Tick& tick) {
-      data.t_s.push_back(tick.t_s);
-      std::vector<JointSignals> s;
-      s.reserve(tick.joints->size());
-      for (const JointTick& jt : *tick.joints) s.push_back(jt.signals);
-      data.signals.push_back(std::move(s));
+      if (!sink) return;
+      signals.resize(tick.joints->size());
+      for (size_t j = 0; j < signals.size(); ++j) signals[j] = (*tick.joints)[j].signals;
+      sink->Tick(tick.t_s, signals);
     });
-    data.ok = result.ok;
-    data.failure_reason = result.failure_reason;
     if (!result.ok) {
       out.failure = result.failure_reason;
       return out;
     }
-    out.model = campaign.monitor_model->Commissioned(data);
+    out.model = sink ? sink->End(result.end_time_s) : nullptr;
     if (!out.model) out.model = campaign.monitor_model;  // a monitor that learns nothing from it
   } catch (const std::exception& e) {
     out.failure = e.what();

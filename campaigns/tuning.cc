@@ -448,6 +448,13 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
   // which only the Python package can build); tune needs the cases and the stored statistics.
   const nlohmann::json campaign_file = ReadCampaignFileJson(dir);
   const CampaignSpec campaign = CampaignSpecFromJson(campaign_file["campaign"], campaign_path.string(), dir.string());
+  // Verdicts scored by `armfault score` are decisions already made: no statistic behind them
+  // is stored, and their thresholds live in the detector that wrote them.
+  if (campaign.monitor.type == "verdicts") {
+    throw InputError(campaign_path.string(), "/campaign/monitor/type",
+                     "a directory of armfault score (verdicts of " + campaign.monitor.settings.value("file", "") +
+                         "): verdicts cannot be re-thresholded; tune the detector that wrote them");
+  }
   const nlohmann::json monitor_json = campaign_file["campaign"].value("monitor", nlohmann::json());
   const bool python_monitor = campaign.monitor.type == "python";
   const std::string monitor_type = campaign.monitor.type;

@@ -3,6 +3,7 @@
 #include <dlfcn.h>
 
 #include <cstring>
+#include <functional>
 #include <filesystem>
 #include <type_traits>
 #include <utility>
@@ -10,6 +11,7 @@
 
 #include "armfault/monitor_plugin.h"
 #include "core/monitors/threshold_statistics.h"
+#include "core/plant/simulation.h"
 
 namespace armfault {
 
@@ -22,6 +24,9 @@ constexpr size_t kErrorSize = 1024;
 // More verdicts than any run can mean (one per joint and tick of an hour at 1 kHz is 1e7 for
 // three joints): a count beyond it is garbage, not read.
 constexpr int kMaxVerdicts = 50'000'000;
+// The largest commissioning blob armfault copies (docs/assumptions.md): one per unit is kept for
+// the whole campaign, so a size beyond it is a plugin's bug, not a model.
+constexpr size_t kMaxCommissioningBytes = size_t{1} << 30;
 
 std::string Quoted(const std::string& s) { return "\"" + s + "\""; }
 
@@ -39,6 +44,13 @@ struct PluginLibrary {
   void* handle = nullptr;
   armfault_monitor_abi_version_fn abi_version = nullptr;
   armfault_monitor_create_fn create = nullptr;
+  // Optional (ABI minor 1), called instead of create when exported: create or it is required.
+  armfault_monitor_create_v2_fn create_v2 = nullptr;
+  // Optional (minor 1), all four or none, with create_v2: commissioning.
+  armfault_monitor_commission_begin_fn commission_begin = nullptr;
+  armfault_monitor_commission_tick_fn commission_tick = nullptr;
+  armfault_monitor_commission_end_fn commission_end = nullptr;
+  armfault_monitor_commission_free_fn commission_free = nullptr;
   armfault_monitor_step_fn step = nullptr;
   armfault_monitor_finish_fn finish = nullptr;
   armfault_monitor_verdicts_fn verdicts = nullptr;
@@ -56,6 +68,16 @@ struct PluginLibrary {
 };
 
 namespace {
+
+// A tick's signals as the C ABI lays them out.
+void ToPluginSignals(const std::vector<JointSignals>& joints, std::vector<armfault_joint_signals>* out) {
+  out->resize(joints.size());
+  for (size_t j = 0; j < joints.size(); ++j) {
+    const JointSignals& s = joints[j];
+    (*out)[j] = {s.q_ref_rad, s.qd_ref_rad_s,    s.q_meas_rad,   s.qd_est_rad_s,  s.tau_sensor_Nm,
+                 s.i_cmd_A,   s.i_supply_meas_A, s.v_bus_meas_V, s.winding_temp_C};
+  }
+}
 
 // The statistics an instance declares (none without the optional functions), or why they break
 // the contract ("" when they keep it).
@@ -85,8 +107,11 @@ class PluginMonitor : public HealthMonitor {
  public:
   // `self` NULL: create failed with `failure`, thrown at the first Observe() (as are statistics
   // declared against the contract).
-  PluginMonitor(std::shared_ptr<const PluginLibrary> library, void* self, std::string failure, int joints)
-      : library_(std::move(library)), self_(self), pending_failure_(std::move(failure)), joints_(joints) {
+  // `commissioning`: the unit's blob create was given, kept while the instance lives.
+  PluginMonitor(std::shared_ptr<const PluginLibrary> library, void* self, std::string failure, int joints,
+                std::shared_ptr<const std::string> commissioning)
+      : library_(std::move(library)), self_(self), pending_failure_(std::move(failure)), joints_(joints),
+        commissioning_(std::move(commissioning)) {
     if (self_) {
       if (std::string why = DeclaredStatistics(*library_, self_, &statistics_); !why.empty()) {
         pending_failure_ = why;
@@ -104,12 +129,7 @@ class PluginMonitor : public HealthMonitor {
     if (!pending_failure_.empty()) Fail(std::exchange(pending_failure_, ""));
     if (!self_) return;
     if (failed_) return;
-    signals_.resize(joints.size());
-    for (size_t j = 0; j < joints.size(); ++j) {
-      const JointSignals& s = joints[j];
-      signals_[j] = {s.q_ref_rad,     s.qd_ref_rad_s, s.q_meas_rad,      s.qd_est_rad_s, s.tau_sensor_Nm,
-                     s.i_cmd_A,       s.i_supply_meas_A, s.v_bus_meas_V, s.winding_temp_C};
-    }
+    ToPluginSignals(joints, &signals_);
     error_[0] = '\0';
     const int code = library_->step(self_, t_s, signals_.data(), static_cast<int>(signals_.size()), error_, kErrorSize);
     if (code != 0) Fail("step returned error: " + MessageOf(error_, code));
@@ -194,6 +214,7 @@ class PluginMonitor : public HealthMonitor {
   MonitorOutput output_;
   int joints_;
   std::vector<StatisticInfo> statistics_;
+  std::shared_ptr<const std::string> commissioning_;  // what create_v2 was pointed to
   // The tap's recorder: set by NewDecisionTap, whose tap the runner keeps for the whole run.
   mutable ThresholdRecorder* recorder_ = nullptr;
 };
@@ -227,7 +248,12 @@ std::shared_ptr<const PluginLibrary> OpenLibrary(const std::string& path, const 
     *out = reinterpret_cast<std::remove_pointer_t<decltype(out)>>(symbol);
   };
   resolve("armfault_monitor_abi_version", &library->abi_version);
-  resolve("armfault_monitor_create", &library->create);
+  // create_v2 (ABI minor 1) when exported, else create: one of them.
+  library->create_v2 = reinterpret_cast<armfault_monitor_create_v2_fn>(dlsym(library->handle, "armfault_monitor_create_v2"));
+  if (!library->create_v2) {
+    library->create = reinterpret_cast<armfault_monitor_create_fn>(dlsym(library->handle, "armfault_monitor_create"));
+    if (!library->create) missing += std::string(missing.empty() ? "" : ", ") + "armfault_monitor_create (or armfault_monitor_create_v2)";
+  }
   resolve("armfault_monitor_step", &library->step);
   resolve("armfault_monitor_finish", &library->finish);
   resolve("armfault_monitor_verdicts", &library->verdicts);
@@ -236,6 +262,32 @@ std::shared_ptr<const PluginLibrary> OpenLibrary(const std::string& path, const 
   library->statistics = reinterpret_cast<armfault_monitor_statistics_fn>(dlsym(library->handle, "armfault_monitor_statistics"));
   library->statistic_values =
       reinterpret_cast<armfault_monitor_statistic_values_fn>(dlsym(library->handle, "armfault_monitor_statistic_values"));
+  // Commissioning: all four or none, and only with create_v2 (its args carry the blob).
+  library->commission_begin =
+      reinterpret_cast<armfault_monitor_commission_begin_fn>(dlsym(library->handle, "armfault_monitor_commission_begin"));
+  library->commission_tick =
+      reinterpret_cast<armfault_monitor_commission_tick_fn>(dlsym(library->handle, "armfault_monitor_commission_tick"));
+  library->commission_end =
+      reinterpret_cast<armfault_monitor_commission_end_fn>(dlsym(library->handle, "armfault_monitor_commission_end"));
+  library->commission_free =
+      reinterpret_cast<armfault_monitor_commission_free_fn>(dlsym(library->handle, "armfault_monitor_commission_free"));
+  const int commissioning = !!library->commission_begin + !!library->commission_tick + !!library->commission_end +
+                            !!library->commission_free;
+  if (commissioning != 0 && commissioning != 4) {
+    std::string absent;
+    for (const auto& [name, present] :
+         {std::pair<const char*, bool>{"armfault_monitor_commission_begin", library->commission_begin != nullptr},
+          {"armfault_monitor_commission_tick", library->commission_tick != nullptr},
+          {"armfault_monitor_commission_end", library->commission_end != nullptr},
+          {"armfault_monitor_commission_free", library->commission_free != nullptr}}) {
+      if (!present) absent += std::string(absent.empty() ? "" : ", ") + name;
+    }
+    missing += std::string(missing.empty() ? "" : ", ") + absent + " (it exports the other commissioning functions)";
+  }
+  if (commissioning == 4 && !library->create_v2) {
+    missing += std::string(missing.empty() ? "" : ", ") +
+               "armfault_monitor_create_v2 (it exports the commissioning functions, whose blob create_v2 gets)";
+  }
   if (!library->statistics != !library->statistic_values) {
     missing += std::string(missing.empty() ? "" : ", ") +
                (library->statistics ? "armfault_monitor_statistic_values (it exports armfault_monitor_statistics)"
@@ -244,7 +296,8 @@ std::shared_ptr<const PluginLibrary> OpenLibrary(const std::string& path, const 
   if (!missing.empty()) {
     throw InputError(source, pointer,
                      named + " does not export " + missing + " (include/armfault/monitor_plugin.h, ABI version " +
-                         std::to_string(ARMFAULT_MONITOR_PLUGIN_ABI_VERSION) + ")");
+                         std::to_string(ARMFAULT_MONITOR_PLUGIN_ABI_VERSION) + "." +
+                         std::to_string(ARMFAULT_MONITOR_PLUGIN_ABI_MINOR) + ")");
   }
   const int version = library->abi_version();
   if (version != ARMFAULT_MONITOR_PLUGIN_ABI_VERSION) {
@@ -262,15 +315,16 @@ PluginMonitorModel::PluginMonitorModel(const std::string& library, const nlohman
                                        const RobotConfig& robot, const std::string& source,
                                        const std::string& pointer)
     : robot_json_(RobotToJson(robot).dump()), settings_json_(settings.dump()),
-      joints_(static_cast<int>(robot.modules.size())) {
+      joints_(static_cast<int>(robot.modules.size())), dt_s_(ArmModel(robot).control_dt_s()) {
   const std::string at = PointerJoin(pointer, "library");
   library_ = OpenLibrary(library, source, at);
   // One instance at load, so settings the plugin refuses stop the campaign before any run.
   char error[kErrorSize] = {};
-  void* probe = library_->create(robot_json_.c_str(), settings_json_.c_str(), error, kErrorSize);
+  void* probe = Create(error);
   if (!probe) {
     throw InputError(source, at,
-                     "plugin library " + Quoted(library) + ": armfault_monitor_create returned NULL for the settings " +
+                     "plugin library " + Quoted(library) + ": armfault_monitor_create" +
+                         (library_->create_v2 ? "_v2" : "") + " returned NULL for the settings " +
                          settings_json_ + ": " + MessageOf(error, 0));
   }
   // Statistics declared against the contract are the plugin's input error too.
@@ -284,12 +338,101 @@ PluginMonitorModel::PluginMonitorModel(const std::string& library, const nlohman
 
 const std::string& PluginMonitorModel::library() const { return library_->path; }
 
+void* PluginMonitorModel::Create(char* error) const {
+  if (library_->create_v2) {
+    armfault_monitor_create_args args{};
+    args.struct_size = sizeof args;
+    args.robot_json = robot_json_.c_str();
+    args.settings_json = settings_json_.c_str();
+    args.dt_s = dt_s_;
+    args.joint_count = joints_;
+    if (commissioning_) {
+      args.commissioning = commissioning_->data();
+      args.commissioning_size = commissioning_->size();
+    }
+    return library_->create_v2(&args, error, kErrorSize);
+  }
+  return library_->create(robot_json_.c_str(), settings_json_.c_str(), error, kErrorSize);
+}
+
 std::unique_ptr<HealthMonitor> PluginMonitorModel::NewMonitor() const {
   char error[kErrorSize] = {};
-  void* self = library_->create(robot_json_.c_str(), settings_json_.c_str(), error, kErrorSize);
+  void* self = Create(error);
   // Thrown where every caller expects a monitor to fail, at its first tick.
   return std::make_unique<PluginMonitor>(library_, self, self ? "" : "create returned NULL: " + MessageOf(error, 0),
-                                         joints_);
+                                         joints_, commissioning_);
+}
+
+namespace {
+
+// One unit's commissioning streamed to the plugin (commission_begin .. commission_free); its
+// blob, copied, becomes the unit's PluginMonitorModel. Failures throw MonitorFailure naming the
+// library; commission_free follows every handle begin returned.
+class PluginCommissioning : public CommissioningSink {
+ public:
+  PluginCommissioning(std::shared_ptr<const PluginLibrary> library, void* self,
+                      std::function<std::shared_ptr<const MonitorModel>(std::shared_ptr<const std::string>)> with_blob)
+      : library_(std::move(library)), self_(self), with_blob_(std::move(with_blob)) {}
+  ~PluginCommissioning() override {
+    if (self_) library_->commission_free(self_);
+  }
+  PluginCommissioning(const PluginCommissioning&) = delete;
+  PluginCommissioning& operator=(const PluginCommissioning&) = delete;
+
+  void Tick(double t_s, const std::vector<JointSignals>& joints) override {
+    ToPluginSignals(joints, &signals_);
+    error_[0] = '\0';
+    const int code = library_->commission_tick(self_, t_s, signals_.data(), static_cast<int>(signals_.size()), error_,
+                                               kErrorSize);
+    if (code != 0) Fail("commission_tick returned error at t_s " + FormatNumber(t_s) + ": " + MessageOf(error_, code));
+  }
+
+  std::shared_ptr<const MonitorModel> End(double t_end_s) override {
+    const void* blob = nullptr;
+    size_t size = 0;
+    error_[0] = '\0';
+    const int code = library_->commission_end(self_, t_end_s, &blob, &size, error_, kErrorSize);
+    if (code != 0) Fail("commission_end returned error: " + MessageOf(error_, code));
+    if (size > kMaxCommissioningBytes) {
+      Fail("commission_end returned a blob of " + std::to_string(size) + " bytes, more than the 1 GiB armfault keeps");
+    }
+    if (size > 0 && !blob) Fail("commission_end returned " + std::to_string(size) + " bytes and a NULL pointer");
+    auto copy = std::make_shared<const std::string>(static_cast<const char*>(blob), size);
+    library_->commission_free(std::exchange(self_, nullptr));
+    return with_blob_(std::move(copy));
+  }
+
+ private:
+  [[noreturn]] void Fail(const std::string& what) { throw MonitorFailure(library_->path + ": " + what); }
+
+  std::shared_ptr<const PluginLibrary> library_;
+  void* self_;
+  std::function<std::shared_ptr<const MonitorModel>(std::shared_ptr<const std::string>)> with_blob_;
+  std::vector<armfault_joint_signals> signals_;
+  char error_[kErrorSize];
+};
+
+}  // namespace
+
+bool PluginMonitorModel::LearnsFromCommissioning() const { return library_->commission_begin != nullptr; }
+
+std::unique_ptr<CommissioningSink> PluginMonitorModel::BeginCommissioning(double control_dt_s) const {
+  (void)control_dt_s;  // the robot's, which dt_s_ is already
+  if (!library_->commission_begin) return nullptr;
+  armfault_monitor_create_args args{};
+  args.struct_size = sizeof args;
+  args.robot_json = robot_json_.c_str();
+  args.settings_json = settings_json_.c_str();
+  args.dt_s = dt_s_;
+  args.joint_count = joints_;
+  char error[kErrorSize] = {};
+  void* self = library_->commission_begin(&args, error, kErrorSize);
+  if (!self) throw MonitorFailure(library_->path + ": commission_begin returned NULL: " + MessageOf(error, 0));
+  return std::make_unique<PluginCommissioning>(library_, self, [model = *this](std::shared_ptr<const std::string> blob) {
+    auto unit = std::make_shared<PluginMonitorModel>(model);
+    unit->commissioning_ = std::move(blob);
+    return std::shared_ptr<const MonitorModel>(std::move(unit));
+  });
 }
 
 nlohmann::json ParsePluginSettings(const nlohmann::json& object, const std::string& pointer,

@@ -32,12 +32,25 @@ class PluginMonitorModel : public MonitorModel {
   // A new plugin instance for one run. If create returns NULL, its first Observe() throws the
   // MonitorFailure (create succeeded at load, so only a plugin that is not deterministic gets there).
   std::unique_ptr<HealthMonitor> NewMonitor() const override;
+  // With the commissioning functions: streams the unit's commissioning run to the plugin; End
+  // gives this model with the unit's blob, which create_v2 then gets for every run of the unit.
+  // nullptr without them. Failures throw MonitorFailure naming the library.
+  std::unique_ptr<CommissioningSink> BeginCommissioning(double control_dt_s) const override;
+  bool LearnsFromCommissioning() const override;
   const std::string& library() const;
+  // The unit's commissioning blob (null: not commissioned), for tests.
+  const std::shared_ptr<const std::string>& commissioning() const { return commissioning_; }
 
  private:
+  // A new instance: create_v2 when the library exports it (with dt_s_ and joints_), else
+  // create; NULL with the plugin's message in `error` (kErrorSize bytes).
+  void* Create(char* error) const;
+
   std::shared_ptr<const PluginLibrary> library_;
   std::string robot_json_, settings_json_;  // what create gets, the same for every run
   int joints_;
+  double dt_s_;  // the control period [s] (ArmModel::control_dt_s: the ticks are k * dt_s_)
+  std::shared_ptr<const std::string> commissioning_;  // the unit's blob, armfault's copy
 };
 
 // The registry's row (core/monitors/registry.cc). Settings: "library" (required; a path relative

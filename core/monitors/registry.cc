@@ -52,6 +52,35 @@ std::shared_ptr<const MonitorModel> BuildPythonModel(const nlohmann::json& setti
                        "\") runs only from the armfault Python package (import armfault; run_campaign(..., monitor=...))");
 }
 
+// The monitor of a directory `armfault score` wrote: the verdicts file that was scored, as
+// given on the command line, and the SHA-256 of its bytes (64 lowercase hex digits), so that
+// two scorings of different verdicts are different campaigns (campaign hash, `diff`). Such a
+// monitor is a record of where verdicts came from, not code: it cannot be built to run, and
+// `tune` refuses it (campaigns/tuning.cc).
+nlohmann::json ParseVerdictsSettings(const nlohmann::json& object, const std::string& pointer, const InputContext& context) {
+  try {
+    ObjectReader reader(object, pointer);
+    reader.AllowOnly({"file", "sha256"});
+    const std::string file = reader.RequireString("file");
+    const std::string sha256 = reader.RequireString("sha256");
+    if (sha256.size() != 64 || sha256.find_first_not_of("0123456789abcdef") != std::string::npos) {
+      throw InputError("", PointerJoin(pointer, "sha256"),
+                       "expected the SHA-256 of the verdicts file as 64 lowercase hex digits, got \"" + sha256 + "\"");
+    }
+    return {{"file", file}, {"sha256", sha256}};
+  } catch (const InputError& e) {
+    throw e.WithSource(context.source);
+  }
+}
+
+std::shared_ptr<const MonitorModel> BuildVerdictsModel(const nlohmann::json& settings, const MonitorContext& context,
+                                                       const std::string& pointer) {
+  throw InputError(context.input.source, PointerJoin(pointer, "type"),
+                   "the verdicts in \"" + settings.value("file", "") +
+                       "\" were made offline and scored by armfault score: there is no monitor to run (run the "
+                       "detector that wrote them, or score its verdicts again)");
+}
+
 const MonitorType kMonitorTypes[] = {
     {"power_efficiency", "the thesis's power-efficiency monitor, extended to isolate and size faults (docs/monitor.md)",
      &ParsePowerEfficiencySettings, &BuildPowerEfficiencyModel, false},
@@ -59,6 +88,8 @@ const MonitorType kMonitorTypes[] = {
      &ParsePluginSettings, &BuildPluginModel, true},
     {"python", "a class written in Python, run by the armfault Python package (docs/monitor-api.md)",
      &ParsePythonSettings, &BuildPythonModel, true},
+    {"verdicts", "verdicts made offline, scored by armfault score (the file and its SHA-256; cannot be run)",
+     &ParseVerdictsSettings, &BuildVerdictsModel, false},
 };
 
 const MonitorType* FindType(const std::string& type) {
@@ -95,6 +126,32 @@ MonitorConfig PowerEfficiencyConfig(const MonitorConfig& as_given, const Monitor
 
 PowerEfficiencyModel::PowerEfficiencyModel(const MonitorConfig& as_given, PowerMonitorModel model)
     : as_given_(as_given), model_(std::move(model)) {}
+
+namespace {
+
+// The built-in monitor's fit needs the whole run (core/monitors/commissioning.cc): it is kept.
+class RecordingSink : public CommissioningSink {
+ public:
+  RecordingSink(const MonitorModel& model, double control_dt_s) : model_(model) { data_.control_dt_s = control_dt_s; }
+  void Tick(double t_s, const std::vector<JointSignals>& joints) override {
+    data_.t_s.push_back(t_s);
+    data_.signals.push_back(joints);
+  }
+  std::shared_ptr<const MonitorModel> End(double t_end_s) override {
+    (void)t_end_s;
+    return model_.Commissioned(data_);
+  }
+
+ private:
+  const MonitorModel& model_;
+  CommissioningData data_;
+};
+
+}  // namespace
+
+std::unique_ptr<CommissioningSink> PowerEfficiencyModel::BeginCommissioning(double control_dt_s) const {
+  return std::make_unique<RecordingSink>(*this, control_dt_s);
+}
 
 std::shared_ptr<const MonitorModel> PowerEfficiencyModel::Commissioned(const CommissioningData& data) const {
   return std::make_shared<PowerEfficiencyModel>(as_given_, CommissionMonitorModel(model_, data));

@@ -31,6 +31,23 @@ struct MonitorContext {
   InputContext input;               // where relative file names (a plugin library) resolve
 };
 
+class MonitorModel;
+
+// One robot unit's healthy commissioning run, streamed to a monitor tick by tick (never the
+// whole recording at once, unless the monitor keeps it): made by MonitorModel::BeginCommissioning,
+// given every controller tick in time order, then End once. Used by one thread. What the
+// monitor learned becomes the unit's model, which the framework keeps once per unit and shares
+// read-only by every run of that unit on any thread (campaigns/run_pipeline.h, UnitMonitors).
+// A monitor's failure (its code raising, returning an error) throws MonitorFailure; the unit's
+// runs then fail with it.
+class CommissioningSink {
+ public:
+  virtual ~CommissioningSink() = default;
+  virtual void Tick(double t_s, const std::vector<JointSignals>& joints) = 0;
+  // After the last tick (at t_end_s): the model of the unit; nullptr: the campaign's model.
+  virtual std::shared_ptr<const MonitorModel> End(double t_end_s) = 0;
+};
+
 // A configured monitor: built once per campaign or run file, immutable, shared read-only by
 // every run and thread (the model; the per-run state lives in the HealthMonitor it makes).
 class MonitorModel {
@@ -40,8 +57,18 @@ class MonitorModel {
   // Where the monitor's code comes from, for messages: a plugin's library path, a Python
   // monitor's "module.Class"; "" for a built-in type (its type names it).
   virtual std::string source() const { return ""; }
-  // The model of one robot unit after the monitor watched that unit's healthy commissioning
-  // run (signals only). nullptr: this monitor learns nothing from commissioning.
+  // Starts streaming one unit's healthy commissioning run (signals only; ticks every
+  // control_dt_s) to the monitor. nullptr: this monitor learns nothing from commissioning.
+  virtual std::unique_ptr<CommissioningSink> BeginCommissioning(double control_dt_s) const {
+    (void)control_dt_s;
+    return nullptr;
+  }
+  // Whether BeginCommissioning gives a sink (without running anything): false for a monitor
+  // that learns nothing from commissioning, whose campaign then says so (CampaignWarnings).
+  virtual bool LearnsFromCommissioning() const { return false; }
+  // The model of one robot unit after the monitor watched that unit's whole healthy
+  // commissioning run at once (a monitor whose sink keeps the recording, as the built-in one).
+  // nullptr: this monitor learns nothing from commissioning.
   virtual std::shared_ptr<const MonitorModel> Commissioned(const CommissioningData& data) const {
     (void)data;
     return nullptr;
@@ -87,6 +114,9 @@ class PowerEfficiencyModel : public MonitorModel {
  public:
   PowerEfficiencyModel(const MonitorConfig& as_given, PowerMonitorModel model);
   std::string type() const override { return "power_efficiency"; }
+  // Keeps every tick (CommissioningData), then fits the unit (CommissionMonitorModel) at End.
+  std::unique_ptr<CommissioningSink> BeginCommissioning(double control_dt_s) const override;
+  bool LearnsFromCommissioning() const override { return true; }
   std::shared_ptr<const MonitorModel> Commissioned(const CommissioningData& data) const override;
   std::unique_ptr<HealthMonitor> NewMonitor() const override;
   const MonitorConfig& as_given() const { return as_given_; }  // the settings before widening

@@ -1,4 +1,5 @@
-/* Example armfault monitor plugin (plain C99, include/armfault/monitor_plugin.h only): a
+/* Example armfault monitor plugin (plain C99, include/armfault/monitor_plugin.h and its
+ * settings helper monitor_settings.h only; ABI 1.1, armfault_monitor_create_v2): a
  * current-residual monitor.
  *
  * Each joint's motor must supply, on its shaft, the torque the torque sensor measures (through
@@ -13,9 +14,10 @@
  * the ticks from then on names the fault and keeps refining its size. It sees only the signals
  * and the robot as designed, as any monitor (docs/monitor-api.md).
  *
- * Settings (all optional, numbers): window_s 2 (the fits' time constant), min_speed_rad_s 0.05
- * (slower ticks are left out: the friction's sign is unknown), min_moving_s 1 (motion in the
- * window before the watch trusts its fit), judge_moving_s 0.5 (motion after a change before it
+ * Settings (all optional, numbers; read with include/armfault/monitor_settings.h): window_s 2
+ * (the fits' time constant), min_speed_rad_s 0.05 (slower ticks are left out: the friction's
+ * sign is unknown), min_moving_s 1 (motion in the window before the watch trusts its fit; at
+ * least 10 control periods, which create_v2 is told), judge_moving_s 0.5 (motion after a change before it
  * is named), debounce_s 0.3, kt_worn 0.85, kt_defective 0.65, friction_worn 1.4,
  * friction_defective 2.5, refine_step 0.05 (a new verdict when the size estimate moved by more).
  *
@@ -27,6 +29,12 @@
  * tune") and `armfault tune` can sweep both thresholds. In the default mode it publishes none:
  * the judge phase's alarm is not a threshold test on one statistic.
  *
+ * Commissioning (ABI minor 1, armfault_monitor_commission_*): on a unit's healthy commissioning
+ * run it fits each joint's own 1/a and c/a over the whole run and its windowed fit's healthy
+ * scatter; the unit's runs judge the fits relative to the unit, and leave out a joint whose
+ * healthy scatter already reached kt_worn or friction_worn (docs/monitor-api.md, "With
+ * commissioning"). Without commissioning it judges against the datasheet, as before.
+ *
  * Build: gcc -std=c99 -O2 -Wall -Wextra -fPIC -shared -I include \
  *            examples/plugins/current_residual.c -o libcurrent_residual.so -lm
  */
@@ -36,6 +44,7 @@
 #include <string.h>
 
 #include "armfault/monitor_plugin.h"
+#include "armfault/monitor_settings.h"
 
 /* ------------------------------------------------------------------ settings */
 
@@ -66,11 +75,13 @@ static double* setting_slot(settings* s, int k) {
   return slots[k];
 }
 
-/* Reads a flat JSON object of numbers, as armfault passes it (compact, no spaces); unknown
- * keys and non-numbers are errors. Returns 0 or -1 with a message. */
-static int parse_settings(const char* json, settings* s, char* error, size_t error_size) {
-  const char* p = json;
+/* Reads the settings with include/armfault/monitor_settings.h: every key must be one of
+ * kSettingNames and a number; absent ones keep their defaults. `dt_s` is the control period
+ * (create_v2): the fits' window must hold enough ticks to fit two unknowns. Returns 0 or -1 with
+ * a message. */
+static int parse_settings(const char* json, double dt_s, settings* s, char* error, size_t error_size) {
   const int count = (int)(sizeof kSettingNames / sizeof kSettingNames[0]);
+  int k;
   s->window_s = 2.0;
   s->min_speed_rad_s = 0.05;
   s->min_moving_s = 1.0;
@@ -84,43 +95,10 @@ static int parse_settings(const char* json, settings* s, char* error, size_t err
   s->threshold_alarm = 0;
   s->kt_deficit_threshold = 0.15;
   s->friction_excess_threshold = 0.4;
-  if (*p++ != '{') goto bad;
-  if (*p == '}') goto check;
-  for (;;) {
-    const char* key;
-    size_t key_size;
-    int k;
-    char* end;
-    double value;
-    if (*p++ != '"') goto bad;
-    key = p;
-    while (*p && *p != '"') p++;
-    if (*p != '"') goto bad;
-    key_size = (size_t)(p - key);
-    p++;
-    if (*p++ != ':') goto bad;
-    for (k = 0; k < count; k++) {
-      if (strlen(kSettingNames[k]) == key_size && strncmp(kSettingNames[k], key, key_size) == 0) break;
-    }
-    if (k == count) {
-      snprintf(error, error_size,
-               "unknown setting \"%.*s\" (known: window_s, min_speed_rad_s, min_moving_s, judge_moving_s, "
-               "debounce_s, kt_worn, kt_defective, friction_worn, friction_defective, refine_step, "
-               "threshold_alarm, kt_deficit_threshold, friction_excess_threshold)",
-               (int)key_size, key);
-      return -1;
-    }
-    value = strtod(p, &end);
-    if (end == p || !isfinite(value)) {
-      snprintf(error, error_size, "setting \"%s\": expected a number", kSettingNames[k]);
-      return -1;
-    }
-    *setting_slot(s, k) = value;
-    p = end;
-    if (*p == '}') break;
-    if (*p++ != ',') goto bad;
+  if (armfault_setting_check_keys(json, kSettingNames, count, error, error_size) < 0) return -1;
+  for (k = 0; k < count; k++) {
+    if (armfault_setting_number(json, kSettingNames[k], setting_slot(s, k), error, error_size) < 0) return -1;
   }
-check:
   if (!(s->window_s > 0 && s->min_speed_rad_s > 0 && s->min_moving_s > 0 && s->judge_moving_s > 0 &&
         s->debounce_s >= 0 && s->refine_step > 0)) {
     snprintf(error, error_size,
@@ -147,10 +125,12 @@ check:
              s->friction_defective);
     return -1;
   }
+  if (!(s->min_moving_s >= 10 * dt_s)) {
+    snprintf(error, error_size, "min_moving_s (%g) must hold at least 10 control periods (%g s)", s->min_moving_s,
+             10 * dt_s);
+    return -1;
+  }
   return 0;
-bad:
-  snprintf(error, error_size, "settings: expected a flat object of numbers, got %.60s", json);
-  return -1;
 }
 
 /* ------------------------------------------------------------------ the robot as designed */
@@ -251,6 +231,8 @@ typedef struct {
   int pending_state, pending_family; /* JUDGE, ALARM: another view, held since pending_s (or -1) */
   double pending_s;
   double max_deficit, max_excess; /* threshold mode: running maxima of the watch fit's deviations */
+  double kt0, friction0;          /* the unit's own healthy 1/a and c/a (commissioning), else 1 */
+  int muted; /* commissioning: its healthy windowed fit already reached a worn limit; never judged */
   int has_value;                  /* threshold mode: the watch fit was trusted at least once */
 } joint_monitor;
 
@@ -284,21 +266,49 @@ static void classify(const settings* s, double kt_factor, double friction_factor
 
 ARMFAULT_PLUGIN_EXPORT int armfault_monitor_abi_version(void) { return ARMFAULT_MONITOR_PLUGIN_ABI_VERSION; }
 
-ARMFAULT_PLUGIN_EXPORT void* armfault_monitor_create(const char* robot_json, const char* settings_json, char* error,
-                                                     size_t error_size) {
+/* Joint j's (0-based) model from robot_json. 0, or -1 with a message. */
+static int read_model(const char* robot_json, int j, joint_model* m, char* error, size_t error_size) {
   static const char* const keys[] = {"kt_Nm_per_A",          "ratio",      "mesh_loss_fraction",
                                      "viscous_Nm_s_per_rad", "coulomb_Nm", "static_Nm",
                                      "stribeck_s2_per_rad2"};
+  double* fields[7];
+  int k;
+  fields[0] = &m->kt_Nm_per_A;
+  fields[1] = &m->ratio;
+  fields[2] = &m->mesh_loss_fraction;
+  fields[3] = &m->viscous_Nm_s_per_rad;
+  fields[4] = &m->coulomb_Nm;
+  fields[5] = &m->static_Nm;
+  fields[6] = &m->stribeck_s2_per_rad2;
+  for (k = 0; k < 7; k++) {
+    if (nth_number(robot_json, keys[k], j, fields[k]) != 0) {
+      snprintf(error, error_size, "robot_json: no number for %s of joint %d", keys[k], j + 1);
+      return -1;
+    }
+  }
+  if (!(m->kt_Nm_per_A > 0 && m->ratio > 0)) {
+    snprintf(error, error_size, "robot_json: joint %d needs kt_Nm_per_A > 0 and ratio > 0", j + 1);
+    return -1;
+  }
+  return 0;
+}
+
+/* ABI minor 1: told the control period and the joint count (no create of minor 0: this example
+ * ships with the armfault that loads it). */
+ARMFAULT_PLUGIN_EXPORT void* armfault_monitor_create_v2(const armfault_monitor_create_args* args, char* error,
+                                                        size_t error_size) {
+  const char* robot_json = args->robot_json;
   monitor* self = calloc(1, sizeof *self);
-  int j, k;
+  int j;
   if (!self) {
     snprintf(error, error_size, "out of memory");
     return NULL;
   }
-  if (parse_settings(settings_json, &self->s, error, error_size) != 0) goto fail;
-  self->joints = count_of(robot_json, "kt_Nm_per_A");
-  if (self->joints < 1) {
-    snprintf(error, error_size, "robot_json has no module with motor/kt_Nm_per_A");
+  if (parse_settings(args->settings_json, args->dt_s, &self->s, error, error_size) != 0) goto fail;
+  self->joints = args->joint_count;
+  if (count_of(robot_json, "kt_Nm_per_A") != self->joints) {
+    snprintf(error, error_size, "robot_json has %d modules with motor/kt_Nm_per_A, expected %d", count_of(robot_json, "kt_Nm_per_A"),
+             self->joints);
     goto fail;
   }
   self->joint = calloc((size_t)self->joints, sizeof *self->joint);
@@ -306,29 +316,27 @@ ARMFAULT_PLUGIN_EXPORT void* armfault_monitor_create(const char* robot_json, con
     snprintf(error, error_size, "out of memory");
     goto fail;
   }
+  /* The unit's commissioning: 1/a and c/a per joint (armfault_monitor_commission_end). */
+  if (args->commissioning && args->commissioning_size != 4 * (size_t)self->joints * sizeof(double)) {
+    snprintf(error, error_size, "a commissioning blob of %lu bytes, expected %lu", (unsigned long)args->commissioning_size,
+             (unsigned long)(4 * (size_t)self->joints * sizeof(double)));
+    goto fail;
+  }
   for (j = 0; j < self->joints; j++) {
     joint_monitor* jm = &self->joint[j];
-    joint_model* m = &jm->model;
-    double* fields[7];
-    fields[0] = &m->kt_Nm_per_A;
-    fields[1] = &m->ratio;
-    fields[2] = &m->mesh_loss_fraction;
-    fields[3] = &m->viscous_Nm_s_per_rad;
-    fields[4] = &m->coulomb_Nm;
-    fields[5] = &m->static_Nm;
-    fields[6] = &m->stribeck_s2_per_rad2;
-    for (k = 0; k < 7; k++) {
-      if (nth_number(robot_json, keys[k], j, fields[k]) != 0) {
-        snprintf(error, error_size, "robot_json: no number for %s of joint %d", keys[k], j + 1);
-        goto fail;
-      }
-    }
-    if (!(m->kt_Nm_per_A > 0 && m->ratio > 0)) {
-      snprintf(error, error_size, "robot_json: joint %d needs kt_Nm_per_A > 0 and ratio > 0", j + 1);
-      goto fail;
-    }
+    if (read_model(robot_json, j, &jm->model, error, error_size) != 0) goto fail;
     jm->suspect_s = -1;
     jm->pending_s = -1;
+    jm->kt0 = jm->friction0 = 1;
+    if (args->commissioning) {
+      const double* learned = (const double*)args->commissioning + 4 * j;
+      jm->kt0 = learned[0];
+      jm->friction0 = learned[1];
+      /* learned[2], [3]: the lowest kt_factor and highest friction_factor its healthy windowed fit
+       * gave, relative to kt0 and friction0: within the worn limits, the joint's faults can be
+       * told from its scatter; beyond them, not from this monitor's fit. */
+      jm->muted = learned[2] < self->s.kt_worn || learned[3] > self->s.friction_worn;
+    }
   }
   if (self->s.threshold_alarm == 1) {
     self->values = malloc(2 * (size_t)self->joints * sizeof *self->values);
@@ -389,31 +397,47 @@ static int emit(monitor* self, double t_s, int j, joint_monitor* jm, double magn
   return 0;
 }
 
+/* The fit's regressors at one tick: x0 the link torque through the drive and x1 the modelled
+ * friction, both as motor torque [N m], and y the motor torque the command asks for. 0 when the
+ * joint is too slow to know the friction's sign (the tick is left out). */
+static int regressors(const joint_model* m, const settings* s, const armfault_joint_signals* in, double* x0, double* x1,
+                      double* y) {
+  const double qd = in->qd_est_rad_s, sign = qd > 0 ? 1.0 : -1.0, tau = in->tau_sensor_Nm;
+  if (!(fabs(qd) > s->min_speed_rad_s)) return 0;
+  *x0 = (tau + m->mesh_loss_fraction * fabs(tau) * sign) / m->ratio;
+  *x1 = m->viscous_Nm_s_per_rad * qd + (m->coulomb_Nm + m->static_Nm * exp(-m->stribeck_s2_per_rad2 * qd * qd)) * sign;
+  *y = m->kt_Nm_per_A * in->i_cmd_A;
+  return 1;
+}
+
+/* fit_solve relative to the unit's commissioning (kt0, friction0: 1 without it). */
+static int solve(const joint_monitor* jm, const fit* f, double* kt_factor, double* friction_factor) {
+  if (!fit_solve(f, kt_factor, friction_factor)) return 0;
+  *kt_factor /= jm->kt0;
+  *friction_factor /= jm->friction0;
+  return 1;
+}
+
 /* One joint at one tick: both fits, then the phase's decision. 0, or -1 out of memory. */
 static int watch(monitor* self, double t_s, double dt_s, int j, const armfault_joint_signals* in) {
   joint_monitor* jm = &self->joint[j];
   const joint_model* m = &jm->model;
   const settings* s = &self->s;
   const double forget = exp(-dt_s / s->window_s);
-  double kt_factor, friction_factor, magnitude;
+  double kt_factor, friction_factor, magnitude, x0, x1, y;
   int state, family;
 
   fit_decay(&jm->watch, forget);
   fit_decay(&jm->judge, forget);
-  if (fabs(in->qd_est_rad_s) > s->min_speed_rad_s) {
-    const double qd = in->qd_est_rad_s, sign = qd > 0 ? 1.0 : -1.0, tau = in->tau_sensor_Nm;
-    /* link torque through the drive, and friction, both as motor torque [N m] */
-    const double x0 = (tau + m->mesh_loss_fraction * fabs(tau) * sign) / m->ratio;
-    const double x1 = m->viscous_Nm_s_per_rad * qd +
-                      (m->coulomb_Nm + m->static_Nm * exp(-m->stribeck_s2_per_rad2 * qd * qd)) * sign;
-    const double y = m->kt_Nm_per_A * in->i_cmd_A; /* motor torque the command asks for */
+  if (regressors(m, s, in, &x0, &x1, &y)) {
     fit_add(&jm->watch, dt_s, x0, x1, y);
     fit_add(&jm->judge, dt_s, x0, x1, y);
   }
+  if (jm->muted) return 0;
 
   if (s->threshold_alarm == 1) {
     double* value = &self->values[2 * j];
-    if (jm->watch.moving_s >= s->min_moving_s && fit_solve(&jm->watch, &kt_factor, &friction_factor)) {
+    if (jm->watch.moving_s >= s->min_moving_s && solve(jm, &jm->watch, &kt_factor, &friction_factor)) {
       if (!jm->has_value || 1 - kt_factor > jm->max_deficit) jm->max_deficit = 1 - kt_factor;
       if (!jm->has_value || friction_factor - 1 > jm->max_excess) jm->max_excess = friction_factor - 1;
       jm->has_value = 1;
@@ -438,7 +462,7 @@ static int watch(monitor* self, double t_s, double dt_s, int j, const armfault_j
   if (jm->phase == PHASE_WATCH) {
     int suspect = 0;
     if (jm->watch.moving_s >= s->min_moving_s &&
-        fit_solve(&jm->watch, &kt_factor, &friction_factor)) {
+        solve(jm, &jm->watch, &kt_factor, &friction_factor)) {
       classify(s, kt_factor, friction_factor, &state, &family, &magnitude);
       suspect = family != FAMILY_NONE;
     }
@@ -457,7 +481,7 @@ static int watch(monitor* self, double t_s, double dt_s, int j, const armfault_j
   }
 
   /* JUDGE and ALARM: the fresh fit, once it saw enough motion. */
-  if (jm->judge.moving_s < s->judge_moving_s || !fit_solve(&jm->judge, &kt_factor, &friction_factor)) {
+  if (jm->judge.moving_s < s->judge_moving_s || !solve(jm, &jm->judge, &kt_factor, &friction_factor)) {
     return 0;
   }
   classify(s, kt_factor, friction_factor, &state, &family, &magnitude);
@@ -543,4 +567,117 @@ ARMFAULT_PLUGIN_EXPORT void armfault_monitor_destroy(void* handle) {
   free(self->verdicts);
   free(self->joint);
   free(self);
+}
+
+/* ------------------------------------------------------------------ commissioning (ABI minor 1) */
+
+/* The unit's healthy commissioning run, fitted whole (no forgetting): each joint's own 1/a and
+ * c/a, which its runs then divide by, so a unit whose K_T or friction differs from the datasheet
+ * (its tolerances, its temperature) is judged against itself. A joint the fit cannot resolve
+ * (too little motion, torque gain and friction not told apart) keeps 1 and 1: the datasheet. */
+typedef struct {
+  settings s;
+  int joints;
+  joint_model* model;
+  fit* fits;       /* the whole run, per joint */
+  fit* windowed;   /* as a run's watch fit (window_s), per joint */
+  double* scatter; /* [joint][2]: lowest 1/a and highest c/a of the windowed fit, absolute */
+  double last_t_s;
+  int started;
+  double* learned; /* [joint][4]: kt0, friction0, lowest kt and highest friction relative: the blob */
+} commissioning;
+
+ARMFAULT_PLUGIN_EXPORT void* armfault_monitor_commission_begin(const armfault_monitor_create_args* args, char* error,
+                                                               size_t error_size) {
+  commissioning* c = calloc(1, sizeof *c);
+  int j;
+  if (!c) {
+    snprintf(error, error_size, "out of memory");
+    return NULL;
+  }
+  if (parse_settings(args->settings_json, args->dt_s, &c->s, error, error_size) != 0) goto fail;
+  c->joints = args->joint_count;
+  c->model = calloc((size_t)c->joints, sizeof *c->model);
+  c->fits = calloc((size_t)c->joints, sizeof *c->fits);
+  c->windowed = calloc((size_t)c->joints, sizeof *c->windowed);
+  c->scatter = calloc(2 * (size_t)c->joints, sizeof *c->scatter);
+  c->learned = calloc(4 * (size_t)c->joints, sizeof *c->learned);
+  if (!c->model || !c->fits || !c->windowed || !c->scatter || !c->learned) {
+    snprintf(error, error_size, "out of memory");
+    goto fail;
+  }
+  for (j = 0; j < c->joints; j++) {
+    if (read_model(args->robot_json, j, &c->model[j], error, error_size) != 0) goto fail;
+    c->scatter[2 * j] = INFINITY;
+    c->scatter[2 * j + 1] = -INFINITY;
+  }
+  return c;
+fail:
+  armfault_monitor_commission_free(c);
+  return NULL;
+}
+
+ARMFAULT_PLUGIN_EXPORT int armfault_monitor_commission_tick(void* handle, double t_s, const armfault_joint_signals* joints,
+                                                            int joint_count, char* error, size_t error_size) {
+  commissioning* c = handle;
+  double dt_s, x0, x1, y;
+  int j;
+  if (joint_count != c->joints) {
+    snprintf(error, error_size, "commissioning: %d joints expected, got %d", c->joints, joint_count);
+    return 1;
+  }
+  if (!c->started) {
+    c->started = 1;
+    c->last_t_s = t_s;
+  }
+  dt_s = t_s - c->last_t_s;
+  c->last_t_s = t_s;
+  for (j = 0; j < joint_count; j++) {
+    double kt, friction;
+    fit_decay(&c->windowed[j], exp(-dt_s / c->s.window_s));
+    if (regressors(&c->model[j], &c->s, &joints[j], &x0, &x1, &y)) {
+      fit_add(&c->fits[j], dt_s, x0, x1, y);
+      fit_add(&c->windowed[j], dt_s, x0, x1, y);
+    }
+    if (c->windowed[j].moving_s >= c->s.min_moving_s && fit_solve(&c->windowed[j], &kt, &friction)) {
+      if (kt < c->scatter[2 * j]) c->scatter[2 * j] = kt;
+      if (friction > c->scatter[2 * j + 1]) c->scatter[2 * j + 1] = friction;
+    }
+  }
+  return 0;
+}
+
+ARMFAULT_PLUGIN_EXPORT int armfault_monitor_commission_end(void* handle, double t_end_s, const void** blob,
+                                                           size_t* blob_size, char* error, size_t error_size) {
+  commissioning* c = handle;
+  int j;
+  (void)t_end_s;
+  (void)error;
+  (void)error_size;
+  for (j = 0; j < c->joints; j++) {
+    double kt0 = 1, friction0 = 1;
+    if (!(c->fits[j].moving_s >= c->s.min_moving_s && fit_solve(&c->fits[j], &kt0, &friction0) && kt0 > 0 &&
+          friction0 > 0)) {
+      kt0 = friction0 = 1;
+    }
+    c->learned[4 * j] = kt0;
+    c->learned[4 * j + 1] = friction0;
+    /* no windowed fit at all: no scatter seen (the joint is judged, as without commissioning) */
+    c->learned[4 * j + 2] = isfinite(c->scatter[2 * j]) ? c->scatter[2 * j] / kt0 : 1;
+    c->learned[4 * j + 3] = isfinite(c->scatter[2 * j + 1]) ? c->scatter[2 * j + 1] / friction0 : 1;
+  }
+  *blob = c->learned;
+  *blob_size = 4 * (size_t)c->joints * sizeof *c->learned;
+  return 0;
+}
+
+ARMFAULT_PLUGIN_EXPORT void armfault_monitor_commission_free(void* handle) {
+  commissioning* c = handle;
+  if (!c) return;
+  free(c->model);
+  free(c->fits);
+  free(c->windowed);
+  free(c->scatter);
+  free(c->learned);
+  free(c);
 }

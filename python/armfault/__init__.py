@@ -93,6 +93,16 @@ class Monitor:
     tick a joint alarms exactly while some statistic is above its threshold, naming the family of
     the first such one (a latched alarm publishes the running maximum). `armfault tune` then
     sweeps the thresholds from the stored runs, and checks the contract on every run.
+
+    Commissioning (optional): where the campaign commissions its units, a monitor that defines
+    ``commission_tick(t_s, signals)`` learns each unit before its runs. armfault makes a fresh
+    instance for the unit, calls ``commission_begin()`` (if defined), ``commission_tick`` at every
+    tick of the unit's healthy commissioning run (one tick at a time: keep only what you need),
+    then ``commission_end(t_end_s)``, which returns what was learned: bytes, or a JSON value (a
+    dict, a list, numbers...), or None for nothing. armfault keeps it once per unit and sets it as
+    ``self.commissioning`` on every instance made for a run of that unit, before its first step
+    (bytes as returned; a JSON value as a fresh object per run, so runs stay independent).
+    ``self.commissioning`` is None where the unit was not commissioned.
     """
 
     statistics = ()
@@ -101,6 +111,7 @@ class Monitor:
         self.robot = robot
         self.joints = len(robot["modules"])
         self.dt_s = 1.0 / robot["modules"][0]["controller"]["rate_Hz"]
+        self.commissioning = None
         if self.statistics:
             self.values = _np.full((self.joints, len(self.statistics)), math.nan)
 

@@ -128,11 +128,70 @@ std::unique_ptr<HealthMonitor> PythonMonitorModel::NewMonitor() const {
   return std::make_unique<PythonMonitor>(*this);
 }
 
+namespace {
+
+// A unit's model: the campaign's Python monitor and what it learned on the unit, which every
+// run's instance gets as self.commissioning.
+class PythonUnitModel : public MonitorModel {
+ public:
+  PythonUnitModel(std::shared_ptr<const PythonMonitorModel> base, std::shared_ptr<const PythonCommissioningBlob> blob)
+      : base_(std::move(base)), blob_(std::move(blob)) {}
+  std::string type() const override { return "python"; }
+  std::string source() const override { return base_->name(); }
+  std::unique_ptr<HealthMonitor> NewMonitor() const override {
+    return std::make_unique<PythonMonitor>(*base_, nullptr, blob_.get());
+  }
+
+ private:
+  std::shared_ptr<const PythonMonitorModel> base_;
+  std::shared_ptr<const PythonCommissioningBlob> blob_;
+};
+
+// One unit's commissioning run streamed to a fresh instance (PythonMonitor in its commissioning
+// mode: ticks kept and handed over in batches under the GIL, as a run's are).
+class PythonCommissioningSink : public CommissioningSink {
+ public:
+  PythonCommissioningSink(std::shared_ptr<const PythonMonitorModel> base, std::unique_ptr<PythonMonitor> monitor)
+      : base_(std::move(base)), monitor_(std::move(monitor)) {}
+  void Tick(double t_s, const std::vector<JointSignals>& joints) override { monitor_->Observe(t_s, joints); }
+  std::shared_ptr<const MonitorModel> End(double t_end_s) override {
+    std::shared_ptr<const PythonCommissioningBlob> blob = monitor_->EndCommissioning(t_end_s);
+    if (!blob) return nullptr;  // commission_end returned None: nothing learned
+    return std::make_shared<PythonUnitModel>(base_, std::move(blob));
+  }
+
+ private:
+  std::shared_ptr<const PythonMonitorModel> base_;
+  std::unique_ptr<PythonMonitor> monitor_;
+};
+
+}  // namespace
+
+bool PythonMonitorModel::LearnsFromCommissioning() const {
+  if (!factory_ || factory_ == Py_None) return false;
+  const PyGILState_STATE state = PyGILState_Ensure();
+  const bool learns = PyObject_HasAttrString(factory_, "commission_tick") == 1;
+  PyGILState_Release(state);
+  return learns;
+}
+
+std::unique_ptr<CommissioningSink> PythonMonitorModel::BeginCommissioning(double control_dt_s) const {
+  (void)control_dt_s;  // the instance has self.dt_s
+  auto monitor = std::make_unique<PythonMonitor>(*this, nullptr, nullptr, true);
+  if (!monitor->commissions()) return nullptr;
+  std::shared_ptr<const PythonMonitorModel> self = weak_from_this().lock();
+  if (!self) throw MonitorFailure(ShortName(name_) + ": a monitor model not owned by a shared_ptr cannot be commissioned");
+  return std::make_unique<PythonCommissioningSink>(std::move(self), std::move(monitor));
+}
+
 // ---------------------------------------------------------------------------- one run
 
-PythonMonitor::PythonMonitor(const PythonMonitorModel& model, PyObject* given) : model_(model) {
+PythonMonitor::PythonMonitor(const PythonMonitorModel& model, PyObject* given, const PythonCommissioningBlob* commissioning,
+                             bool commissions)
+    : model_(model), commissioning_mode_(commissions) {
   gil_state_ = PyGILState_Ensure();
   std::string failure;
+  const char* raised_in = "(robot)";  // where an exception came from, for the message
   try {
     py::object instance;
     if (given) {
@@ -142,13 +201,24 @@ PythonMonitor::PythonMonitor(const PythonMonitorModel& model, PyObject* given) :
       py::object robot = py::reinterpret_borrow<py::object>(model.json_loads())(model.robot_json());
       instance = py::reinterpret_borrow<py::object>(model.factory())(robot);
     }
-    py::object step = py::getattr(instance, "step", py::none());
-    if (!PyCallable_Check(step.ptr())) {
+    if (commissioning) {
+      // The unit's blob: bytes as they were, a JSON value as a fresh object per run.
+      py::object value = commissioning->is_bytes
+                             ? py::object(py::bytes(commissioning->data))
+                             : py::reinterpret_borrow<py::object>(model.json_loads())(commissioning->data);
+      py::setattr(instance, "commissioning", value);
+    }
+    py::object step = py::getattr(instance, commissions ? "commission_tick" : "step", py::none());
+    py::object finish = py::getattr(instance, commissions ? "commission_end" : "finish", py::none());
+    if (commissions && !PyCallable_Check(step.ptr())) {
+      // No commission_tick: this monitor learns nothing from commissioning (commissions() false).
+    } else if (commissions && !PyCallable_Check(finish.ptr())) {
+      failure = ShortName(model.name()) + " has commission_tick but no commission_end(t_end_s) to return what it learned";
+    } else if (!PyCallable_Check(step.ptr())) {
       failure = ShortName(model.name()) + "(robot) made a " +
                 py::str(py::type::handle_of(instance).attr("__name__")).cast<std::string>() +
                 ", which has no step(t_s, signals) method";
     } else {
-      py::object finish = py::getattr(instance, "finish", py::none());
       py::array_t<double> array({static_cast<py::ssize_t>(kSignalFields.size()), static_cast<py::ssize_t>(model.joints())});
       std::fill(array.mutable_data(), array.mutable_data() + array.size(), 0.0);
       rows_ = array.mutable_data();
@@ -161,7 +231,13 @@ PythonMonitor::PythonMonitor(const PythonMonitorModel& model, PyObject* given) :
       finish_ = PyCallable_Check(finish.ptr()) ? finish.release().ptr() : nullptr;
       array_ = array.release().ptr();
       signals_ = signals.release().ptr();
-      failure = ReadStatistics(py::reinterpret_borrow<py::object>(instance_));
+      if (commissions) {
+        py::object begin = py::getattr(py::handle(instance_), "commission_begin", py::none());
+        raised_in = ".commission_begin()";
+        if (PyCallable_Check(begin.ptr())) begin();
+      } else {
+        failure = ReadStatistics(py::reinterpret_borrow<py::object>(instance_));
+      }
     }
   } catch (py::error_already_set& e) {
     e.restore();
@@ -169,7 +245,7 @@ PythonMonitor::PythonMonitor(const PythonMonitorModel& model, PyObject* given) :
     PyErr_Fetch(&type, &value, &tb);
     PyErr_NormalizeException(&type, &value, &tb);
     if (tb) PyException_SetTraceback(value, tb);
-    failure = ShortName(model.name()) + "(robot) raised " + DescribeException(value);
+    failure = ShortName(model.name()) + raised_in + " raised " + DescribeException(value);
     Py_XDECREF(type);
     Py_XDECREF(value);
     Py_XDECREF(tb);
@@ -268,7 +344,7 @@ void PythonMonitor::Flush() {
   GilHold hold(&saved_);
   for (size_t k = 0; k < kept_t_s_.size(); ++k) {
     std::memcpy(rows_, kept_rows_.data() + k * row_size_, sizeof(double) * row_size_);
-    Call(step_, "step", kept_t_s_[k], true);
+    Call(step_, commissioning_mode_ ? "commission_tick" : "step", kept_t_s_[k], true);
     if (recorder_) RecordValues(kept_t_s_[k]);
   }
 }
@@ -355,6 +431,11 @@ void PythonMonitor::Collect(PyObject* result_ptr, const char* what, double t_s) 
     return;
   }
   py::object result = py::reinterpret_steal<py::object>(result_ptr);
+  if (commissioning_mode_) {
+    throw MonitorFailure(ShortName(model_.name()) + "." + what + " at t_s " + FormatNumber(t_s) + " returned a " +
+                         py::str(py::type::handle_of(result).attr("__name__")).cast<std::string>() +
+                         ", expected None (commission_end returns what was learned)");
+  }
   auto add = [&](py::handle item) {
     if (!py::isinstance<PyVerdict>(item)) {
       throw MonitorFailure(ShortName(model_.name()) + "." + what + " at t_s " + FormatNumber(t_s) + " returned " +
@@ -372,6 +453,40 @@ void PythonMonitor::Collect(PyObject* result_ptr, const char* what, double t_s) 
   } else {
     add(result);
   }
+}
+
+}  // namespace armfault::python
+
+namespace armfault::python {
+
+std::shared_ptr<const PythonCommissioningBlob> PythonMonitor::EndCommissioning(double t_end_s) {
+  Flush();
+  GilHold hold(&saved_);
+  PyObject* t = PyFloat_FromDouble(t_end_s);
+  if (!t) Fail("commission_end", t_end_s);
+  PyObject* result = PyObject_CallFunctionObjArgs(finish_, t, nullptr);
+  Py_DECREF(t);
+  if (!result) Fail("commission_end", t_end_s);
+  const py::object r = py::reinterpret_steal<py::object>(result);
+  if (r.is_none()) return nullptr;
+  auto blob = std::make_shared<PythonCommissioningBlob>();
+  if (PyBytes_Check(r.ptr())) {
+    blob->is_bytes = true;
+    blob->data.assign(PyBytes_AS_STRING(r.ptr()), static_cast<size_t>(PyBytes_GET_SIZE(r.ptr())));
+  } else if (PyByteArray_Check(r.ptr())) {
+    blob->is_bytes = true;
+    blob->data.assign(PyByteArray_AS_STRING(r.ptr()), static_cast<size_t>(PyByteArray_GET_SIZE(r.ptr())));
+  } else {
+    // Anything else as JSON (json.dumps, no NaN: the runs read it back with json.loads).
+    try {
+      const py::object text = py::module_::import("json").attr("dumps")(r, py::arg("allow_nan") = false);
+      blob->data = text.cast<std::string>();
+    } catch (py::error_already_set& e) {
+      e.restore();
+      Fail("commission_end (its result as JSON: return bytes, or a value json.dumps takes)", t_end_s);
+    }
+  }
+  return blob;
 }
 
 }  // namespace armfault::python

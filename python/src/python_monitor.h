@@ -31,6 +31,14 @@ extern const std::vector<const char*> kSignalFields;
 // Ticks whose step() calls go under one hold of the GIL (half a second at 500 Hz).
 constexpr size_t kBatchTicks = 256;
 
+// What a Python monitor's commission_end returned for one unit, owned by the framework (kept
+// once per unit, shared read-only by its runs): bytes as they were, or anything else as its
+// JSON text (json.dumps), which each run gets as a fresh json.loads.
+struct PythonCommissioningBlob {
+  bool is_bytes = false;
+  std::string data;
+};
+
 // armfault.Verdict: a Verdict whose time may be left to the tick that emitted it.
 struct PyVerdict {
   Verdict verdict;
@@ -40,7 +48,7 @@ struct PyVerdict {
 // The Python side of a factory: a strong reference to `factory` (called as factory(robot) once
 // per run), the nominal robot as JSON text (each run gets a fresh dict of it) and armfault's
 // Signals class. Immutable, shared by every run and thread; each use takes the GIL.
-class PythonMonitorModel : public MonitorModel {
+class PythonMonitorModel : public MonitorModel, public std::enable_shared_from_this<PythonMonitorModel> {
  public:
   // Needs the GIL. `name` ("module.Class") is what messages and the resolved campaign call it.
   PythonMonitorModel(pybind11::handle factory, std::string name, std::string robot_json, int joints);
@@ -53,6 +61,15 @@ class PythonMonitorModel : public MonitorModel {
   // Takes the GIL itself: callable from any thread, with or without it. A factory that raises
   // throws MonitorFailure (the run could not be set up, with the exception's message).
   std::unique_ptr<HealthMonitor> NewMonitor() const override;
+  // A monitor whose instances have commission_tick (and commission_end) learns each unit: a
+  // fresh instance (factory(robot)) gets commission_begin(), commission_tick(t_s, signals) at
+  // every tick (batched under the GIL as step is), commission_end(t_end_s); what that returns
+  // (bytes, or a JSON value; None: nothing learned) becomes the unit's model, whose runs' instances
+  // get it as self.commissioning before their first step. nullptr without commission_tick.
+  // Needs the model to be owned by a shared_ptr (the unit's model keeps it).
+  std::unique_ptr<CommissioningSink> BeginCommissioning(double control_dt_s) const override;
+  // The factory (a class) has commission_tick. Takes the GIL itself.
+  bool LearnsFromCommissioning() const override;
 
   const std::string& name() const { return name_; }
   PyObject* factory() const { return factory_; }
@@ -76,7 +93,11 @@ class PythonMonitor : public HealthMonitor {
   // Calls the model's factory with the robot, or, given `instance` (a monitor made already, as
   // replay() takes one), uses that. Takes the GIL itself; a factory that raises, or an object
   // without step(), throws MonitorFailure.
-  explicit PythonMonitor(const PythonMonitorModel& model, PyObject* instance = nullptr);
+  // `commissioning`: the unit's blob, set as the instance's `commissioning` attribute (null: left
+  // as the instance has it). `commissions`: the instance is made to be commissioned (its
+  // commission_tick and commission_end in place of step and finish; commission_begin called).
+  explicit PythonMonitor(const PythonMonitorModel& model, PyObject* instance = nullptr,
+                         const PythonCommissioningBlob* commissioning = nullptr, bool commissions = false);
   ~PythonMonitor() override;
   PythonMonitor(const PythonMonitor&) = delete;
   PythonMonitor& operator=(const PythonMonitor&) = delete;
@@ -96,6 +117,12 @@ class PythonMonitor : public HealthMonitor {
   // The Python exception that failed the monitor (a new reference, or nullptr); needs the GIL.
   PyObject* TakeError();
 
+  // Made with `commissions`: whether the instance has commission_tick (else it learns nothing).
+  bool commissions() const { return step_ != nullptr; }
+  // Made with `commissions`: commission_tick for the ticks still kept, then commission_end; its
+  // result as a blob (nullptr for None). A failure throws MonitorFailure.
+  std::shared_ptr<const PythonCommissioningBlob> EndCommissioning(double t_end_s);
+
  private:
   double* Keep(double t_s);  // room for one tick's rows
   void Flush();              // step() for every kept tick
@@ -108,6 +135,7 @@ class PythonMonitor : public HealthMonitor {
   void RecordValues(double t_s);  // after a step(), with the GIL
 
   const PythonMonitorModel& model_;
+  bool commissioning_mode_ = false;  // step_/finish_ are commission_tick/commission_end
   PyGILState_STATE gil_state_;
   PyThreadState* saved_ = nullptr;  // this run's thread state while the GIL is released
   PyObject* instance_ = nullptr;

@@ -274,3 +274,77 @@ def test_statistics_that_break_the_contract_fail_the_run(small, monitor, reason)
     with pytest.warns(armfault.RunsFailedWarning):
         records = armfault.run_campaign(small, monitor=monitor, as_frame=False, on_failure="warn")
     assert all(r["status"] == "failed" and r["reason"].startswith(reason) for r in records), records[0]["reason"]
+
+
+# ---------------------------------------------------------------- commissioning
+SEEN = []  # (commissioning as the run's instance first saw it), appended under the GIL
+
+
+class LearnsMeanCurrent(armfault.Monitor):
+    """Learns the mean |i_cmd| of joint 3 over the unit's commissioning run, as JSON."""
+
+    def commission_begin(self):
+        self.ticks, self.sum_i = 0, 0.0
+
+    def commission_tick(self, t_s, signals):
+        self.ticks += 1
+        self.sum_i += abs(signals.i_cmd_A[2])
+
+    def commission_end(self, t_end_s):
+        return {"ticks": self.ticks, "mean_i_A": self.sum_i / self.ticks, "t_end_s": t_end_s}
+
+    def step(self, t_s, signals):
+        if t_s == 0:
+            SEEN.append(json.loads(json.dumps(self.commissioning)))
+            if isinstance(self.commissioning, dict):
+                self.commissioning["ticks"] = -1  # a run's copy: no other run sees this
+
+
+class LearnsBytes(LearnsMeanCurrent):
+    def commission_end(self, t_end_s):
+        return b"\x00unit" + str(self.ticks).encode()
+
+    def step(self, t_s, signals):
+        if t_s == 0:
+            SEEN.append(self.commissioning)
+
+
+class RaisesWhileCommissioning(LearnsMeanCurrent):
+    def commission_tick(self, t_s, signals):
+        if t_s >= 1:
+            raise RuntimeError("encoder glitch")
+
+
+def fleet(small, commissioning=True):
+    small["healthy"] = 3
+    small["variation"] = {"tolerances": "datasheet", "units": 2}
+    small["commissioning"] = commissioning
+    return small
+
+
+def test_commissioning_gives_every_run_its_units_blob(small):
+    SEEN.clear()
+    records = armfault.run_campaign(fleet(small), monitor=LearnsMeanCurrent, threads=2, as_frame=False)
+    assert all(r["status"] == "ok" for r in records), records
+    assert len(SEEN) == len(records) == 8
+    assert {s["ticks"] for s in SEEN} == {8001}  # 16 s at 500 Hz, both ends; never a run's -1
+    assert {s["t_end_s"] for s in SEEN} == {16.0}
+    assert len({s["mean_i_A"] for s in SEEN}) == 2  # two units, each its own commissioning
+
+    SEEN.clear()
+    armfault.run_campaign(fleet(small), monitor=LearnsBytes, threads=2, as_frame=False)
+    assert set(SEEN) == {b"\x00unit8001"}
+
+    SEEN.clear()
+    armfault.run_campaign(fleet(small, commissioning=False), monitor=LearnsMeanCurrent, as_frame=False)
+    assert SEEN == [None] * 8
+    # A monitor without commission_tick learns nothing and runs as before.
+    records = armfault.run_campaign(fleet(small), monitor=TorqueRatioMonitor, threads=2, as_frame=False)
+    assert all(r["status"] == "ok" for r in records), records
+
+
+def test_a_commissioning_exception_fails_the_units_runs(small):
+    with pytest.raises(armfault.RunsFailed) as e:
+        armfault.run_campaign(fleet(small), monitor=RaisesWhileCommissioning, as_frame=False)
+    assert e.value.failed == 8
+    assert "RaisesWhileCommissioning.commission_tick at t_s 1: RuntimeError: encoder glitch" in e.value.reason, e.value.reason

@@ -670,6 +670,18 @@ id=$(head -1 "$tmp/exp/manifest.jsonl" | sed 's/.*"run_id":"\([^"]*\)".*/\1/')
 printf '{"run_id": "%s", "t_s": 1.5, "joint": 3, "family": "kt_degradation", "alarm": true, "magnitude": 0.6}\n' "$id" >"$tmp/one.jsonl"
 run score_meets_the_floor "$armfault" score "$tmp/exp" "$tmp/one.jsonl" -o "$tmp/scored"
 expect_status 0
+# The scored directory's monitor is the verdicts file (as given, with its SHA-256): diff of the
+# live run and the scored verdicts says the monitor differs; tune refuses verdicts.
+current=score_records_the_verdicts_as_its_monitor
+want="{\"file\":\"$tmp/one.jsonl\",\"sha256\":\"$(sha256sum "$tmp/one.jsonl" | cut -d' ' -f1)\",\"type\":\"verdicts\"}"
+got=$(python3 -c 'import json,sys; print(json.dumps(json.load(open(sys.argv[1]))["campaign"]["monitor"], sort_keys=True, separators=(",", ":")))' "$tmp/scored/campaign.json")
+got_summary=$(python3 -c 'import json,sys; print(json.dumps(json.load(open(sys.argv[1]))["campaign"]["monitor"], sort_keys=True, separators=(",", ":")))' "$tmp/scored/summary.json")
+if [[ "$got" == "$want" && "$got_summary" == "$want" ]]; then pass; else fail "campaign.json monitor $got, summary.json $got_summary, expected $want"; fi
+run score_run_of_the_export "$armfault" run "$tmp/exp.json" -o "$tmp/exprun" -q
+run diff_of_live_and_scored_says_the_monitor_differs "$armfault" diff "$tmp/exprun" "$tmp/scored"
+expect_stdout_contains "the campaigns differ in: monitor; comparisons are by group key"
+run tune_refuses_scored_verdicts "$armfault" tune "$tmp/scored"
+expect_input_error "$tmp/scored/campaign.json: /campaign/monitor/type: a directory of armfault score (verdicts of $tmp/one.jsonl): verdicts cannot be re-thresholded; tune the detector that wrote them"
 printf '{"run_id": "%s", "t_s": 7, "joint": 3, "family": "kt_degradation", "alarm": true, "magnitude": 0.6}\n' "$id" >"$tmp/late.jsonl"
 run score_rejects_a_time_outside_the_run "$armfault" score "$tmp/exp" "$tmp/late.jsonl" -o "$tmp/scored2"
 expect_input_error "$tmp/late.jsonl: line 1: t_s 7 outside the run [0, 3] s"

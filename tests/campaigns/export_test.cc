@@ -12,6 +12,9 @@
 
 #include "campaigns/campaign.h"
 #include "campaigns/export.h"
+#include "campaigns/provenance.h"
+#include "campaigns/run_dir.h"
+#include "campaigns/tuning.h"
 #include "campaigns/runner.h"
 #include "core/monitors/power_monitor.h"
 #include "tests/core/test_support.h"
@@ -257,6 +260,49 @@ TEST(Score, EveryBadLineIsListedInOneErrorWithHints) {
       ErrorOf([&] { ScoreExternalVerdicts(c, (dir.path() / "x").string(), other, (dir.path() / "s").string()); });
   EXPECT_THAT(e2.what(), HasSubstr("line 1: not valid JSON"));
   EXPECT_THAT(e2.what(), Not(HasSubstr("write null")));
+}
+
+// A score directory's monitor is the verdicts file (as given, with its SHA-256), so its
+// campaign hash is its own: another verdicts file is another campaign, the export's campaign
+// is not this one, `tune` refuses it and nothing can run it.
+TEST(Export, ScoreRecordsTheVerdictsAsItsMonitor) {
+  const Campaign c = Small();
+  ScratchDir dir("export_score_monitor");
+  ExportOptions o;
+  o.output_dir = (dir.path() / "x").string();
+  ExportCampaign(c, o);
+  const std::string id = ReadLines(dir.path() / "x" / "manifest.jsonl")[0]["run_id"];
+  const std::string text = json{{"run_id", id}, {"t_s", 1.5}, {"joint", 3}, {"family", "kt_degradation"},
+                                {"alarm", true}, {"magnitude", 0.6}}.dump() + "\n";
+  const std::string path = dir.Write("v.jsonl", text);
+  const ScoreResult r = ScoreExternalVerdicts(c, (dir.path() / "x").string(), path, (dir.path() / "s").string());
+  const json monitor = json{{"type", "verdicts"}, {"file", path}, {"sha256", Sha256Hex(text)}};
+  EXPECT_EQ(r.campaign.resolved["monitor"], monitor);
+  EXPECT_EQ(r.campaign.monitor.type, "verdicts");
+  const json written = ReadCampaignFileJson(dir.path() / "s");
+  EXPECT_EQ(written["campaign"]["monitor"], monitor);
+  // Everything else is the export's campaign; the hash is not.
+  json rest = written["campaign"];
+  rest["monitor"] = c.resolved["monitor"];
+  EXPECT_EQ(rest, c.resolved);
+  EXPECT_NE(CampaignHash(written["campaign"]), CampaignHash(c.resolved));
+  // Read back as a spec (report, merge, diff do), but never built to run.
+  EXPECT_EQ(ReadRunDirCampaign(dir.path() / "s").monitor.settings, (json{{"file", path}, {"sha256", Sha256Hex(text)}}));
+  EXPECT_THAT(ErrorOf([&] { CampaignFromJson(written["campaign"], "s/campaign.json", "."); }).what(),
+              HasSubstr("scored by armfault score: there is no monitor to run"));
+  // Other verdicts (one byte more): another campaign.
+  const std::string other = dir.Write("w.jsonl", text + "\n");
+  const ScoreResult r2 = ScoreExternalVerdicts(c, (dir.path() / "x").string(), other, (dir.path() / "s2").string());
+  EXPECT_NE(CampaignHash(r2.campaign.resolved), CampaignHash(r.campaign.resolved));
+  // tune: nothing to re-threshold.
+  const InputError e = ErrorOf([&] { TuneCampaignDir((dir.path() / "s").string(), TuneOptions{}); });
+  EXPECT_EQ(e.pointer(), "/campaign/monitor/type");
+  EXPECT_THAT(e.what(), HasSubstr("verdicts cannot be re-thresholded; tune the detector that wrote them"));
+  // A bad hash in a hand-edited campaign.json is named.
+  json bad = written["campaign"];
+  bad["monitor"]["sha256"] = "abc";
+  EXPECT_THAT(ErrorOf([&] { CampaignSpecFromJson(bad, "b.json", "."); }).what(),
+              HasSubstr("/monitor/sha256: expected the SHA-256 of the verdicts file as 64 lowercase hex digits"));
 }
 
 }  // namespace

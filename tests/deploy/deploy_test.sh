@@ -186,10 +186,10 @@ check install_prefix install_prefix
 installed_plugin_header() {
   local header=$tmp/prefix/include/armfault/monitor_plugin.h
   [[ -f $header ]] || { echo "$header not installed"; return 1; }
-  echo '#include <armfault/monitor_plugin.h>' | gcc -std=c99 -pedantic -Wall -Wextra -Werror -fsyntax-only \
-    -I "$tmp/prefix/include" -x c - &&
-    echo '#include <armfault/monitor_plugin.h>' | g++ -std=c++17 -pedantic -Wall -Wextra -Werror -fsyntax-only \
-      -I "$tmp/prefix/include" -x c++ - &&
+  printf '#include <armfault/monitor_plugin.h>\n#include <armfault/monitor_settings.h>\n' |
+    gcc -std=c99 -pedantic -Wall -Wextra -Werror -fsyntax-only -I "$tmp/prefix/include" -x c - &&
+    printf '#include <armfault/monitor_plugin.h>\n#include <armfault/monitor_settings.h>\n' |
+      g++ -std=c++17 -pedantic -Wall -Wextra -Werror -fsyntax-only -I "$tmp/prefix/include" -x c++ - &&
     mkdir -p "$tmp/plugin" &&
     gcc -std=c99 -O2 -Wall -Wextra -Werror -fPIC -shared -I "$tmp/prefix/include" \
       "$src/examples/plugins/current_residual.c" -o "$tmp/plugin/libcurrent_residual.so" -lm &&

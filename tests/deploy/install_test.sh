@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # `cmake --install` gives a complete armfault (README, "Install"): installs BUILD_DIR into a temp
 # prefix and checks that every part is where the README says, byte-identical to the source:
-#   bin/armfault, include/armfault/monitor_plugin.h, share/armfault/campaigns/*.json,
+#   bin/armfault, include/armfault/{monitor_plugin,monitor_settings}.h, share/armfault/campaigns/*.json,
 #   share/armfault/schema/campaign.schema.json, share/doc/armfault/{README.md,docs/*.md,examples/},
 #   and (when the build has the Python package) PREFIX/ARMFAULT_INSTALL_PYTHONDIR/armfault/.
 # Then uses them as a user would, away from the source and build trees: the installed package
@@ -44,7 +44,8 @@ check cmake_install installs
 
 binary_and_header() {
   "$prefix/bin/armfault" --version | grep -qx "armfault $("$build/armfault" --version | awk '{print $2}')" &&
-    same "$src/include/armfault/monitor_plugin.h" "$prefix/include/armfault/monitor_plugin.h"
+    same "$src/include/armfault/monitor_plugin.h" "$prefix/include/armfault/monitor_plugin.h" &&
+    same "$src/include/armfault/monitor_settings.h" "$prefix/include/armfault/monitor_settings.h"
 }
 check binary_and_header binary_and_header
 

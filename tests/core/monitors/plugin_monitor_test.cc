@@ -5,17 +5,23 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstring>
 #include <filesystem>
+#include <map>
 #include <fstream>
 #include <sstream>
 
 #include "campaigns/campaign.h"
 #include "campaigns/run_record.h"
+#include "campaigns/run_pipeline.h"
 #include "campaigns/runner.h"
 #include "campaigns/tuning.h"
 #include "core/monitors/plugin_monitor.h"
 #include "core/monitors/threshold_statistics.h"
 #include "core/monitors/registry.h"
+#include "core/plant/simulation.h"
+#include "armfault/monitor_settings.h"  // C++ includes the C helper too
 #include "tests/core/test_support.h"
 
 namespace armfault {
@@ -31,6 +37,9 @@ const char* const kExample = ARMFAULT_EXAMPLE_PLUGIN;
 const char* const kTest = ARMFAULT_TEST_PLUGIN;
 const char* const kTestAbi2 = ARMFAULT_TEST_PLUGIN_ABI2;
 const char* const kTestNoFinish = ARMFAULT_TEST_PLUGIN_NOFINISH;
+const char* const kTestV2 = ARMFAULT_TEST_PLUGIN_V2;
+const char* const kTestV2Only = ARMFAULT_TEST_PLUGIN_V2ONLY;
+const char* const kTestNoCreate = ARMFAULT_TEST_PLUGIN_NOCREATE;
 
 // Two trajectories, as the runner's own monitor tests: joint 3 moves in exp1 (where the test
 // plugin acts), joint 2 in j2; one fault and one healthy run each.
@@ -283,6 +292,152 @@ TEST(PluginMonitor, TuneRefusesStatisticsThatDoNotGiveTheAlarms) {
   EXPECT_THAT(ErrorOf([&] { CampaignFromJson(TwoRuns(TestPlugin("stats_zero")), "c.json", "."); }).what(),
               HasSubstr("c.json: /monitor/library: plugin library \"" + std::string(kTest) +
                         "\": statistic 1 (\"alarmed\"): threshold 0 is not a number > 0"));
+}
+
+// ABI minor 1: a plugin exporting armfault_monitor_create_v2 is told the control period and the
+// joint count (and armfault prefers it to create); one exporting only it loads; an old plugin
+// (create alone) loads and runs unchanged; one with neither create is refused naming both.
+TEST(PluginMonitor, CreateV2GetsTheControlPeriodAndTheJointCount) {
+  // The verdict "context" emits at its first tick: joint = joint count, magnitude = dt_s.
+  auto context_of = [](const char* library) {
+    const Campaign c = CampaignFromJson(TwoRuns(TestPlugin("context", library)), "c.json", ".");
+    std::unique_ptr<HealthMonitor> monitor = c.monitor_model->NewMonitor();
+    std::vector<JointSignals> ticks(3);
+    monitor->Observe(0.0, ticks);
+    monitor->Finish(0.0);
+    EXPECT_EQ(monitor->output().verdicts.size(), 1u) << library;
+    return monitor->output().verdicts.empty() ? Verdict{} : monitor->output().verdicts[0];
+  };
+  const double dt_s = ArmModel(CampaignFromJson(TwoRuns(json::object()), "c.json", ".").robot).control_dt_s();
+  ASSERT_GT(dt_s, 0);
+  for (const char* library : {kTestV2, kTestV2Only}) {
+    const Verdict v = context_of(library);
+    EXPECT_EQ(v.magnitude_name, "dt_s") << library;
+    EXPECT_EQ(v.magnitude, dt_s) << library;  // exactly: the ticks are k * dt_s
+    EXPECT_EQ(v.joint, 3) << library;
+  }
+  const Verdict old = context_of(kTest);  // create alone: as before minor 1
+  EXPECT_EQ(old.magnitude, -1);
+  EXPECT_EQ(old.joint, 0);
+
+  // A whole run of a create_v2-only plugin, scored as any other.
+  const Campaign c = CampaignFromJson(TwoRuns(TestPlugin("alarm", kTestV2Only)), "c.json", ".");
+  const RunRecord faulty = RunCase(c, ExpandCases(c)[0]);
+  ASSERT_TRUE(faulty.ok) << faulty.failure_reason;
+  EXPECT_EQ(faulty.isolated_family, "friction_increase");
+
+  ScratchDir dir("plugin_v2");
+  const std::string campaign = (dir.path() / "c.json").string();
+  auto error_of = [&](const json& monitor) {
+    return ErrorOf([&] { ReadCampaignFile(dir.Write("c.json", TwoRuns(monitor).dump())); });
+  };
+  const InputError none = error_of(TestPlugin("quiet", kTestNoCreate));
+  EXPECT_EQ(none.pointer(), "/monitor/library");
+  EXPECT_THAT(none.message(), HasSubstr("does not export armfault_monitor_create (or armfault_monitor_create_v2) "
+                                        "(include/armfault/monitor_plugin.h, ABI version 1.1)"));
+  // create_v2's refusal is named as create_v2's (here: the settings helper's message).
+  const InputError refused = error_of({{"type", "plugin"}, {"library", kTestV2Only}, {"settings", {{"mode", 3}}}});
+  EXPECT_THAT(refused.message(), HasSubstr("armfault_monitor_create_v2 returned NULL for the settings {\"mode\":3}: "
+                                           "setting \"mode\": expected a string, got a number"));
+  const InputError unknown = error_of({{"type", "plugin"}, {"library", kTestV2Only}, {"settings", {{"mdoe", "x"}}}});
+  EXPECT_THAT(unknown.message(), HasSubstr("unknown setting \"mdoe\" (known: mode)"));
+}
+
+// The settings helper is C++ too (a C++ plugin includes it); tests/core/monitors/
+// settings_helper_test.c tests it in C.
+TEST(PluginMonitor, TheSettingsHelperCompilesAsCpp) {
+  char error[128] = "";
+  double x = 0;
+  EXPECT_EQ(armfault_setting_number(R"({"kt_worn":0.8})", "kt_worn", &x, error, sizeof error), ARMFAULT_SETTING_FOUND);
+  EXPECT_EQ(x, 0.8);
+}
+
+// Commissioning (ABI minor 1): each unit's commissioning run is streamed to the plugin once; the
+// blob its commission_end returns is kept per unit and every run of that unit gets it at
+// create_v2; without commissioning no blob; a failing commission_tick fails the unit's runs
+// naming the library and the message.
+TEST(PluginMonitor, CommissioningStreamsEachUnitAndEveryRunOfItGetsItsBlob) {
+  json campaign = TwoRuns(TestPlugin("commissioned", kTestV2Only));
+  campaign["healthy"] = 3;
+  campaign["variation"] = {{"tolerances", "datasheet"}, {"units", 2}};
+  const Campaign c = CampaignFromJson(campaign, "c.json", ".");
+  ASSERT_TRUE(c.commissioning);
+  const double dt_s = ArmModel(c.robot).control_dt_s();
+  const double ticks = static_cast<double>(std::lround(16.0 / dt_s) + 1);  // 16 s, both ends
+  UnitMonitors units(c);
+  std::map<int, double> mean_by_unit;
+  for (const CaseSpec& spec : ExpandCases(c)) {
+    MonitorOutput out;
+    const RunRecord r = RunCase(c, spec, nullptr, &units, &out);
+    ASSERT_TRUE(r.ok) << r.failure_reason;
+    ASSERT_EQ(out.verdicts.size(), 2u);
+    EXPECT_EQ(out.verdicts[0].magnitude, ticks);
+    const double mean = out.verdicts[1].magnitude;
+    EXPECT_GT(mean, 0);
+    const auto [it, first] = mean_by_unit.emplace(spec.unit, mean);
+    if (!first) EXPECT_EQ(it->second, mean) << "unit " << spec.unit;  // the unit's one blob
+  }
+  ASSERT_EQ(mean_by_unit.size(), 2u);
+  EXPECT_NE(mean_by_unit.begin()->second, mean_by_unit.rbegin()->second);  // each unit its own run
+
+  // A monitor that learns from commissioning is not warned about; one that does not is, once.
+  auto commissioning_warnings = [](const Campaign& c) {
+    int n = 0;
+    for (const std::string& w : CampaignWarnings(c)) n += w.find("learns nothing from commissioning") != std::string::npos;
+    return n;
+  };
+  EXPECT_EQ(commissioning_warnings(c), 0);
+  json old_plugin = campaign;
+  old_plugin["monitor"] = TestPlugin("quiet", kTest);
+  const Campaign ignores = CampaignFromJson(old_plugin, "c.json", ".");
+  EXPECT_EQ(commissioning_warnings(ignores), 1);
+  EXPECT_THAT(CampaignWarnings(ignores).front(),
+              HasSubstr("/commissioning: monitor plugin (" + std::string(kTest) + ") learns nothing from commissioning"));
+
+  campaign["commissioning"] = false;
+  const Campaign off = CampaignFromJson(campaign, "c.json", ".");
+  EXPECT_EQ(commissioning_warnings(off), 0);
+  MonitorOutput out;
+  ASSERT_TRUE(RunCase(off, ExpandCases(off)[0], nullptr, nullptr, &out).ok);
+  ASSERT_EQ(out.verdicts.size(), 2u);
+  EXPECT_EQ(out.verdicts[0].magnitude, -1);
+
+  campaign["commissioning"] = true;
+  campaign["monitor"] = TestPlugin("commission_error", kTestV2Only);
+  const Campaign failing = CampaignFromJson(campaign, "c.json", ".");
+  const RunRecord r = RunCase(failing, ExpandCases(failing)[0]);
+  EXPECT_FALSE(r.ok);
+  EXPECT_THAT(r.failure_reason, HasSubstr(std::string(kTestV2Only) +
+                                          ": commission_tick returned error at t_s 1: commissioning diverged at t = 1 s"));
+}
+
+// The example plugin learns each unit: its blob holds, per joint, the unit's own 1/a and c/a
+// near the datasheet's 1 for the moving joint, and the scatter of its healthy windowed fit;
+// a run of the commissioned unit with a strong friction fault still detects and names it.
+TEST(PluginMonitor, TheExampleLearnsItsUnitByCommissioning) {
+  json campaign = TwoRuns({{"type", "plugin"}, {"library", kExample}}, 6);
+  campaign["variation"] = {{"tolerances", "datasheet"}, {"units", 1}};
+  const Campaign c = CampaignFromJson(campaign, "c.json", ".");
+  ASSERT_TRUE(c.commissioning);
+  EXPECT_TRUE(c.monitor_model->LearnsFromCommissioning());
+  const std::vector<CaseSpec> cases = ExpandCases(c);
+  const UnitMonitor unit = CommissionUnit(c, cases[0]);
+  ASSERT_TRUE(unit.failure.empty()) << unit.failure;
+  const auto& model = dynamic_cast<const PluginMonitorModel&>(*unit.model);
+  ASSERT_NE(model.commissioning(), nullptr);
+  ASSERT_EQ(model.commissioning()->size(), 4 * 3 * sizeof(double));
+  double learned[12];
+  std::memcpy(learned, model.commissioning()->data(), sizeof learned);
+  EXPECT_NEAR(learned[8], 1.0, 0.25);   // joint 3: 1/a, the unit's K_T against the datasheet's
+  EXPECT_NEAR(learned[9], 1.0, 0.6);    // c/a, its friction
+  EXPECT_LE(learned[10], 1.0 + 1e-12);  // the lowest windowed 1/a, relative
+  EXPECT_GE(learned[11], 1.0 - 1e-12);  // the highest windowed c/a, relative
+  UnitMonitors units(c);
+  const RunRecord faulty = RunCase(c, cases[0], nullptr, &units);  // friction x2 on joint 3
+  ASSERT_TRUE(faulty.ok) << faulty.failure_reason;
+  EXPECT_TRUE(faulty.detected);
+  EXPECT_EQ(faulty.isolated_family, "friction_increase");
+  EXPECT_EQ(faulty.isolated_joint, 3);
 }
 
 }  // namespace
