@@ -52,6 +52,10 @@ int RobotCommand(const RobotCommandOptions& o) {
     return 0;
   }
   const std::filesystem::path dir(o.urdf_dir);
+  std::error_code ec;
+  if (std::filesystem::exists(dir, ec) && !std::filesystem::is_directory(dir, ec)) {
+    throw InputError("--urdf", "", "\"" + o.urdf_dir + "\" exists and is not a directory");
+  }
   std::filesystem::create_directories(dir);
   const std::string stem = FileStem(robot.name);
   const std::string urdf_name = stem + ".urdf";

@@ -605,6 +605,10 @@ RobotConfig RobotFromJson(const nlohmann::json& value, const std::string& pointe
     errors.Try([&] {
       if (const auto* v = reader.Find("payload_point_m")) r.payload_point_m = ReadVector3(*v, reader.PointerTo("payload_point_m"));
     });
+    if (links && links->empty()) {
+      errors.Add(InputError("", reader.PointerTo("bodies"), "expected one body per module, got an empty array"));
+      links = nullptr;  // the count check below would name "links"
+    }
   }
   bool top_level_read = modules && links;
   top_level_read &= errors.Try([&] {

@@ -252,6 +252,9 @@ std::map<std::string, std::pair<std::string, double>> TransmissionReductions(con
 // The drive of one joint from its drives entry (a type name or a module object).
 ModuleParams DriveOf(const nlohmann::json& entry, const std::string& pointer, const urdf::Joint& joint,
                      ErrorList* errors) {
+  if (!entry.is_string() && !entry.is_object()) {
+    throw InputError("", pointer, "expected a drive type (e.g. \"industrial-small\") or a module object, got " + Describe(entry));
+  }
   nlohmann::json module = entry.is_string() ? nlohmann::json{{"type", entry}} : entry;
   const bool range_given = module.is_object() && (module.contains("min_angle_deg") || module.contains("max_angle_deg"));
   ModuleParams m = DriveFromJson(module, pointer, errors);

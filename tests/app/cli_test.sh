@@ -849,5 +849,17 @@ if grep -Eq '^progress: ([0-9]+)/\1 runs, [0-9.]+ runs/s, [0-9]+ s left$' "$tmp/
   fail "export's progress line: $(head -c 400 "$tmp/stderr")"
 fi
 
+
+# Bad robot inputs (issue 23): each names the field and the value, exit 2.
+: >"$tmp/not_a_dir"
+run robot_urdf_not_a_dir "$armfault" robot mrr-config1 --urdf "$tmp/not_a_dir"
+expect_input_error "--urdf: \"$tmp/not_a_dir\" exists and is not a directory"
+printf '{"robot": {"modules": [{}], "bodies": []}, "duration_s": 1}\n' >"$tmp/empty_bodies.json"
+run robot_empty_bodies "$armfault" trace "$tmp/empty_bodies.json" -o "$tmp/x.csv" -q
+expect_input_error "$tmp/empty_bodies.json: /robot/bodies: expected one body per module, got an empty array"
+printf '{"robot": {"urdf": "missing.urdf", "drives": {}}, "duration_s": 1}\n' >"$tmp/missing_urdf.json"
+run robot_missing_urdf "$armfault" trace "$tmp/missing_urdf.json" -o "$tmp/x.csv" -q
+expect_input_error "$tmp/missing_urdf.json: /robot/urdf: cannot read the URDF file \"$tmp/missing.urdf\": No such file or directory"
+
 echo "$passed passed, $failed failed"
 [[ $failed -eq 0 ]]
