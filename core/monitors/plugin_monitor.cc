@@ -338,14 +338,19 @@ PluginMonitorModel::PluginMonitorModel(const std::string& library, const nlohman
 
 const std::string& PluginMonitorModel::library() const { return library_->path; }
 
+void PluginMonitorModel::FillCreateArgs(armfault_monitor_create_args* args) const {
+  *args = armfault_monitor_create_args{};
+  args->struct_size = sizeof *args;
+  args->robot_json = robot_json_.c_str();
+  args->settings_json = settings_json_.c_str();
+  args->dt_s = dt_s_;
+  args->joint_count = joints_;
+}
+
 void* PluginMonitorModel::Create(char* error) const {
   if (library_->create_v2) {
-    armfault_monitor_create_args args{};
-    args.struct_size = sizeof args;
-    args.robot_json = robot_json_.c_str();
-    args.settings_json = settings_json_.c_str();
-    args.dt_s = dt_s_;
-    args.joint_count = joints_;
+    armfault_monitor_create_args args;
+    FillCreateArgs(&args);
     if (commissioning_) {
       args.commissioning = commissioning_->data();
       args.commissioning_size = commissioning_->size();
@@ -419,12 +424,8 @@ bool PluginMonitorModel::LearnsFromCommissioning() const { return library_->comm
 std::unique_ptr<CommissioningSink> PluginMonitorModel::BeginCommissioning(double control_dt_s) const {
   (void)control_dt_s;  // the robot's, which dt_s_ is already
   if (!library_->commission_begin) return nullptr;
-  armfault_monitor_create_args args{};
-  args.struct_size = sizeof args;
-  args.robot_json = robot_json_.c_str();
-  args.settings_json = settings_json_.c_str();
-  args.dt_s = dt_s_;
-  args.joint_count = joints_;
+  armfault_monitor_create_args args;
+  FillCreateArgs(&args);
   char error[kErrorSize] = {};
   void* self = library_->commission_begin(&args, error, kErrorSize);
   if (!self) throw MonitorFailure(library_->path + ": commission_begin returned NULL: " + MessageOf(error, 0));

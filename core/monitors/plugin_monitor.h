@@ -13,6 +13,8 @@
 
 #include "core/monitors/registry.h"
 
+struct armfault_monitor_create_args;  // include/armfault/monitor_plugin.h
+
 namespace armfault {
 
 // A loaded library and its functions (plugin_monitor.cc). Closed when the model and every
@@ -45,6 +47,9 @@ class PluginMonitorModel : public MonitorModel {
   // A new instance: create_v2 when the library exports it (with dt_s_ and joints_), else
   // create; NULL with the plugin's message in `error` (kErrorSize bytes).
   void* Create(char* error) const;
+  // Fills the arguments every create_v2 and commission_begin call shares (robot, settings,
+  // dt_s_, joints_); the strings stay owned by this model.
+  void FillCreateArgs(armfault_monitor_create_args* args) const;
 
   std::shared_ptr<const PluginLibrary> library_;
   std::string robot_json_, settings_json_;  // what create gets, the same for every run
