@@ -152,8 +152,9 @@ struct JointBody {
   std::array<double, 3> com_m = {0, 0, 0};      // centre of mass
   // Inertia about the centre of mass, world axes: xx, yy, zz, xy, xz, yz [kg m^2].
   std::array<double, 6> inertia_kg_m2 = {1e-3, 1e-3, 1e-3, 0, 0, 0};
-  // The frame of the link that follows the joint (URDF: the child link's frame), for the
-  // forward-kinematics cross-check and the URDF writer: origin and row-major rotation.
+  // The frame of the link that follows the joint (URDF: the child link's frame) at the zero
+  // pose: origin and row-major rotation. Not used by the plant (its bodies keep the world's
+  // axes); written out (RobotToJson) so that a monitor or a tool can place the link.
   std::array<double, 3> frame_origin_m = {0, 0, 0};
   std::array<double, 9> frame_rotation = {1, 0, 0, 0, 1, 0, 0, 0, 1};
 };
@@ -166,7 +167,6 @@ struct RobotConfig {
   // Where the payload sits (world, zero pose) when the robot is given by `bodies`: the tool
   // frame's origin (core/plant/urdf_robot.h); with `links`, the end of the last link.
   std::array<double, 3> payload_point_m = {0, 0, 0};
-  std::string urdf_path;               // the URDF the bodies came from ("" if none): for messages
   std::array<double, 3> base_position_m = {0, 0, 0};
   double payload_kg = 0.0;             // point mass at the end of the last link
   double gravity_m_s2 = 9.81;

@@ -11,7 +11,6 @@
 #include <filesystem>
 #include <map>
 #include <mutex>
-#include <set>
 #include <sstream>
 
 #include "core/base/json_input.h"
@@ -343,7 +342,6 @@ RobotConfig RobotFromUrdfText(const std::string& text, const std::string& name, 
   const auto reductions = TransmissionReductions(text);
   RobotConfig r;
   r.name = model->getName().empty() ? "urdf" : model->getName();
-  r.urdf_path = name;
   for (const ChainJoint& cj : chain) {
     const urdf::Joint& j = *cj.joint;
     const std::string jp = PointerJoin(drives_pointer, j.name);
