@@ -26,6 +26,7 @@ struct Family {
   bool discrete;               // present or absent (a lead, a short), not graded by a magnitude
   const char* color;           // the family's colour in every plot of the report
   FaultMagnitudeRange range;   // of the magnitude (unused without a magnitude key)
+  bool needs_torque_sensor = false;  // an error on a joint without one (robot_config.h)
 };
 
 const Family kFamilies[] = {
@@ -33,12 +34,12 @@ const Family kFamilies[] = {
     {"friction_increase", &MakeFrictionIncrease, "friction_factor", "× nominal friction", Severity::kGain, true, false,
      "#ff7f0e", {1, 100, false, false}},
     {"brake_lock", &MakeBrakeLock, "drag_fraction", "× brake holding torque", Severity::kMagnitude, true, false, "#2ca02c", {0, 1, true, false}},
-    {"torque_sensor_stuck", &MakeTorqueSensorStuck, "", "", Severity::kMagnitude, false, true, "#d62728", {}},
+    {"torque_sensor_stuck", &MakeTorqueSensorStuck, "", "", Severity::kMagnitude, false, true, "#d62728", {}, true},
     {"inverter_short", &MakeInverterShort, "resistance_ohm", "Ω", Severity::kInverse, false, true, "#9467bd", {0.001, 1000, false, false}},
     {"winding_resistance", &MakeWindingResistance, "resistance_factor", "× nominal winding resistance", Severity::kGain,
      false, false, "#8c564b", {1, 20, false, false}},
     {"torque_sensor_drift", &MakeTorqueSensorDrift, "drift_Nm_per_s", "N m/s", Severity::kMagnitude, false, false,
-     "#e377c2", {-100, 100, false, true}},
+     "#e377c2", {-100, 100, false, true}, true},
 };
 
 // The family sized by `magnitude_key`; nullptr if none.
@@ -148,7 +149,15 @@ std::unique_ptr<Fault> MakeFault(const nlohmann::json& spec, const std::string& 
   for (const Family& f : kFamilies) {
     if (family != f.name) continue;
     try {
-      return f.make(reader, robot);
+      std::unique_ptr<Fault> fault = f.make(reader, robot);
+      const int j = fault->joint_index();
+      if (f.needs_torque_sensor && j >= 0 && j < static_cast<int>(robot.modules.size()) &&
+          !robot.modules[j].torque_sensor.present) {
+        throw InputError("", reader.PointerTo("joint"),
+                         "joint " + std::to_string(j + 1) + " has no torque sensor (robot " + robot.name +
+                             "): this family needs one");
+      }
+      return fault;
     } catch (const InputError& e) {
       // Each error the family found (there may be several unknown keys) names the family.
       throw e.Edited([&](std::string*, std::string*, std::string* message) { *message = family + ": " + *message; });

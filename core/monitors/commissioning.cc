@@ -64,7 +64,17 @@ bool AllFinite(const Eigen::VectorXd& v) { return v.allFinite(); }
 
 }  // namespace
 
-PowerMonitorModel CommissionMonitorModel(const PowerMonitorModel& nominal, const CommissioningData& data) {
+PowerMonitorModel CommissionMonitorModel(const PowerMonitorModel& nominal, const CommissioningData& recorded) {
+  // Joints without a torque sensor read the model's torque, as in the monitor's runs.
+  CommissioningData filled;
+  if (nominal.virtual_sensor.any() && recorded.ok) {
+    filled = recorded;
+    const double period = recorded.control_dt_s > 0 ? recorded.control_dt_s : nominal.control_dt_s;
+    for (size_t t = 0; t < filled.signals.size(); ++t) {
+      nominal.virtual_sensor.Fill(filled.signals[t > 0 ? t - 1 : 0], t > 0 ? period : 0.0, &filled.signals[t]);
+    }
+  }
+  const CommissioningData& data = nominal.virtual_sensor.any() && recorded.ok ? filled : recorded;
   PowerMonitorModel model = nominal;
   const int n = static_cast<int>(nominal.joints.size());
   if (!data.ok || data.signals.size() < 3 || data.signals[0].size() != static_cast<size_t>(n)) return model;

@@ -267,8 +267,10 @@ PowerMonitorModel MakePowerMonitorModel(const RobotConfig& robot, const MonitorC
     const TorqueSensorParams& ts = p.torque_sensor;
     k.sensor_min_Nm = TorqueFromAdcCode(ts, 0);
     k.sensor_max_Nm = TorqueFromAdcCode(ts, static_cast<int>(std::lround(std::pow(2.0, ts.adc_bits))) - 1);
+    k.torque_sensor = ts.present;
     m.joints.push_back(k);
   }
+  m.virtual_sensor = MakeVirtualTorqueSensor(robot);
   return m;
 }
 
@@ -471,7 +473,7 @@ Candidate TickLevelCandidate(const MonitorConfig& c, const JointKnowledge& k, co
   s.dead_s = dead ? s.dead_s + dt : 0.0;
   // Stuck torque sensor: on a rail, or unchanged while the joint moves and the commanded
   // torque swings (a live sensor would follow it).
-  const bool on_rail = now.tau_sensor_Nm >= k.sensor_max_Nm - 1e-9 || now.tau_sensor_Nm <= k.sensor_min_Nm + 1e-9;
+  const bool on_rail = k.torque_sensor && (now.tau_sensor_Nm >= k.sensor_max_Nm - 1e-9 || now.tau_sensor_Nm <= k.sensor_min_Nm + 1e-9);
   // Saturation against a stuck lead: a torque beyond the range reaches the rail at the rate the
   // load changes, so the reading just before is close to it; a supply or ground lead throws it
   // there in one tick. A stretch reached gradually is saturation: no evidence either way.
@@ -482,7 +484,7 @@ Candidate TickLevelCandidate(const MonitorConfig& c, const JointKnowledge& k, co
   }
   s.rail_s = on_rail ? s.rail_s + dt : 0.0;
   if (!on_rail) s.rail_saturated = false;
-  if (now.tau_sensor_Nm == prev.tau_sensor_Nm) {
+  if (k.torque_sensor && now.tau_sensor_Nm == prev.tau_sensor_Nm) {
     if (s.flat_s == 0) {
       s.flat_cmd_min = s.flat_cmd_max = x.rotor_torque, s.flat_dq = 0;
       s.flat_ref_min = s.flat_ref_max = now.q_ref_rad;
@@ -530,7 +532,7 @@ Candidate TickLevelCandidate(const MonitorConfig& c, const JointKnowledge& k, co
 // The parametric detectors: deviation statistics from the estimates, held over the debounce
 // time (s->readings); the magnitude fit starts where the friction or drift statistic first
 // crosses its limit. Returns whether the friction is far beyond wear: a brake dragging.
-bool UpdateReadings(const MonitorConfig& c, const DetectorThresholds& thresholds, JointState* state) {
+bool UpdateReadings(const MonitorConfig& c, const JointKnowledge& k, const DetectorThresholds& thresholds, JointState* state) {
   JointState& s = *state;
   const PowerEfficiencyMonitor::Estimates& e = s.est;
   const bool judge_n = s.excitation_rotor_J >= c.min_rotor_energy_J;
@@ -539,7 +541,8 @@ bool UpdateReadings(const MonitorConfig& c, const DetectorThresholds& thresholds
   const BalanceFit::Estimate& slow = s.balance_slow.estimate();
   const bool judge_b = bal.moving_s >= c.min_balance_moving_s;
   // An offset is told from friction only by motion both ways.
-  const bool judge_d = std::min(slow.positive_s, slow.negative_s) >= kMinOffsetMovingEachWay_s;
+  // A model's torque has no offset to drift.
+  const bool judge_d = k.torque_sensor && std::min(slow.positive_s, slow.negative_s) >= kMinOffsetMovingEachWay_s;
   const std::array<double, kDetectorCount> deviation = {
       judge_n ? 1 - e.kt_factor : kNoStatistic, judge_r ? e.resistance_factor - 1 : kNoStatistic,
       judge_b ? bal.friction_factor - 1 : kNoStatistic, judge_d ? std::fabs(slow.offset_Nm) : kNoStatistic};
@@ -637,10 +640,17 @@ void EmitVerdict(const Candidate& shown, double t_s, int joint, JointState* stat
 
 }  // namespace
 
-void PowerEfficiencyMonitor::Observe(double t_s, const std::vector<JointSignals>& signals) {
+void PowerEfficiencyMonitor::Observe(double t_s, const std::vector<JointSignals>& raw) {
   const MonitorConfig& c = model_.config;
   const int n = static_cast<int>(model_.joints.size());
-  if (static_cast<int>(signals.size()) != n) return;
+  if (static_cast<int>(raw.size()) != n) return;
+  // Joints without a torque sensor read the model's torque (virtual_torque_sensor.h).
+  const bool virtual_sensor = model_.virtual_sensor.any();
+  if (virtual_sensor) {
+    filled_ = raw;
+    model_.virtual_sensor.Fill(ticks_ > 0 ? previous_ : raw, ticks_ > 0 ? t_s - t_prev_ : 0.0, &filled_);
+  }
+  const std::vector<JointSignals>& signals = virtual_sensor ? filled_ : raw;
   if (ticks_++ == 0) {
     previous_ = signals;
     t_prev_ = t_s;
@@ -679,7 +689,7 @@ void PowerEfficiencyMonitor::Observe(double t_s, const std::vector<JointSignals>
     if (!s.structural.structural && structural.structural) s.structural = structural;
 
     // --- parametric detectors: deviation statistics, held over the debounce time ---
-    const bool drag = UpdateReadings(c, model_.thresholds, &s);
+    const bool drag = UpdateReadings(c, k, model_.thresholds, &s);
 
     // --- the joint's verdict ---
     EmitVerdict(ShownCandidate(c, k, model_.thresholds, drag, s), t_s, j + 1, &s, &output_.verdicts);

@@ -30,6 +30,7 @@
 #include "core/monitors/monitor.h"
 #include "core/plant/robot_config.h"
 #include "core/monitors/torque_balance.h"
+#include "core/monitors/virtual_torque_sensor.h"
 
 namespace armfault {
 
@@ -122,6 +123,9 @@ struct JointKnowledge {
   double rotor_inertia_link_kg_m2 = 0; // I_m ratio^2: the rotor reflected to the link
   std::vector<double> coupling;        // per lower joint: a_i . a_j at the zero pose
   double sensor_min_Nm = 0, sensor_max_Nm = 0;  // readings at the ADC rails
+  // No torque sensor: its reading is the model's (virtual_torque_sensor.h), so the stuck and
+  // drift detectors are off on this joint.
+  bool torque_sensor = true;
   // The unit as the monitor believes it: the datasheet's values until commissioning fits them.
   bool commissioned = false;
   ElectricalCalibration electrical;
@@ -140,6 +144,7 @@ struct PowerMonitorModel {
   double control_dt_s = 0;
   DetectorThresholds thresholds{};  // from the config's worn limits
   long hold_span = 1;               // ticks a statistic must hold: debounce_s / control_dt_s + 1
+  VirtualTorqueSensor virtual_sensor;  // the readings of the joints without a torque sensor
 };
 PowerMonitorModel MakePowerMonitorModel(const RobotConfig& robot, const MonitorConfig& config);
 
@@ -183,6 +188,7 @@ class PowerEfficiencyMonitor : public HealthMonitor {
   const PowerMonitorModel& model_;
   std::vector<std::unique_ptr<JointState>> joints_;
   std::vector<JointSignals> previous_;
+  std::vector<JointSignals> filled_;  // this tick's signals with the virtual torque readings
   double t_prev_ = 0;
   long ticks_ = 0;
   bool keep_windows_ = true;

@@ -12,6 +12,7 @@ ControllerConstants MakeControllerConstants(const ModuleParams& m) {
   c.p = m.controller;
   c.dt_s = 1.0 / m.controller.rate_Hz;
   c.ratio = m.drive.ratio;
+  c.torque_sensor = m.torque_sensor.present;
   c.link_rad_per_count = EncoderRadPerCount(m.encoder) / m.drive.ratio;
   // The thesis's coefficients (0.04762, 0.9048 at 50 rad/s, 500 Hz): pole exp(-w T),
   // input taps averaging two samples with unit DC gain.
@@ -72,8 +73,9 @@ void StepController(const ControllerConstants& c, const ControllerInputs& in, Co
   s->torque_out_prev = torque_filtered;
   s->started = true;
 
+  const double feedforward = c.torque_sensor ? torque_filtered : in.model_torque_Nm;
   const double request = (nominal + robust + adaptive) / p.kt_hat_Nm_per_A +
-                         torque_filtered / (c.ratio * p.kt_hat_Nm_per_A);
+                         feedforward / (c.ratio * p.kt_hat_Nm_per_A);
   // DAC: 1.5 V +- request / (A/V), clipped to 0..3 V, 12 bits.
   const double half = 0.5 * c.dac_range_V;
   const double volts = std::clamp(half + request / c.amps_per_volt, 0.0, c.dac_range_V);
@@ -84,7 +86,7 @@ void StepController(const ControllerConstants& c, const ControllerInputs& in, Co
   out->dac_code = code;
   out->position_rad = position;
   out->velocity_rad_s = velocity;
-  out->torque_filtered_Nm = torque_filtered;
+  out->torque_filtered_Nm = feedforward;
 }
 
 }  // namespace armfault

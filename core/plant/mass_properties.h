@@ -24,6 +24,8 @@ constexpr double kMinBodyMass_kg = 1e-3;
 constexpr double kMinMoment_kg_m2 = 1e-9;
 // The rotor body's token mass (simulation.h: the rotor's real mass belongs to the link masses).
 constexpr double kRotorMass_kg = 1e-3;
+// The rotor body's spin axis sits this far from its joint's axis (the planet of the gear, simulation.h).
+constexpr double kRotorOffset_m = 0.05;
 
 // A link's inertia about its centre of mass in zero-pose world axes: the given principal
 // moments (about `dir`, then the joint axis made orthogonal to it, then their cross product),

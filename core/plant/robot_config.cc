@@ -254,7 +254,18 @@ ModuleParams ModuleFromJson(const nlohmann::json& value, const std::string& poin
   errors->Try([&] { ReadGroup(reader, "drive", DriveFields(), &m.drive); });
   errors->Try([&] { ReadGroup(reader, "friction", FrictionFields(), &m.friction); });
   errors->Try([&] { ReadGroup(reader, "brake", BrakeFields(), &m.brake); });
-  errors->Try([&] { ReadGroup(reader, "torque_sensor", TorqueSensorFields(), &m.torque_sensor); });
+  errors->Try([&] {
+    const nlohmann::json* v = reader.Find("torque_sensor");
+    if (v && v->is_null()) {
+      m.torque_sensor.present = false;  // no sensor on this joint
+    } else if (v && !v->is_object()) {
+      throw InputError("", reader.PointerTo("torque_sensor"),
+                       "expected an object (the sensor's parameters) or null (no torque sensor), got " + Describe(*v));
+    } else {
+      ReadGroup(reader, "torque_sensor", TorqueSensorFields(), &m.torque_sensor);
+      if (v) m.torque_sensor.present = true;  // overrides give the type's absent sensor back
+    }
+  });
   errors->Try([&] { ReadGroup(reader, "encoder", EncoderFields(), &m.encoder); });
   errors->Try([&] { ReadGroup(reader, "controller", ControllerFields(), &m.controller); });
   errors->Try([&] {
@@ -766,7 +777,7 @@ nlohmann::json RobotToJson(const RobotConfig& r) {
     jm["drive"] = WriteFields(DriveFields(), m.drive);
     jm["friction"] = WriteFields(FrictionFields(), m.friction);
     jm["brake"] = WriteFields(BrakeFields(), m.brake);
-    jm["torque_sensor"] = WriteFields(TorqueSensorFields(), m.torque_sensor);
+    jm["torque_sensor"] = m.torque_sensor.present ? WriteFields(TorqueSensorFields(), m.torque_sensor) : nlohmann::json();
     jm["encoder"] = WriteFields(EncoderFields(), m.encoder);
     jm["controller"] = WriteFields(ControllerFields(), m.controller);
     jm["winding_temperature_sensor"] = m.winding_temperature_sensor;

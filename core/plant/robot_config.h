@@ -75,7 +75,11 @@ struct BrakeParams {
 // Reading chain: V = center_V + (tau - offset_Nm) * (adc_range_V/2) / full_scale_Nm + noise,
 // clipped to [0, adc_range_V], quantised to adc_bits; mapped back with the thesis formula
 // tau = full_scale_Nm (V - center_V) / (adc_range_V/2) + offset_Nm.
+// Optional (`"torque_sensor": null`, as on UR-class arms): without one the reading is NaN, the
+// controller's torque feedforward comes from the robot model (core/plant/controller.h) and the
+// families that need the sensor are errors on that joint.
 struct TorqueSensorParams {
+  bool present = true;
   double full_scale_Nm = 28.0;
   double offset_Nm = 3.5077;
   double adc_range_V = 3.0;

@@ -14,6 +14,7 @@
 #include "core/base/json_input.h"
 #include "core/plant/ode_runtime.h"
 #include "core/base/rng.h"
+#include "core/plant/rigid_body_dynamics.h"
 #include "core/plant/torque_sensor.h"
 
 namespace armfault {
@@ -33,7 +34,6 @@ Eigen::Vector3d ToEigen(const dReal* v) { return Eigen::Vector3d(v[0], v[1], v[2
 // axis; only the ratio of the wheel radii matters to the dynamics, the offset just has to
 // keep the gear row well scaled. The token mass (ODE needs one) and the offset move the
 // link's inertia by m e^2 = 2.5e-6 kg m^2 and its gravity moment by 5e-4 N m: negligible.
-constexpr double kRotorOffset_m = 0.05;  // kRotorMass_kg: core/plant/mass_properties.h
 
 void SetBodyPose(dBodyID b, const Eigen::Vector3d& pos, const Eigen::Matrix3d& rot) {
   dBodySetPosition(b, pos.x(), pos.y(), pos.z());
@@ -284,13 +284,33 @@ std::string FormatFailure(double t, int joint, const std::string& what, double v
 // allows), runs the controller, and writes the tick record: the signals beside the truth and
 // the mean powers of the period just ended (`first_tick`: none yet). Draws the joint's noise
 // in a fixed order.
-void ControllerTick(const JointModel& jm, const JointRunOptions& o, const HardwareCondition& cond, double t,
-                    bool first_tick, int steps, JointRuntime* runtime, JointTick* tick_out) {
-  JointRuntime& r = *runtime;
-  JointTick& tick = *tick_out;
+TrajectoryPoint ReferenceAt(const JointRunOptions& o, const JointRuntime& r, double t) {
   TrajectoryPoint ref;
   if (o.trajectory) ref = o.trajectory->At(t);
   else ref.q_rad = r.q_initial;
+  return ref;
+}
+
+// The robot model's transmitted torque of every joint for every joint's reference at `t`: the
+// feedforward of the joints without a torque sensor.
+void ReferenceTorques(const ArmModel& model, const std::vector<JointRunOptions>& options,
+                      const std::vector<JointRuntime>& rt, double t, std::vector<double>* tau_Nm) {
+  const size_t n = options.size();
+  thread_local std::vector<double> q, qd, qdd;
+  q.resize(n), qd.resize(n), qdd.resize(n);
+  for (size_t j = 0; j < n; ++j) {
+    const TrajectoryPoint ref = ReferenceAt(options[j], rt[j], t);
+    q[j] = ref.q_rad, qd[j] = ref.qd_rad_s, qdd[j] = ref.qdd_rad_s2;
+  }
+  TransmittedTorques(model.rigid_bodies(), q.data(), qd.data(), qdd.data(), tau_Nm->data());
+}
+
+// `model_torque_Nm`: the feedforward when the joint has no torque sensor (ReferenceTorques).
+void ControllerTick(const JointModel& jm, const JointRunOptions& o, const HardwareCondition& cond, double t,
+                    bool first_tick, int steps, double model_torque_Nm, JointRuntime* runtime, JointTick* tick_out) {
+  JointRuntime& r = *runtime;
+  JointTick& tick = *tick_out;
+  const TrajectoryPoint ref = ReferenceAt(o, r, t);
 
   const TorqueSensorParams& ts = jm.params.torque_sensor;
   const double noise = r.rng.Normal();  // drawn every tick so streams stay aligned
@@ -310,7 +330,8 @@ void ControllerTick(const JointModel& jm, const JointRunOptions& o, const Hardwa
   }
   ControllerInputs ci;
   ci.encoder_count = EncoderCount(jm.params.encoder, jm.ratio * r.q);
-  ci.torque_reading_Nm = TorqueFromAdcCode(ts, r.last_adc_code);
+  ci.torque_reading_Nm = ts.present ? TorqueFromAdcCode(ts, r.last_adc_code) : 0.0;
+  ci.model_torque_Nm = model_torque_Nm;
   ci.reference = ref;
   ControllerOutputs co;
   if (r.driver_enabled) {
@@ -328,7 +349,7 @@ void ControllerTick(const JointModel& jm, const JointRunOptions& o, const Hardwa
   sig.qd_ref_rad_s = ref.qd_rad_s;
   sig.q_meas_rad = co.position_rad;
   sig.qd_est_rad_s = co.velocity_rad_s;
-  sig.tau_sensor_Nm = ci.torque_reading_Nm;
+  sig.tau_sensor_Nm = ts.present ? ci.torque_reading_Nm : std::nan("");  // no sensor: NaN (joint_signals.h)
   sig.i_cmd_A = r.i_cmd;
   tick.q_rad = r.q;
   tick.qd_rad_s = r.qd;
@@ -477,35 +498,24 @@ ArmModel::ArmModel(RobotConfig config) : config_(std::move(config)) {
   steps_per_tick_ = static_cast<int>(std::lround(config_.physics_rate_Hz / rate));
   const double substep = physics_dt_s_ / config_.electrical_substeps;
 
-  Eigen::Vector3d anchor = Vec(config_.base_position_m);
+  rigid_ = MakeRigidBodyModel(config_, config_.payload_kg);
   const int n = static_cast<int>(config_.modules.size());
   const bool general = !config_.bodies.empty();
   for (int i = 0; i < n; ++i) {
     const ModuleParams& m = config_.modules[i];
+    const RigidJoint& rj = rigid_.joints[i];
     JointModel jm;
     jm.params = m;
     jm.drive = MakeDriveConstants(m, substep);
     jm.controller = MakeControllerConstants(m);
     jm.ratio = m.drive.ratio;
     jm.rotor_inertia_kg_m2 = m.motor.rotor_inertia_kg_m2;
-    const double payload = i == n - 1 ? config_.payload_kg : 0.0;
-    BodyMass body;
-    Eigen::Vector3d dir = Eigen::Vector3d::Zero();
-    if (general) {  // the general form (a URDF robot): the bodies as given
-      const JointBody& jb = config_.bodies[i];
-      jm.axis = Vec(jb.axis).normalized();
-      anchor = Vec(jb.anchor_m);
-      body = BodyOfJoint(config_, i, payload);
-    } else {  // the links shorthand: each link starts where the last one ended
-      jm.axis = Vec(config_.links[i].joint_axis).normalized();
-      dir = Vec(config_.links[i].direction).normalized();
-      body = LinkBody(config_.links[i], anchor, dir, jm.axis, payload);
-    }
-    jm.rotor_centre_m = anchor + kRotorOffset_m * jm.axis.unitOrthogonal();
-    jm.anchor_m = anchor;
-    jm.mass_kg = body.mass_kg;
-    jm.com_m = body.com_m;
-    jm.inertia_kg_m2 = body.inertia_kg_m2;
+    jm.axis = rj.axis;
+    jm.rotor_centre_m = rj.rotor_centre_m;
+    jm.anchor_m = rj.anchor_m;
+    jm.mass_kg = rj.mass_kg;
+    jm.com_m = rj.com_m;
+    jm.inertia_kg_m2 = rj.inertia_kg_m2;
     // What ODE is given, checked once more on the built numbers (Validate checked the same
     // derivation): ODE asserts on a body that is not positive definite, aborting the process.
     const std::string problem = BodyMassProblem(jm.mass_kg, jm.inertia_kg_m2);
@@ -519,7 +529,6 @@ ArmModel::ArmModel(RobotConfig config) : config_(std::move(config)) {
       throw InputError("", "/modules/" + std::to_string(i) + "/motor/rotor_inertia_kg_m2", "the rotor body's " + rotor_problem);
     }
     joints_.push_back(jm);
-    if (!general) anchor = anchor + config_.links[i].length_m * dir;
   }
 }
 
@@ -558,6 +567,9 @@ RunResult Simulate(const ArmModel& model, const RunSpec& spec, const TickObserve
   const long total_ticks = std::lround(spec.duration_s / tc);
   const double ambient_C = spec.ambient_C;
   double t_ode = 0;  // the time ODE was last asked to reach (its failure's time)
+  bool sensorless = false;  // some joint without a torque sensor: its controller needs the model's torque
+  for (int j = 0; j < n; ++j) sensorless = sensorless || !model.joint(j).params.torque_sensor.present;
+  std::vector<double> model_torque(n, 0.0);
 
   try {
     OdeWorld ode(model, q0, qd0);
@@ -568,8 +580,9 @@ RunResult Simulate(const ArmModel& model, const RunSpec& spec, const TickObserve
       const double t = k * tc;
       // --- controller tick: sensors -> controllers -> commands, and the tick record ---
       if (spec.hardware) spec.hardware->Apply(t, &conditions);  // a sensor fault acts from its onset tick
+      if (sensorless) ReferenceTorques(model, options, rt, t, &model_torque);
       for (int j = 0; j < n; ++j) {
-        ControllerTick(model.joint(j), options[j], conditions[j], t, k == 0, steps, &rt[j], &ticks[j]);
+        ControllerTick(model.joint(j), options[j], conditions[j], t, k == 0, steps, model_torque[j], &rt[j], &ticks[j]);
         BookPeriod(dt, &rt[j], &result.energy[j]);
       }
       result.end_time_s = t;

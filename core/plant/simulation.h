@@ -40,6 +40,7 @@
 #include "core/plant/controller.h"
 #include "core/plant/hardware_condition.h"
 #include "core/plant/motor.h"
+#include "core/plant/rigid_body_dynamics.h"
 #include "core/plant/robot_config.h"
 #include "core/plant/trajectory.h"
 #include "core/signals/joint_signals.h"
@@ -72,9 +73,12 @@ class ArmModel {
   double physics_dt_s() const { return physics_dt_s_; }
   double control_dt_s() const { return physics_dt_s_ * steps_per_tick_; }
   int steps_per_tick() const { return steps_per_tick_; }
+  // The same bodies outside ODE (core/plant/rigid_body_dynamics.h), payload included.
+  const RigidBodyModel& rigid_bodies() const { return rigid_; }
 
  private:
   RobotConfig config_;
+  RigidBodyModel rigid_;
   std::vector<JointModel> joints_;
   double physics_dt_s_ = 0;
   int steps_per_tick_ = 1;

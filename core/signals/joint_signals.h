@@ -15,7 +15,7 @@ struct JointSignals {
   double q_ref_rad = 0, qd_ref_rad_s = 0;  // reference the controller tracks
   double q_meas_rad = 0;                   // encoder (link side)
   double qd_est_rad_s = 0;                 // controller's velocity estimate
-  double tau_sensor_Nm = 0;                // joint torque sensor (after the ADC)
+  double tau_sensor_Nm = 0;                // joint torque sensor (after the ADC); NaN on a joint without one
   double i_cmd_A = 0;                      // commanded current (after the DAC)
   double i_supply_meas_A = 0;              // driver input current, mean over the control period, with noise
   double v_bus_meas_V = 0;                 // driver input (bus) voltage
