@@ -20,8 +20,7 @@ void VirtualTorqueSensor::Fill(const std::vector<JointSignals>& prev, double dt_
     const JointSignals& s = (*now)[j];
     q[j] = s.q_meas_rad;
     qd[j] = s.qd_est_rad_s;
-    const bool tracking = std::fabs(s.q_ref_rad - s.q_meas_rad) <= kTrackingLimit_rad;
-    qdd[j] = tracking && dt_s > 0 ? (s.qd_ref_rad_s - prev[j].qd_ref_rad_s) / dt_s : 0.0;
+    qdd[j] = dt_s > 0 ? (s.qd_est_rad_s - prev[j].qd_est_rad_s) / dt_s : 0.0;
   }
   TransmittedTorques(bodies, q.data(), qd.data(), qdd.data(), tau.data());
   for (size_t j = 0; j < n; ++j) {

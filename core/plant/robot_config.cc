@@ -260,7 +260,7 @@ ModuleParams ModuleFromJson(const nlohmann::json& value, const std::string& poin
       m.torque_sensor.present = false;  // no sensor on this joint
     } else if (v && !v->is_object()) {
       throw InputError("", reader.PointerTo("torque_sensor"),
-                       "expected an object (the sensor's parameters) or null (no torque sensor), got " + Describe(*v));
+                       "expected an object (the sensor's parameters) or null (no torque sensor), got " + std::string(v->type_name()) + " " + Describe(*v));
     } else {
       ReadGroup(reader, "torque_sensor", TorqueSensorFields(), &m.torque_sensor);
       if (v) m.torque_sensor.present = true;  // overrides give the type's absent sensor back

@@ -98,5 +98,22 @@ TEST(FaultMagnitudeRange, TheSchemaStatesEachFamilysRange) {
   }
 }
 
+// The families that read the torque sensor are errors on a joint without one.
+TEST(FaultRegistry, SensorFamiliesNeedTheJointsTorqueSensor) {
+  RobotConfig robot = RobotPreset("mrr-config1");
+  robot.modules[2].torque_sensor.present = false;
+  const json stuck = {{"family", "torque_sensor_stuck"}, {"joint", 3}, {"lead", "supply"}};
+  const InputError e = ErrorOf([&] { MakeFault(stuck, "/faults/0", robot); });
+  EXPECT_EQ(e.pointer(), "/faults/0/joint");
+  EXPECT_EQ(e.message(), "torque_sensor_stuck: joint 3 has no torque sensor (robot mrr-config1): this family needs one");
+  EXPECT_THAT(ErrorOf([&] { MakeFault(FaultWith("torque_sensor_drift", 1.0), "/faults/0", robot); }).message(),
+              HasSubstr("joint 3 has no torque sensor"));
+  // The other families, and the sensor families on a joint that has one, are fine.
+  EXPECT_NE(MakeFault(FaultWith("kt_degradation", 0.8), "/faults/0", robot), nullptr);
+  json on_joint_2 = stuck;
+  on_joint_2["joint"] = 2;
+  EXPECT_NE(MakeFault(on_joint_2, "/faults/0", robot), nullptr);
+}
+
 }  // namespace
 }  // namespace armfault

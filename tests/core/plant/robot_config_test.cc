@@ -137,6 +137,24 @@ TEST(RobotConfigFromJson, MinimalRobotUsesDefaults) {
   EXPECT_EQ(r.electrical_substeps, 20);
 }
 
+TEST(RobotConfigFromJson, TorqueSensorNullRemovesTheSensorAndWritesBackAsNull) {
+  json j = TwoJoints();
+  j["modules"][1] = {{"torque_sensor", nullptr}};
+  const RobotConfig r = RobotFromJson(j, "/robot");
+  EXPECT_TRUE(r.modules[0].torque_sensor.present);
+  EXPECT_FALSE(r.modules[1].torque_sensor.present);
+  const json written = RobotToJson(r);
+  EXPECT_TRUE(written["modules"][1]["torque_sensor"].is_null());
+  EXPECT_FALSE(RobotFromJson(written, "/robot").modules[1].torque_sensor.present);
+  // An object puts it back, with the type's values under what it overrides.
+  j["modules"][1] = {{"torque_sensor", {{"noise_Nm", 0.1}}}};
+  EXPECT_TRUE(RobotFromJson(j, "/robot").modules[1].torque_sensor.present);
+  j["modules"][1] = {{"torque_sensor", 5}};
+  const InputError e = RobotError(j, "/robot");
+  EXPECT_EQ(e.pointer(), "/robot/modules/1/torque_sensor");
+  EXPECT_EQ(e.message(), "expected an object (the sensor's parameters) or null (no torque sensor), got number 5");
+}
+
 TEST(RobotConfigFromJson, ModuleFieldOverridesItsTypeDefault) {
   json j = TwoJoints();
   j["name"] = "mine";
