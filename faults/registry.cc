@@ -153,8 +153,9 @@ std::unique_ptr<Fault> MakeFault(const nlohmann::json& spec, const std::string& 
       const int j = fault->joint_index();
       if (f.needs_torque_sensor && j >= 0 && j < static_cast<int>(robot.modules.size()) &&
           !robot.modules[j].torque_sensor.present) {
+        const std::string name = j < static_cast<int>(robot.bodies.size()) ? " (" + robot.bodies[j].joint_name + ")" : "";
         throw InputError("", reader.PointerTo("joint"),
-                         "joint " + std::to_string(j + 1) + " has no torque sensor (robot " + robot.name +
+                         "joint " + std::to_string(j + 1) + name + " has no torque sensor (robot " + robot.name +
                              "): this family needs one");
       }
       return fault;

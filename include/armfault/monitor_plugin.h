@@ -76,7 +76,7 @@ typedef struct armfault_joint_signals {
   double qd_ref_rad_s;     /* reference velocity */
   double q_meas_rad;       /* encoder, link side */
   double qd_est_rad_s;     /* the controller's velocity estimate */
-  double tau_sensor_Nm;    /* joint torque sensor, after the ADC */
+  double tau_sensor_Nm;    /* joint torque sensor, after the ADC; NaN on a joint without one */
   double i_cmd_A;          /* commanded current, after the DAC */
   double i_supply_meas_A;  /* driver input current, mean over the control period */
   double v_bus_meas_V;     /* driver input (bus) voltage */

@@ -841,6 +841,24 @@ if grep -q "not shown: the thesis&#39;s table is about mrr-config1&#39;s top joi
 fi
 
 
+# Without a torque sensor: the sensor's families are input errors on that joint, a bad value of
+# "torque_sensor" names the drive, and a run reads NaN where the sensor would be.
+cp "$src/campaigns/files/robots/ur-class.urdf" "$tmp/ur-class.urdf"
+printf '{"robot": {"urdf": "ur-class.urdf", "drives": {"shoulder_pan": "industrial-large", "shoulder_lift": {"type": "industrial-large", "torque_sensor": null}, "elbow": "industrial-large", "wrist_1": "industrial-small", "wrist_2": "industrial-small", "wrist_3": "industrial-small"}}, "duration_s": 2, "healthy": 1, "faults": [{"family": "torque_sensor_stuck", "joint": [1, 2], "lead": "supply", "onset_s": 1}], "trajectories": [{"name": "a", "joints": {"2": {"type": "sine_pair", "amplitude_deg": 5, "omega_rad_s": 1}}}]}\n' >"$tmp/no_sensor.json"
+run no_sensor_family "$armfault" validate "$tmp/no_sensor.json"
+expect_input_error 'no_sensor.json: /faults/0/joint/1: torque_sensor_stuck: joint 2 (shoulder_lift) has no torque sensor (robot ur-class): this family needs one'
+sed 's/"torque_sensor": null/"torque_sensor": "none"/' "$tmp/no_sensor.json" >"$tmp/no_sensor_bad.json"
+run no_sensor_bad_value "$armfault" validate "$tmp/no_sensor_bad.json"
+expect_input_error '/robot/drives/shoulder_lift/torque_sensor: expected an object (the sensor'"'"'s parameters) or null (no torque sensor), got string "none"'
+printf '{"robot": {"urdf": "ur-class.urdf", "drives": {"shoulder_pan": "industrial-large", "shoulder_lift": {"type": "industrial-large", "torque_sensor": null}, "elbow": "industrial-large", "wrist_1": "industrial-small", "wrist_2": "industrial-small", "wrist_3": "industrial-small"}}, "duration_s": 0.1, "joints": {"2": {"type": "sine_pair", "amplitude_deg": 5, "omega_rad_s": 1}}}\n' >"$tmp/no_sensor_run.json"
+run no_sensor_trace "$armfault" trace "$tmp/no_sensor_run.json" -o "$tmp/no_sensor_trace.csv"
+expect_status 0
+current=no_sensor_reads_nan
+if [[ $(awk -F, 'NR==1 { for (i = 1; i <= NF; i++) if ($i == "tau_sensor_2") c = i } NR == 3 { print $c }' "$tmp/no_sensor_trace.csv") == nan ]]; then pass; else
+  fail "tau_sensor_2 of a joint without a sensor: $(sed -n 3p "$tmp/no_sensor_trace.csv" | head -c 300)"
+fi
+
+
 # export shows the same progress line as run (rate and time left).
 run export_progress "$armfault" export "$tmp/exp.json" -o "$tmp/exp_progress"
 expect_status 0
