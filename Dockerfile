@@ -7,7 +7,7 @@
 FROM debian:bookworm-slim AS build
 RUN apt-get update \
  && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends \
-      build-essential cmake pkg-config libode-dev libeigen3-dev libtbb-dev nlohmann-json3-dev libcli11-dev libssl-dev zlib1g-dev liburdfdom-dev libtinyxml-dev \
+      build-essential cmake pkg-config libode-dev libeigen3-dev libtbb-dev nlohmann-json3-dev libcli11-dev libssl-dev zlib1g-dev liburdfdom-dev libtinyxml-dev libboost-math-dev \
  && rm -rf /var/lib/apt/lists/*
 WORKDIR /src
 COPY . .

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numeric>
 
+#include "core/base/distributions.h"
 #include "core/base/json_input.h"
 
 namespace armfault {
@@ -38,7 +39,7 @@ double BetaBinomialTail(long n, double a, double b, long t) {
     const double p = a / (a + b);
     const double mean = n * p;
     const double var = n * p * (1 - p) * (a + b + n) / (a + b + 1);
-    return 0.5 * std::erfc((t - 0.5 - mean) / std::sqrt(2 * std::max(var, 1e-12)));
+    return StandardNormalUpperTail((t - 0.5 - mean) / std::sqrt(std::max(var, 1e-12)));
   }
   const double base = -LogBeta(a, b) + std::lgamma(n + 1.0);
   double sum = 0;

@@ -40,6 +40,47 @@ TEST(EarlyStopPrediction, IsExactWhenNoRunIsLeftAndFollowsTheData) {
   EXPECT_GT(PredictiveMet(99, 100, 100000, 0.95, true), 0.99);
 }
 
+// Brute force for the beta-binomial (Boost.Math has none): the Polya urn. With a Jeffreys
+// prior, after j successes in i further runs the next succeeds with probability
+// (s + 1/2 + j) / (n + 1 + i); every one of the 2^remaining sequences is weighed and those
+// whose final count meets the bound are summed.
+double BruteForcePredictiveMet(long s, long n, long remaining, double bound, bool is_min) {
+  const double total = static_cast<double>(n + remaining);
+  double met = 0;
+  for (unsigned long seq = 0; seq < (1ul << remaining); ++seq) {
+    double p = 1;
+    long j = 0;
+    for (long i = 0; i < remaining; ++i) {
+      const double up = (s + 0.5 + j) / (n + 1.0 + i);
+      if (seq >> i & 1ul) {
+        p *= up;
+        ++j;
+      } else {
+        p *= 1 - up;
+      }
+    }
+    const double final_successes = static_cast<double>(s + j);
+    if (is_min ? final_successes >= bound * total - 1e-9 : final_successes <= bound * total + 1e-9) met += p;
+  }
+  return met;
+}
+
+TEST(EarlyStopPrediction, MatchesThePolyaUrnByEnumeration) {
+  for (long n : {1L, 4L, 10L, 30L}) {
+    for (long s = 0; s <= n; s += (n > 4 ? 3 : 1)) {
+      for (long remaining : {1L, 5L, 12L}) {
+        for (double bound : {0.05, 0.5, 0.8, 0.95}) {
+          for (bool is_min : {true, false}) {
+            EXPECT_NEAR(PredictiveMet(s, n, remaining, bound, is_min),
+                        BruteForcePredictiveMet(s, n, remaining, bound, is_min), 1e-12)
+                << s << " of " << n << ", " << remaining << " to come, bound " << bound << (is_min ? " min" : " max");
+          }
+        }
+      }
+    }
+  }
+}
+
 TEST(EarlyStopOrder, VisitsEveryCaseOnce) {
   for (long n : {1L, 2L, 7L, 52L, 176L, 208L, 1000L}) {
     const EarlyStopOrder order(n, 2026);
