@@ -40,9 +40,11 @@ TEST(StandardNormalTest, CdfAndUpperTailMatchHighPrecisionValues) {
   for (double z : {-4.0, -1.5, 0.25, 2.0, 6.0}) EXPECT_NEAR(StandardNormalQuantile(StandardNormalCdf(z)), z, 1e-9 * (1 + z * z));
 }
 
-TEST(StandardNormalTest, ProbabilitiesOutsideTheUnitIntervalThrow) {
+TEST(StandardNormalTest, ProbabilitiesOutsideTheOpenUnitIntervalThrow) {
   EXPECT_THROW(StandardNormalQuantile(1.5), std::domain_error);
   EXPECT_THROW(StandardNormalQuantile(-0.1), std::domain_error);
+  EXPECT_THROW(StandardNormalQuantile(1.0), std::overflow_error);  // +infinity
+  EXPECT_THROW(StandardNormalQuantile(0.0), std::overflow_error);
 }
 
 }  // namespace
