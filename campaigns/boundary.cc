@@ -9,6 +9,7 @@
 
 #include "campaigns/provenance.h"
 #include "campaigns/runner.h"
+#include "core/base/distributions.h"
 #include "core/base/json_input.h"
 #include "faults/fault.h"
 
@@ -83,16 +84,7 @@ nlohmann::json Optional(const std::optional<double>& x) { return x ? nlohmann::j
 
 }  // namespace
 
-double OneSidedZ(double confidence) {
-  // Phi(z) = confidence, by bisection on the normal tail.
-  double lo = 0, hi = 10;
-  for (int i = 0; i < 200; ++i) {
-    const double mid = 0.5 * (lo + hi);
-    if (0.5 * std::erfc(-mid / std::sqrt(2.0)) < confidence) lo = mid;
-    else hi = mid;
-  }
-  return 0.5 * (lo + hi);
-}
+double OneSidedZ(double confidence) { return StandardNormalQuantile(confidence); }
 
 CellEstimate EstimateCell(const SearchSpec& spec, const SearchEntryRange& range, const CellData& data) {
   CellEstimate est;

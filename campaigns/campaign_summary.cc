@@ -8,6 +8,7 @@
 #include <tuple>
 
 #include "campaigns/provenance.h"
+#include "core/base/distributions.h"
 
 namespace armfault {
 
@@ -15,7 +16,8 @@ namespace {
 
 using internal::SummaryTally;
 
-constexpr double kWilsonZ = 1.959963984540054;
+// The two-sided 95 % normal quantile, 1.959963984540054.
+const double kWilsonZ = StandardNormalQuantile(0.975);
 constexpr size_t kMaxListedFailures = 100;
 const char* const kHealthyLabel = "healthy";
 const char* const kUnknownLabel = "unknown";

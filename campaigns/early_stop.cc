@@ -4,6 +4,8 @@
 #include <cmath>
 #include <numeric>
 
+#include <boost/math/distributions/beta.hpp>
+
 #include "core/base/json_input.h"
 
 namespace armfault {
@@ -29,16 +31,16 @@ namespace {
 
 double LogBeta(double a, double b) { return std::lgamma(a) + std::lgamma(b) - std::lgamma(a + b); }
 
-// P(S >= t), S ~ BetaBinomial(n, a, b).
+// P(S >= t), S ~ BetaBinomial(n, a, b): summed term by term up to n = 5000 (Boost.Math has no
+// beta-binomial), beyond from the beta distribution it tends to.
 double BetaBinomialTail(long n, double a, double b, long t) {
   if (t <= 0) return 1.0;
   if (t > n) return 0.0;
   if (n > 5000) {
-    // Normal approximation with the beta-binomial's mean and variance (continuity-corrected).
-    const double p = a / (a + b);
-    const double mean = n * p;
-    const double var = n * p * (1 - p) * (a + b + n) / (a + b + 1);
-    return 0.5 * std::erfc((t - 0.5 - mean) / std::sqrt(2 * std::max(var, 1e-12)));
+    // The beta-binomial's limit as n grows: S / n ~ Beta(a, b), the rate's posterior
+    // (Boost.Math), continuity-corrected. A normal with S's mean and variance was off by up to
+    // 0.08 here when few runs were seen (9 of 10, 5000 to come); this, by 0.0012.
+    return boost::math::cdf(boost::math::complement(boost::math::beta_distribution<double>(a, b), (t - 0.5) / n));
   }
   const double base = -LogBeta(a, b) + std::lgamma(n + 1.0);
   double sum = 0;

@@ -3,14 +3,16 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/base/distributions.h"
 #include "faults/fault.h"
 
 namespace armfault {
 
 namespace {
 
-constexpr double kZ95Two = 1.959963984540054;
-constexpr double kZ95One = 1.6448536269514722;
+// The two-sided and one-sided 95 % normal quantiles (1.959963984540054, 1.6448536269514724).
+const double kZ95Two = StandardNormalQuantile(0.975);
+const double kZ95One = StandardNormalQuantile(0.95);
 
 }  // namespace
 

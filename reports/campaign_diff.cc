@@ -5,12 +5,16 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <set>
 #include <stdexcept>
 #include <utility>
 
+#include <boost/math/distributions/hypergeometric.hpp>
+
 #include "campaigns/run_dir.h"
+#include "core/base/distributions.h"
 #include "core/base/json_input.h"
 
 namespace armfault {
@@ -21,11 +25,6 @@ namespace fs = std::filesystem;
 using internal::SummaryTally;
 
 const char* const kVerdicts[] = {"better", "worse", "same", "n/a"};
-
-double LogChoose(long n, long k) {
-  return std::lgamma(static_cast<double>(n) + 1) - std::lgamma(static_cast<double>(k) + 1) -
-         std::lgamma(static_cast<double>(n - k) + 1);
-}
 
 void CheckCounts(long s, long n, const char* who) {
   if (n <= 0 || s < 0 || s > n) {
@@ -272,27 +271,44 @@ void CheckDiffOptions(const DiffOptions& o) {
 double FisherExactTwoSided(long s_a, long n_a, long s_b, long n_b) {
   CheckCounts(s_a, n_a, "FisherExactTwoSided");
   CheckCounts(s_b, n_b, "FisherExactTwoSided");
+  if (n_a + n_b > static_cast<long>(std::numeric_limits<unsigned>::max())) {
+    throw std::invalid_argument("FisherExactTwoSided: " + std::to_string(n_a + n_b) + " trials in all is beyond " +
+                                std::to_string(std::numeric_limits<unsigned>::max()));
+  }
   // Margins: row totals n_a, n_b; column total k successes. X = successes in A is
-  // hypergeometric: P(x) ∝ C(n_a, x) C(n_b, k - x), x in [max(0, k - n_b), min(n_a, k)].
-  const long k = s_a + s_b;
-  const long lo = std::max(0L, k - n_b), hi = std::min(n_a, k);
-  std::vector<double> lp(static_cast<size_t>(hi - lo + 1));
-  double max_lp = -INFINITY;
-  for (long x = lo; x <= hi; ++x) {
-    const double v = LogChoose(n_a, x) + LogChoose(n_b, k - x);
-    lp[static_cast<size_t>(x - lo)] = v;
-    max_lp = std::max(max_lp, v);
+  // hypergeometric: k successes among the n_a + n_b trials, n_a of them drawn (Boost.Math:
+  // r = k "defective" items, sample size n_a, population n_a + n_b), on
+  // x in [max(0, k - n_b), min(n_a, k)].
+  const unsigned k = static_cast<unsigned>(s_a + s_b);
+  const boost::math::hypergeometric_distribution<double> h(k, static_cast<unsigned>(n_a),
+                                                           static_cast<unsigned>(n_a + n_b));
+  const unsigned lo = boost::math::range(h).first, hi = boost::math::range(h).second;
+  auto density = [&h](unsigned x) { return boost::math::pdf(h, x); };
+  // R's fisher.test: the tables with density <= observed * (1 + 1e-7). The hypergeometric is
+  // unimodal, so they are the two tails [lo, a] and [b, hi] around the mode: their ends by a
+  // binary search on the density, their probabilities by Boost's cdf (no pass over the whole
+  // support: a million tables take microseconds).
+  const double limit = density(static_cast<unsigned>(s_a)) * (1 + 1e-7);
+  const unsigned mode = boost::math::mode(h);
+  if (density(mode) <= limit) return 1.0;  // the observed table is as probable as the mode's
+  double p = 0;
+  if (density(lo) <= limit) {  // the largest a in [lo, mode) with density(a) <= limit
+    unsigned in = lo, out = mode;
+    while (out - in > 1) {
+      const unsigned mid = in + (out - in) / 2;
+      (density(mid) <= limit ? in : out) = mid;
+    }
+    p += boost::math::cdf(h, in);
   }
-  const double observed = lp[static_cast<size_t>(s_a - lo)];
-  // R's fisher.test: tables with density <= observed * (1 + 1e-7).
-  const double limit = observed + std::log1p(1e-7);
-  double total = 0, tail = 0;
-  for (double v : lp) {
-    const double w = std::exp(v - max_lp);
-    total += w;
-    if (v <= limit) tail += w;
+  if (density(hi) <= limit) {  // the smallest b in (mode, hi] with density(b) <= limit
+    unsigned out = mode, in = hi;
+    while (in - out > 1) {
+      const unsigned mid = out + (in - out) / 2;
+      (density(mid) <= limit ? in : out) = mid;
+    }
+    p += boost::math::cdf(boost::math::complement(h, in - 1));  // P(X >= in)
   }
-  return std::min(1.0, tail / total);
+  return std::min(1.0, p);
 }
 
 DifferenceInterval NewcombeDifference(long s_a, long n_a, long s_b, long n_b) {
@@ -355,7 +371,7 @@ MannWhitneyResult MannWhitney(const std::vector<double>& a, const std::vector<do
   const double diff = r.u_b - mean;
   const double correction = diff > 0 ? 0.5 : (diff < 0 ? -0.5 : 0.0);
   r.z = (diff - correction) / std::sqrt(variance);
-  r.p = std::min(1.0, std::erfc(std::fabs(r.z) / std::sqrt(2.0)));
+  r.p = std::min(1.0, 2 * StandardNormalUpperTail(std::fabs(r.z)));
   return r;
 }
 

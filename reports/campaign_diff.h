@@ -30,15 +30,17 @@
 //   - Rates: change = rate_B - rate_A. Two-sided Fisher exact test on the 2x2 table
 //     [[s_A, n_A - s_A], [s_B, n_B - s_B]]: conditional on the margins, the hypergeometric
 //     probabilities of every table are summed over those no more probable than the observed
-//     one (relative tolerance 1e-7, as R's fisher.test). Log-gamma terms, renormalised over
-//     the support, so large n stay accurate. The 95 % interval of the change is Newcombe's
+//     one (relative tolerance 1e-7, as R's fisher.test): Boost.Math's hypergeometric
+//     distribution, its two tails beyond the mode (accurate for large n; at most 2^32 - 1
+//     trials in all). The 95 % interval of the change is Newcombe's
 //     hybrid score interval (method 10 of Newcombe 1998) built from the Wilson intervals of
 //     campaign_summary.h: [d - sqrt((p_B - l_B)^2 + (u_A - p_A)^2),
 //                          d + sqrt((u_B - p_B)^2 + (p_A - l_A)^2)].
 //   - Latency: change = median_B - median_A (the median shift, seconds). Two-sided
 //     Mann-Whitney U test: U_B = pairs (a, b) with b > a, ties counting 1/2. Exact null
 //     distribution when both samples have fewer than 50 values and no value is tied (test
-//     "mann_whitney_exact"); otherwise the normal approximation with the tie correction
+//     "mann_whitney_exact"; counted here: Boost.Math has no Mann-Whitney distribution); otherwise
+//     the normal approximation (Boost.Math's normal distribution) with the tie correction
 //     Var U = n_A n_B / 12 * ((N + 1) - sum(t^3 - t) / (N (N - 1))) and a continuity
 //     correction of 1/2 (test "mann_whitney_normal", as R's wilcox.test).
 //   - A comparison with no trials (or no latencies) on a side is not tested: verdict "n/a".

@@ -1,23 +1,55 @@
 #!/usr/bin/env bash
 # Installs what a fresh Debian 12 machine lacks (as root, or with sudo), then configures and
 # builds armfault in build/. Safe to run again: it installs nothing that is already there.
+#
+#   tools/bootstrap.sh            the main job: build_packages only; builds the armfault binary.
+#   tools/bootstrap.sh --python   also python_packages; builds the binary and the Python package.
+#   tools/bootstrap.sh --tests    the test command: every list below; builds everything (tests,
+#                                 benchmarks, Python package) for `ctest --test-dir build`.
+#
+# A fresh build/ made by the main job is configured with BUILD_TESTING, ARMFAULT_BUILD_BENCH and
+# ARMFAULT_BUILD_PYTHON off, so that configuring needs none of the test packages; an existing
+# build/ keeps the options it was configured with (the main job then builds only the binary).
+# --python and --tests switch their parts on.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-# Test-only: chromium (report page), slurm-wlm and munge (tools/slurm_check.sh runs a real Slurm),
-# python3-yaml (tests/deploy/deploy_test.sh parses the Kubernetes YAML), python3-jsonschema
-# (tests/campaigns/schema_test.py checks campaigns/campaign.schema.json).
+python=0
+tests=0
+for arg in "$@"; do
+  case "$arg" in
+    --python) python=1 ;;
+    --tests) tests=1 python=1 ;;
+    -h|--help) sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    *) echo "bootstrap: unknown argument '$arg' (want --python or --tests)" >&2; exit 2 ;;
+  esac
+done
+
+# Building and running armfault: the compiler and CMake, ODE (physics), Eigen, oneTBB,
+# nlohmann-json, CLI11, OpenSSL (SHA-256 of the provenance), zlib (`armfault export` writes gzip
+# CSV), urdfdom and TinyXML (URDF robots), Boost.Math (header-only here: the statistics'
+# distributions). The Dockerfile's build stage installs exactly these (tests/deploy/deploy_test.sh).
+build_packages=(build-essential cmake pkg-config libode-dev libeigen3-dev libtbb-dev nlohmann-json3-dev
+                libcli11-dev libssl-dev zlib1g-dev liburdfdom-dev libtinyxml-dev libboost-math-dev)
 # The Python package (python/): pybind11 and python3-dev to build it, NumPy and pandas for its
-# arrays and DataFrames, pytest for its tests. zlib1g-dev: `armfault export` writes gzip CSV.
-# Test-only: clang and libclang-rt-14-dev (libFuzzer, only a Recommends of clang-14) for the
-# parsers' fuzzing test (tests/fuzz/fuzz_test.sh, docs/fuzzing.md).
-# Test-only: jupyter-nbconvert, python3-ipykernel (the python3 kernel) and python3-matplotlib
-# execute examples/notebooks/first-campaign.ipynb (python/tests/notebook_test.sh).
-packages=(build-essential cmake pkg-config libode-dev libeigen3-dev libtbb-dev nlohmann-json3-dev
-          libcli11-dev libssl-dev zlib1g-dev liburdfdom-dev libtinyxml-dev libgtest-dev libgmock-dev libbenchmark-dev chromium slurm-wlm
-          munge python3-yaml python3-jsonschema python3-dev pybind11-dev python3-pybind11 python3-numpy
-          python3-pandas python3-pytest clang libclang-rt-14-dev
-          jupyter-nbconvert python3-ipykernel python3-matplotlib)
+# arrays and DataFrames.
+python_packages=(python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pandas)
+# Test-only: GoogleTest and GoogleMock (the unit tests), Google Benchmark (bench/),
+# chromium (report page), slurm-wlm and munge (tools/slurm_check.sh runs a real Slurm; their
+# packages enable slurmctld and munged as services), python3-yaml (tests/deploy/deploy_test.sh
+# parses the Kubernetes YAML), python3-jsonschema (tests/campaigns/schema_test.py checks
+# campaigns/campaign.schema.json), python3-pytest (the Python package's tests), clang and
+# libclang-rt-14-dev (libFuzzer, only a Recommends of clang-14) for the parsers' fuzzing test
+# (tests/fuzz/fuzz_test.sh, docs/fuzzing.md), jupyter-nbconvert, python3-ipykernel (the python3
+# kernel) and python3-matplotlib to execute examples/notebooks/first-campaign.ipynb
+# (python/tests/notebook_test.sh).
+test_packages=(libgtest-dev libgmock-dev libbenchmark-dev chromium slurm-wlm munge python3-yaml
+               python3-jsonschema python3-pytest clang libclang-rt-14-dev
+               jupyter-nbconvert python3-ipykernel python3-matplotlib)
+
+packages=("${build_packages[@]}")
+[ "$python" -eq 0 ] || packages+=("${python_packages[@]}")
+[ "$tests" -eq 0 ] || packages+=("${test_packages[@]}")
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -30,5 +62,22 @@ if [ "${#missing[@]}" -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
 
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build build -j "$(nproc)"
+options=(-DCMAKE_BUILD_TYPE=Release)
+if [ "$tests" -eq 1 ]; then
+  options+=(-DBUILD_TESTING=ON -DARMFAULT_BUILD_BENCH=ON -DARMFAULT_BUILD_PYTHON=ON)
+elif [ "$python" -eq 1 ]; then
+  options+=(-DARMFAULT_BUILD_PYTHON=ON)
+fi
+if [ ! -f build/CMakeCache.txt ]; then
+  # A fresh build/: only what was asked for is on.
+  [ "$tests" -eq 1 ] || options+=(-DBUILD_TESTING=OFF -DARMFAULT_BUILD_BENCH=OFF)
+  [ "$python" -eq 1 ] || options+=(-DARMFAULT_BUILD_PYTHON=OFF)
+fi
+cmake -S . -B build "${options[@]}" >/dev/null
+if [ "$tests" -eq 1 ]; then
+  cmake --build build -j "$(nproc)"
+elif [ "$python" -eq 1 ]; then
+  cmake --build build -j "$(nproc)" --target armfault armfault_python
+else
+  cmake --build build -j "$(nproc)" --target armfault
+fi

@@ -6,6 +6,7 @@
 #include <deque>
 #include <limits>
 
+#include "core/base/distributions.h"
 #include "core/plant/torque_sensor.h"
 
 namespace armfault {
@@ -52,7 +53,7 @@ double CorrelationTicks(const MonitorConfig& c, double dt) { return std::max(1.0
 constexpr double kCopperPerK = 0.00393;
 constexpr double kMagnetLossPerK = 0.001;
 
-double NormalCdf(double z) { return 0.5 * std::erfc(-z / std::sqrt(2.0)); }
+double NormalCdf(double z) { return StandardNormalCdf(z); }
 
 // Deviation in standard errors; an exact (se 0) deviation counts as very significant.
 double Significance(double deviation, double se) {

@@ -5,7 +5,7 @@
 # figures drawn (PNG in the executed notebook and on disk) and the campaign's files written. And
 # that the check can fail: a notebook whose cell raises must make nbconvert exit non-zero.
 # Needs Debian's jupyter-nbconvert, python3-ipykernel (the python3 kernel, /usr/bin/python3) and
-# python3-matplotlib (tools/bootstrap.sh), and the package on PYTHONPATH (ctest python_notebook
+# python3-matplotlib (tools/bootstrap.sh --tests), and the package on PYTHONPATH (ctest python_notebook
 # sets build/python, as for python_package).
 # Usage: notebook_test.sh SOURCE_DIR. Prints "N passed, M failed"; non-zero on failure.
 set -euo pipefail
@@ -16,7 +16,7 @@ if [[ $# -ne 1 || ! -f $1/examples/notebooks/first-campaign.ipynb ]]; then
 fi
 src=$(cd "$1" && pwd)
 if ! /usr/bin/python3 -c 'import nbconvert, ipykernel, matplotlib' 2>/dev/null; then
-  echo "FAIL: /usr/bin/python3 lacks nbconvert, ipykernel or matplotlib: apt-get install jupyter-nbconvert python3-ipykernel python3-matplotlib (tools/bootstrap.sh)"
+  echo "FAIL: /usr/bin/python3 lacks nbconvert, ipykernel or matplotlib: apt-get install jupyter-nbconvert python3-ipykernel python3-matplotlib (tools/bootstrap.sh --tests)"
   exit 1
 fi
 tmp=$(mktemp -d "${TMPDIR:-/tmp}/armfault_notebook_test.XXXXXX")

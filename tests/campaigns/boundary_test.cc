@@ -52,6 +52,14 @@ std::string Joined(const std::vector<std::string>& lines) {
   return s;
 }
 
+TEST(BoundarySearch, OneSidedZIsTheNormalQuantile) {
+  // mpmath at 40 digits: sqrt(2) erfinv(2 c - 1) of the double c; within a few ulps.
+  EXPECT_NEAR(OneSidedZ(0.95), 1.644853626951472284276316, 2e-15);
+  EXPECT_NEAR(OneSidedZ(0.9), 1.281551565544600593487448, 2e-15);
+  EXPECT_NEAR(OneSidedZ(0.999), 3.090232306167813277758202, 4e-15);
+  EXPECT_EQ(OneSidedZ(0.5), 0.0);
+}
+
 TEST(BoundarySearch, BadInputNamesFilePointerAndValue) {
   {  // a family without a magnitude
     nlohmann::json c = SmallSearch();

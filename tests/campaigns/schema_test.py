@@ -12,7 +12,7 @@ Usage: schema_test.py path/to/armfault SOURCE_DIR
    own joints and ranges, files) must be accepted by the schema and rejected by the loader,
    so the schema's $comment about them stays true.
 
-Needs Debian's python3-jsonschema (tools/bootstrap.sh). Prints one line per failed check and
+Needs Debian's python3-jsonschema (tools/bootstrap.sh --tests). Prints one line per failed check and
 "N passed, M failed"; exits non-zero on failure.
 """
 import copy
@@ -26,7 +26,7 @@ import tempfile
 try:
     import jsonschema
 except ImportError:
-    print("no jsonschema module for " + sys.executable + " (Debian: python3-jsonschema, see tools/bootstrap.sh)")
+    print("no jsonschema module for " + sys.executable + " (Debian: python3-jsonschema, see tools/bootstrap.sh --tests)")
     sys.exit(2)
 
 if len(sys.argv) != 3:

@@ -2,7 +2,7 @@
 # Checks of what runs armfault elsewhere, without Docker or a cluster: the Kubernetes Jobs in
 # deploy/k8s/ (they parse, and shards.yaml and merge.yaml agree on the image, the index variable,
 # --shard-count = completions, the output path and the volume), the Dockerfile's package lists
-# (build stage = tools/bootstrap.sh minus test-only packages; runtime stage = the libraries the
+# (build stage = tools/bootstrap.sh's build_packages, the main job's; runtime stage = the libraries the
 # binary links), and `cmake --install` into a temp prefix giving a working bin/armfault and the
 # monitor plugin header a plugin builds against.
 # Usage: deploy_test.sh SOURCE_DIR BUILD_DIR. Prints "N passed, M failed"; non-zero on failure.
@@ -26,13 +26,13 @@ check() {  # check NAME CONDITION-COMMAND...
 }
 
 # ------------------------------------------------------------------ Kubernetes YAML
-# Debian's python3-yaml (tools/bootstrap.sh) is for /usr/bin/python3; another python3 may have its own.
+# Debian's python3-yaml (tools/bootstrap.sh --tests) is for /usr/bin/python3; another python3 may have its own.
 py=""
 for p in /usr/bin/python3 python3; do
   if command -v "$p" >/dev/null && "$p" -c 'import yaml' 2>/dev/null; then py=$p; break; fi
 done
 k8s_yaml() {
-  [[ -n $py ]] || { echo "no python3 with the yaml module (Debian: python3-yaml, see tools/bootstrap.sh)"; return 1; }
+  [[ -n $py ]] || { echo "no python3 with the yaml module (Debian: python3-yaml, see tools/bootstrap.sh --tests)"; return 1; }
   "$py" - "$src/deploy/k8s/shards.yaml" "$src/deploy/k8s/merge.yaml" "$src/README.md" <<'PY'
 import re, sys, yaml
 
@@ -133,16 +133,17 @@ stage_packages() {
     tr ' \\' '\n\n' | sed -n '/^install$/,$p' | grep -E '^[a-z0-9][a-z0-9.+-]+$' | grep -vx -e install -e '&&' |
     sed '/^rm$/,$d' | sort -u
 }
+# The packages of the list `$1=(...)` in tools/bootstrap.sh.
 bootstrap_packages() {
-  sed -n '/^packages=(/,/)/p' "$src/tools/bootstrap.sh" | tr -d '()' | sed 's/packages=//' | tr ' ' '\n' |
+  sed -n "/^$1=(/,/)/p" "$src/tools/bootstrap.sh" | tr -d '()' | sed "s/$1=//" | tr ' ' '\n' |
     grep -E '^[a-z0-9]' | sort -u
 }
 docker_build_stage() {
-  # Test-only or machine-only packages that the image's build stage leaves out.
-  local test_only="chromium libgtest-dev libgmock-dev libbenchmark-dev slurm-wlm munge python3-yaml python3-jsonschema python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pandas python3-pytest clang libclang-rt-14-dev jupyter-nbconvert python3-ipykernel python3-matplotlib"
+  # The image's build stage installs what the main job's bootstrap does: its build_packages.
   local want
-  want=$(bootstrap_packages | grep -vxF -f <(tr ' ' '\n' <<<"$test_only"))
-  diff <(echo "$want") <(stage_packages 1) || { echo "(< bootstrap minus test-only, > Dockerfile build stage)"; return 1; }
+  want=$(bootstrap_packages build_packages)
+  [[ -n $want ]] || { echo "no build_packages=(...) list in tools/bootstrap.sh"; return 1; }
+  diff <(echo "$want") <(stage_packages 1) || { echo "(< bootstrap's build_packages, > Dockerfile build stage)"; return 1; }
   grep -q -- '-DBUILD_TESTING=OFF -DARMFAULT_BUILD_BENCH=OFF' "$src/Dockerfile"
 }
 check docker_build_stage docker_build_stage

@@ -95,7 +95,7 @@ if done.returncode != 2 or '"duration"' not in done.stderr:
 try:
     import jsonschema
 except ImportError:
-    sys.exit("no jsonschema module for /usr/bin/python3 (Debian: python3-jsonschema, see tools/bootstrap.sh)")
+    sys.exit("no jsonschema module for /usr/bin/python3 (Debian: python3-jsonschema, see tools/bootstrap.sh --tests)")
 validator = jsonschema.Draft202012Validator(json.load(open(campaign["$schema"])))
 errors = list(validator.iter_errors(campaign))
 if errors:

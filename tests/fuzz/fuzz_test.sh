@@ -37,12 +37,12 @@ for t in "${targets[@]}"; do
   [ -f "$src/tests/fuzz/fuzz_$t.cc" ] || { echo "fuzz_test.sh: no target '$t' (tests/fuzz/fuzz_$t.cc)" >&2; exit 2; }
 done
 
-# clang and libFuzzer (Debian: clang and libclang-rt-14-dev; tools/bootstrap.sh installs them).
+# clang and libFuzzer (Debian: clang and libclang-rt-14-dev; tools/bootstrap.sh --tests installs them).
 cxx=""
 for c in clang++ clang++-14; do
   if command -v "$c" >/dev/null; then cxx=$(command -v "$c"); break; fi
 done
-[ -n "$cxx" ] || { echo "fuzz_test.sh: clang++ not found (Debian: apt-get install clang; tools/bootstrap.sh does)" >&2; exit 2; }
+[ -n "$cxx" ] || { echo "fuzz_test.sh: clang++ not found (Debian: apt-get install clang; tools/bootstrap.sh --tests does)" >&2; exit 2; }
 cc=${cxx%++}
 [ -x "$cc" ] || cc=${cxx/clang++/clang}
 libfuzzer="$("$cxx" -print-resource-dir)/lib/linux/libclang_rt.fuzzer-x86_64.a"

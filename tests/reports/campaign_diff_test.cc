@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 #include <sstream>
 #include <string>
@@ -47,6 +48,70 @@ TEST(FisherExactTest, MatchesKnownValuesAndLimits) {
   EXPECT_THROW(FisherExactTwoSided(3, 2, 0, 1), std::invalid_argument);
 }
 
+// Brute force: every table's probability from integer binomial coefficients (exact below
+// 2^53 for these sizes), summed over the tables no more probable than the observed one; an
+// independent route to Boost.Math's hypergeometric.
+double BruteForceFisher(long s_a, long n_a, long s_b, long n_b) {
+  auto choose = [](long n, long k) {
+    double c = 1;
+    for (long i = 1; i <= k; ++i) c = c * static_cast<double>(n - k + i) / static_cast<double>(i);
+    return std::round(c);
+  };
+  const long k = s_a + s_b;
+  const double observed = choose(n_a, s_a) * choose(n_b, s_b);
+  double tail = 0, total = 0;
+  for (long x = std::max(0L, k - n_b); x <= std::min(n_a, k); ++x) {
+    const double w = choose(n_a, x) * choose(n_b, k - x);
+    total += w;
+    if (w <= observed * (1 + 1e-7)) tail += w;
+  }
+  return tail / total;
+}
+
+TEST(FisherExactTest, MatchesBruteForceOnEverySmallTable) {
+  int tables = 0;
+  for (long n_a = 1; n_a <= 12; ++n_a) {
+    for (long n_b = 1; n_b <= 12; ++n_b) {
+      for (long s_a = 0; s_a <= n_a; ++s_a) {
+        for (long s_b = 0; s_b <= n_b; ++s_b) {
+          ASSERT_NEAR(FisherExactTwoSided(s_a, n_a, s_b, n_b), BruteForceFisher(s_a, n_a, s_b, n_b), 1e-13)
+              << s_a << "/" << n_a << " against " << s_b << "/" << n_b;
+          ++tables;
+        }
+      }
+    }
+  }
+  EXPECT_EQ(tables, 8100);  // (sum of n + 1 for n = 1 .. 12)^2 = 90^2: every table seen
+}
+
+// Larger tables: every table's log-probability from log-gamma terms, summed over the whole
+// support in log space (the pass over all tables that the tails and Boost's cdf replace).
+TEST(FisherExactTest, MatchesAFullPassOverLargerTables) {
+  auto log_choose = [](long n, long k) { return std::lgamma(n + 1.0) - std::lgamma(k + 1.0) - std::lgamma(n - k + 1.0); };
+  auto full_pass = [&](long s_a, long n_a, long s_b, long n_b) {
+    const long k = s_a + s_b;
+    const double observed = log_choose(n_a, s_a) + log_choose(n_b, s_b);
+    double tail = 0, total = 0;
+    for (long x = std::max(0L, k - n_b); x <= std::min(n_a, k); ++x) {
+      const double v = log_choose(n_a, x) + log_choose(n_b, k - x);
+      total += std::exp(v - observed);
+      if (v <= observed + std::log1p(1e-7)) tail += std::exp(v - observed);
+    }
+    return tail / total;
+  };
+  std::mt19937 rng(8);
+  for (int i = 0; i < 300; ++i) {
+    const long n_a = std::uniform_int_distribution<long>(1, 400)(rng), n_b = std::uniform_int_distribution<long>(1, 400)(rng);
+    const long s_a = std::uniform_int_distribution<long>(0, n_a)(rng);
+    // B's rate near A's, so that p spans 1e-10 .. 1.
+    const double rate = std::min(1.0, std::max(0.0, static_cast<double>(s_a) / n_a + std::normal_distribution<double>(0, 0.1)(rng)));
+    const long s_b = std::lround(rate * n_b);
+    const double want = full_pass(s_a, n_a, s_b, n_b);
+    ASSERT_NEAR(FisherExactTwoSided(s_a, n_a, s_b, n_b), want, 1e-9 * want + 1e-300)
+        << s_a << "/" << n_a << " against " << s_b << "/" << n_b;
+  }
+}
+
 TEST(NewcombeTest, MatchesNewcombe1998Example) {
   // Newcombe (1998), 56/70 against 48/80: difference 0.2, hybrid score interval
   // 0.0524 to 0.3339. Here B = 56/70, A = 48/80 (change = B - A).
@@ -75,6 +140,42 @@ TEST(MannWhitneyTest, ExactForSmallSamplesWithoutTies) {
   EXPECT_DOUBLE_EQ(e.u_b, 15.0);
   EXPECT_NEAR(e.p, 0.2544122544122544, 1e-12);
   EXPECT_NEAR(MannWhitney(y, x).p, e.p, 1e-12);
+}
+
+// Brute force: every way of choosing which m of the m + n ranks are A's, each equally likely
+// under the null; p = 2 min(P(U <= u), P(U >= u)), capped at 1.
+double BruteForceMannWhitneyP(size_t m, size_t n, double u_b) {
+  const size_t total = m + n;
+  double le = 0, ge = 0, all = 0;
+  for (unsigned mask = 0; mask < (1u << total); ++mask) {
+    if (static_cast<size_t>(__builtin_popcount(mask)) != m) continue;  // bit r set: rank r is an A
+    double u = 0;  // pairs (a, b) with b above a
+    for (size_t r = 0; r < total; ++r) {
+      if (!(mask >> r & 1u)) continue;
+      for (size_t q = r + 1; q < total; ++q) u += (mask >> q & 1u) ? 0 : 1;
+    }
+    all += 1;
+    le += u <= u_b + 1e-9;
+    ge += u >= u_b - 1e-9;
+  }
+  return std::min(1.0, 2 * std::min(le, ge) / all);
+}
+
+TEST(MannWhitneyTest, ExactMatchesBruteForceEnumeration) {
+  std::mt19937 rng(27);
+  std::uniform_real_distribution<double> value(0, 1);
+  for (size_t m = 1; m <= 6; ++m) {
+    for (size_t n = 1; n <= 6; ++n) {
+      for (int trial = 0; trial < 3; ++trial) {
+        std::vector<double> a(m), b(n);
+        for (double& x : a) x = value(rng);
+        for (double& x : b) x = value(rng) + 0.3 * trial;  // from no shift to a clear one
+        const MannWhitneyResult r = MannWhitney(a, b);
+        ASSERT_TRUE(r.exact);
+        ASSERT_NEAR(r.p, BruteForceMannWhitneyP(m, n, r.u_b), 1e-12) << m << " against " << n << ", U_B " << r.u_b;
+      }
+    }
+  }
 }
 
 TEST(MannWhitneyTest, NormalApproximationWithTiesMatchesAHandComputation) {

@@ -3,7 +3,7 @@
 # `armfault tune` does not exist, uses the tuning.json fixture), writes the report and renders
 # it in headless Chromium. Checks that every plot's <svg> is in the rendered DOM with non-empty
 # data paths, that the required plots are there, and that a screenshot is produced.
-# Chromium missing is a failure, not a skip: tools/bootstrap.sh installs it.
+# Chromium missing is a failure, not a skip: tools/bootstrap.sh --tests installs it.
 # Usage: report_chromium_test.sh path/to/armfault
 # Prints one line per failed check and a final "N passed, M failed"; exits non-zero on failure.
 set -u
@@ -31,7 +31,7 @@ finish() {
 
 chromium=$(command -v chromium || command -v chromium-browser || true)
 if [[ -z "$chromium" ]]; then
-  fail "chromium is not installed (tools/bootstrap.sh installs the Debian package chromium)"
+  fail "chromium is not installed (tools/bootstrap.sh --tests installs the Debian package chromium)"
   finish
 fi
 pass
