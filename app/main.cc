@@ -37,6 +37,9 @@ Command AddTraceCommand(CLI::App& app) {
                   "fault JSON, e.g. '{\"family\":\"kt_degradation\",\"joint\":3,\"kt_factor\":0.6,\"onset_s\":2}'");
   cmd->add_option("-o,--output", o->output, "trace CSV path")->capture_default_str();
   cmd->add_option("--monitor-out", o->monitor_output, "write the monitor's verdicts and windows as JSON");
+  cmd->add_option("--statistics", o->statistics_output,
+                  "write every statistic the monitor publishes, per tick and joint, beside its threshold, as CSV "
+                  "(t_s, joint, statistic, family, value, threshold, above)");
   cmd->add_flag("-q,--quiet", o->quiet, "no summary");
   // With --run the positional file is a campaign: one of its cases, re-run as the campaign ran it.
   cmd->add_option("--run", o->run_id, "re-run this case of the campaign file (its run_id or case number)");
