@@ -108,6 +108,10 @@ class Monitor:
     statistics = ()
 
     def __init__(self, robot):
+        # A class named in a campaign ("class": "package.module:Class") has its settings set
+        # before __init__ runs (armfault._Configured); one made as Class(robot) has none.
+        if "settings" not in self.__dict__:
+            self.settings = {}
         self.robot = robot
         self.joints = len(robot["modules"])
         self.dt_s = 1.0 / robot["modules"][0]["controller"]["rate_Hz"]
@@ -125,6 +129,25 @@ class Monitor:
     def finish(self, t_end_s):
         """Called once after the last tick (t_end_s: its time). May return verdicts, like step."""
         return None
+
+
+class _Configured:
+    """factory(robot) of a Monitor subclass named in a campaign ({"type": "python", "class":
+    "package.module:Class", "settings": {...}}): each call makes an instance with a fresh dict of
+    the settings as self.settings before the class's __init__(robot) runs, so __init__ may read
+    them. Attributes other than its own are the class's (commission_tick, statistics, ...)."""
+
+    def __init__(self, cls, settings_json):
+        self._cls, self._settings_json = cls, settings_json
+
+    def __call__(self, robot):
+        instance = self._cls.__new__(self._cls)
+        instance.settings = json.loads(self._settings_json)
+        instance.__init__(robot)
+        return instance
+
+    def __getattr__(self, name):
+        return getattr(self._cls, name)
 
 
 class Trace:
