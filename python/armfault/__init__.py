@@ -251,15 +251,32 @@ def _factory_name(factory):
     return f"{module}.{name}"
 
 
+def _class_path(monitor):
+    """"package.module:Class" when `monitor` is a Monitor subclass that importing that path gives
+    back (so any later command can rebuild it), else "" (a class defined in __main__, a notebook
+    or a function, or any other factory)."""
+    if not (isinstance(monitor, type) and issubclass(monitor, Monitor)):
+        return ""
+    module, qualname = getattr(monitor, "__module__", ""), getattr(monitor, "__qualname__", "")
+    if not module or module == "__main__" or "<locals>" in qualname:
+        return ""
+    found = sys.modules.get(module)
+    for part in qualname.split("."):
+        found = getattr(found, part, None)
+    return f"{module}:{qualname}" if found is monitor else ""
+
+
 def with_monitor(campaign, monitor):
     """A copy of `campaign` whose runs use a Python monitor: `monitor` is a class (a Monitor
     subclass) or a factory, called as monitor(robot) once per run. The copy's resolved campaign
-    (campaign.json, summary.json, the campaign hash) names it: {"type": "python", "factory":
-    "module.Class"}."""
+    (campaign.json, summary.json, the campaign hash) names it: a Monitor subclass that can be
+    imported by name as {"type": "python", "class": "module:Class", "settings": {}}, which
+    `python3 -m armfault trace --run`, `boundary` ... rebuild; any other (a class of __main__ or
+    a notebook, a function) as {"type": "python", "factory": "module.Class"}, which they cannot."""
     campaign = load_campaign(campaign)
     if not isinstance(monitor, type) and callable(getattr(monitor, "step", None)):
         raise TypeError("pass the monitor's class (or a factory), not an instance: every run makes its own")
-    return _armfault.with_monitor(campaign, monitor, _factory_name(monitor))
+    return _armfault.with_monitor(campaign, monitor, _factory_name(monitor), _class_path(monitor))
 
 
 class RunsFailed(RuntimeError):

@@ -85,8 +85,10 @@ PyCampaign LoadText(const std::string& text, const std::string& source, const st
 
 // The campaign with a Python monitor in place of its own: every run makes one with
 // factory(robot); the resolved campaign (campaign.json, summary.json and the campaign hash)
-// names it, {"type": "python", "factory": "module.Class"}.
-PyCampaign WithMonitor(const PyCampaign& pc, py::object factory, const std::string& name) {
+// names it: {"type": "python", "class": "module:Class", "settings": {}} given `class_path` (a
+// Monitor subclass importable by that path, which any command can then rebuild), else
+// {"type": "python", "factory": "module.Class"} (a record of what ran).
+PyCampaign WithMonitor(const PyCampaign& pc, py::object factory, const std::string& name, const std::string& class_path) {
   if (!PyCallable_Check(factory.ptr())) {
     throw py::type_error("monitor must be a class or a factory callable as monitor(robot), got a " +
                          py::str(py::type::handle_of(factory).attr("__name__")).cast<std::string>());
@@ -95,7 +97,8 @@ PyCampaign WithMonitor(const PyCampaign& pc, py::object factory, const std::stri
   copy->monitor_model = std::make_shared<PythonMonitorModel>(factory, name, RobotToJson(copy->robot).dump(),
                                                              static_cast<int>(copy->robot.modules.size()));
   copy->monitor.type = "python";
-  copy->monitor.settings = {{"factory", name}};
+  copy->monitor.settings = class_path.empty() ? nlohmann::json{{"factory", name}}
+                                              : nlohmann::json{{"class", class_path}, {"settings", nlohmann::json::object()}};
   copy->resolved["monitor"] = copy->monitor.ToJson();
   return {copy};
 }
@@ -468,7 +471,7 @@ PYBIND11_MODULE(_armfault, m) {
         "The armfault command line with argv (argv[0]: the program's name); returns its exit status.");
   m.def("load_campaign_file", &LoadFile, "path"_a);
   m.def("load_campaign_text", &LoadText, "text"_a, "source"_a, "base_dir"_a);
-  m.def("with_monitor", &WithMonitor, "campaign"_a, "factory"_a, "name"_a);
+  m.def("with_monitor", &WithMonitor, "campaign"_a, "factory"_a, "name"_a, "class_path"_a);
   m.def("run_cases", &RunCases, "campaign"_a, "threads"_a, "progress"_a);
   m.def("write_outputs", &WriteOutputs, "output_dir"_a, "campaign"_a, "lines"_a, "decision_lines"_a);
   m.def("summary", &SummaryOf, "lines"_a, "campaign"_a);
