@@ -20,7 +20,11 @@ at what a monitor sees::
     verdicts = armfault.replay(Mine, trace)                  # a monitor over a recorded run
 
 Runs go through the same code as the `armfault` command (RunCase), so the records are the CLI's
-byte for byte. docs/monitor-api.md, "Python", documents the package.
+byte for byte. A campaign may also name its Python monitor by import path,
+``"monitor": {"type": "python", "class": "package.module:Class", "settings": {...}}``: then
+``armfault.run_campaign("campaign.json")`` builds it, and ``python3 -m armfault COMMAND ...`` runs
+any command of the `armfault` binary (run, trace --run, tune, boundary, report ...) with it.
+docs/monitor-api.md, "A monitor in Python", documents the package.
 """
 
 import collections
@@ -93,6 +97,12 @@ class Monitor:
     tick a joint alarms exactly while some statistic is above its threshold, naming the family of
     the first such one (a latched alarm publishes the running maximum). `armfault tune` then
     sweeps the thresholds from the stored runs, and checks the contract on every run.
+
+    Settings: a class named in a campaign by import path ({"type": "python", "class":
+    "package.module:Class", "settings": {...}}) finds the campaign's settings as self.settings (a
+    fresh dict per run), set before its __init__ runs so that __init__ may read them; made as
+    MyMonitor(robot) it has {}. `armfault tune` writes a tuned threshold into them at its
+    statistic's `setting` pointer.
 
     Commissioning (optional): where the campaign commissions its units, a monitor that defines
     ``commission_tick(t_s, signals)`` learns each unit before its runs. armfault makes a fresh
