@@ -10,6 +10,8 @@
 
 namespace armfault {
 
+class StatisticsCsvWriter;
+
 struct TraceOptions {
   std::string run_file;                 // empty: thesis experiment 1
   std::string robot;                    // overrides the file's robot (preset name)
@@ -19,12 +21,17 @@ struct TraceOptions {
   std::vector<std::string> fault_specs; // fault JSON objects, added to the file's "faults"
   std::string output = "trace.csv";
   std::string monitor_output;           // monitor verdicts and windows as JSON (optional)
+  // Every published statistic per tick and joint beside its threshold, as CSV (optional;
+  // reports/statistics_csv.h).
+  std::string statistics_output;
   bool quiet = false;
   // With run_id, run_file is a campaign and TraceCampaignCase re-runs that one case of it
   // exactly as the campaign ran it (RunCase); robot, duration, seed, joints and faults stay unset.
   std::string run_id;                   // a run_id or a case number
 };
 int RunTrace(const TraceOptions& options);
+// "statistics: kt_deficit, ... -> FILE" (or that the monitor publishes none), for --statistics.
+void PrintStatistics(const StatisticsCsvWriter& statistics, const std::string& file);
 // Writes the case's trace (and --monitor-out), prints its record; 0, 3 if the run failed,
 // 2 for an unknown run_id (the message suggests the nearest one).
 int TraceCampaignCase(const TraceOptions& options);

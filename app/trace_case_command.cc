@@ -13,6 +13,7 @@
 #include "campaigns/campaign.h"
 #include "campaigns/runner.h"
 #include "core/base/json_input.h"
+#include "reports/statistics_csv.h"
 #include "reports/trace_csv.h"
 
 namespace armfault {
@@ -76,6 +77,17 @@ void PrintRecord(const RunRecord& r) {
 
 }  // namespace
 
+void PrintStatistics(const StatisticsCsvWriter& statistics, const std::string& file) {
+  if (statistics.statistics().empty()) {
+    std::printf("statistics: the monitor publishes none (docs/monitor-api.md, \"Statistics for tune\") -> %s\n",
+                file.c_str());
+    return;
+  }
+  std::string names;
+  for (const PublishedStatistic& s : statistics.statistics()) names += (names.empty() ? "" : ", ") + s.name;
+  std::printf("statistics: %s -> %s\n", names.c_str(), file.c_str());
+}
+
 int TraceCampaignCase(const TraceOptions& o) {
   if (o.run_file.empty()) throw InputError("--run", "", "give the campaign: armfault trace CAMPAIGN.json --run RUN_ID");
   if (!o.robot.empty() || o.duration_s || o.seed || !o.joint_specs.empty() || !o.fault_specs.empty()) {
@@ -97,8 +109,20 @@ int TraceCampaignCase(const TraceOptions& o) {
                         static_cast<int>(campaign.robot.modules.size()));
   // The run's own monitor's output, for --monitor-out.
   MonitorOutput output;
-  const RunRecord record = RunCase(campaign, spec, [&](const Tick& tick) { writer.Write(tick); }, nullptr, &output);
+  // --statistics: every published statistic at every tick, whole or not at all, as the trace.
+  std::unique_ptr<AtomicOutputFile> statistics_file;
+  std::unique_ptr<StatisticsCsvWriter> statistics;
+  if (!o.statistics_output.empty()) {
+    statistics_file = std::make_unique<AtomicOutputFile>(o.statistics_output);
+    statistics = std::make_unique<StatisticsCsvWriter>([&](std::string_view text) { statistics_file->Write(text); });
+  }
+  const RunRecord record =
+      RunCase(campaign, spec, [&](const Tick& tick) { writer.Write(tick); }, nullptr, &output, statistics.get());
   file.Commit();
+  if (statistics_file) {
+    if (!statistics->declared()) statistics->Declare({}, static_cast<int>(campaign.robot.modules.size()));
+    statistics_file->Commit();
+  }
 
   if (!o.monitor_output.empty()) {
     nlohmann::json out = ToJson(output);
@@ -110,6 +134,7 @@ int TraceCampaignCase(const TraceOptions& o) {
                 spec.index, cases.size(), spec.seed, o.output.c_str());
     std::printf("fault: %s\n", spec.fault.is_null() ? "none" : spec.fault.dump().c_str());
     PrintRecord(record);
+    if (statistics) PrintStatistics(*statistics, o.statistics_output);
   }
   if (!record.ok) {
     std::fprintf(stderr, "armfault: run failed: %s\n", record.failure_reason.c_str());

@@ -13,6 +13,7 @@
 #include "core/run_config.h"
 #include "core/plant/simulation.h"
 #include "faults/fault.h"
+#include "reports/statistics_csv.h"
 #include "reports/trace_csv.h"
 
 namespace armfault {
@@ -124,6 +125,13 @@ int RunTrace(const TraceOptions& o) {
   }
   // The run pipeline's plant, monitor and effect meters (campaigns/run_pipeline.h); nothing is
   // scored here, so scoring's tap needs no onset.
+  // --statistics: every published statistic at every tick, whole or not at all, as the trace.
+  std::unique_ptr<AtomicOutputFile> statistics_file;
+  std::unique_ptr<StatisticsCsvWriter> statistics;
+  if (!o.statistics_output.empty()) {
+    statistics_file = std::make_unique<AtomicOutputFile>(o.statistics_output);
+    statistics = std::make_unique<StatisticsCsvWriter>([&](std::string_view text) { statistics_file->Write(text); });
+  }
   const ExecutedRun run_out = Execute(model, spec, faults, *monitor_model, 0.0, [&](const Tick& tick) {
     writer.Write(tick);
     for (int j = 0; j < n; ++j) {
@@ -136,7 +144,7 @@ int RunTrace(const TraceOptions& o) {
       s.sum_sq_cmd += jt.signals.i_cmd_A * jt.signals.i_cmd_A;
       ++s.count;
     }
-  });
+  }, true, statistics.get());
   if (!run_out.monitor_failure.empty()) {
     std::fprintf(stderr, "armfault: error: monitor failed: %s\n", run_out.monitor_failure.c_str());
     return 3;
@@ -144,10 +152,15 @@ int RunTrace(const TraceOptions& o) {
   const RunResult& result = run_out.result;
   const HealthMonitor& monitor = *run_out.monitor;
   file.Commit();
+  if (statistics_file) {
+    if (!statistics->declared()) statistics->Declare({}, n);
+    statistics_file->Commit();
+  }
 
   if (!o.quiet) {
     std::printf("run: robot %s, %.3g s, seed %llu -> %s\n", run.robot.name.c_str(), run.duration_s,
                 static_cast<unsigned long long>(run.seed), o.output.c_str());
+    if (statistics) PrintStatistics(*statistics, o.statistics_output);
     std::printf("%-5s %12s %12s %10s %10s %10s %10s %10s %10s\n", "joint", "rms_err_deg", "max_err_deg",
                 "peak_i_A", "rms_i_A", "supply_J", "copper_J", "friction_J", "mech_out_J");
     double supply = 0, losses = 0;

@@ -277,7 +277,8 @@ PreparedRun PrepareCase(const Campaign& campaign, const CaseSpec& cs, UnitMonito
 constexpr double kMinSaturation_s = 0.05;
 
 ExecutedRun Execute(const ArmModel& model, const RunSpec& spec, const std::vector<std::shared_ptr<const Fault>>& faults,
-                    const MonitorModel& monitor_model, double onset_s, const TickObserver& also, bool keep_windows) {
+                    const MonitorModel& monitor_model, double onset_s, const TickObserver& also, bool keep_windows,
+                    StatisticsObserver* statistics) {
   ExecutedRun x;
   // The monitor knows the nominal robot (payload and friction as designed) and what it learnt
   // on this unit while commissioning, not this run's truth. The tap beside it (scoring's)
@@ -285,6 +286,13 @@ ExecutedRun Execute(const ArmModel& model, const RunSpec& spec, const std::vecto
   x.monitor = monitor_model.NewMonitor();
   x.monitor->KeepWindows(keep_windows);
   x.tap = x.monitor->NewDecisionTap(onset_s);
+  if (statistics) {
+    if (x.tap) {
+      x.tap->ShowStatistics(statistics);
+    } else {
+      statistics->Declare({}, model.joint_count());
+    }
+  }
   EffectRecorder effects(model, faults);
   // The monitor's own calls are timed (monitor_cost.jsonl); the tap is scoring's, not its.
   MonitorClock clock;
@@ -400,7 +408,7 @@ RunRecord ScoreRun(const PreparedRun& p, const ExecutedRun& x) {
 }
 
 RunRecord RunCase(const Campaign& campaign, const CaseSpec& cs, const TickObserver& also, UnitMonitors* units,
-                  MonitorOutput* output) {
+                  MonitorOutput* output, StatisticsObserver* statistics) {
   RunRecord r;
   try {
     const PreparedRun prepared = PrepareCase(campaign, cs, units);
@@ -408,7 +416,7 @@ RunRecord RunCase(const Campaign& campaign, const CaseSpec& cs, const TickObserv
     r = prepared.record;
     const ExecutedRun executed =
         Execute(*prepared.model, prepared.spec, prepared.faults, *prepared.monitor, prepared.record.onset_s, also,
-                output != nullptr);
+                output != nullptr, statistics);
     if (output && executed.monitor_failure.empty()) *output = executed.monitor->output();
     return ScoreRun(prepared, executed);
   } catch (const std::exception& e) {

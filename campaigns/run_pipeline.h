@@ -85,9 +85,11 @@ struct ExecutedRun {
 // result.ok = false. Throws only what Simulate throws for a spec that does not fit the model.
 // `keep_windows` false: the monitor keeps no efficiency windows (HealthMonitor::KeepWindows),
 // what a campaign's run does so that its memory stays flat in the run's length.
+// `statistics` (may be null): shown every published statistic at every tick
+// (DecisionTap::ShowStatistics); a monitor that publishes none declares none to it.
 ExecutedRun Execute(const ArmModel& model, const RunSpec& spec, const std::vector<std::shared_ptr<const Fault>>& faults,
                     const MonitorModel& monitor, double onset_s, const TickObserver& also = nullptr,
-                    bool keep_windows = true);
+                    bool keep_windows = true, StatisticsObserver* statistics = nullptr);
 
 // Sets a record's diagnosis (detection, latency, isolation, size) from its score.
 void ApplyScore(const RunScore& score, RunRecord* record);
@@ -102,7 +104,9 @@ RunRecord ScoreRun(const PreparedRun& prepared, const ExecutedRun& executed);
 // One case, fully: PrepareCase, Execute, ScoreRun. Never throws for a failing run: the record
 // says "failed" with the reason. `also` sees every tick after the monitor; `output` (may be
 // null) receives the monitor's output, windows included; without it the monitor keeps none.
+// `statistics` (may be null): as for Execute (`trace --run --statistics`).
 RunRecord RunCase(const Campaign& campaign, const CaseSpec& spec, const TickObserver& also = nullptr,
-                  UnitMonitors* units = nullptr, MonitorOutput* output = nullptr);
+                  UnitMonitors* units = nullptr, MonitorOutput* output = nullptr,
+                  StatisticsObserver* statistics = nullptr);
 
 }  // namespace armfault

@@ -409,7 +409,7 @@ void ReadRunTables(const CaseMatcher& matcher, const std::string& sweep, TuneDir
 
 // The tuned monitor at the operating point `op`: the power monitor's config with its limits;
 // another type's "monitor" value (`monitor_json`, else the campaign's) with each statistic's
-// threshold written where it declared it lives (not for a Python monitor).
+// threshold written where it declared it lives (not for a Python monitor passed as a factory).
 void SetTunedMonitor(const TuneDir& td, const Setting& op, const nlohmann::json& monitor_json, const CampaignSpec& campaign,
                      bool python_monitor, TuningResult* result) {
   if (td.power) {
@@ -456,7 +456,9 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
                          "): verdicts cannot be re-thresholded; tune the detector that wrote them");
   }
   const nlohmann::json monitor_json = campaign_file["campaign"].value("monitor", nlohmann::json());
-  const bool python_monitor = campaign.monitor.type == "python";
+  // A Python monitor passed to run_campaign (its "factory") has no settings to write into; one
+  // named by its class has, as a plugin has (its "settings", the instance's self.settings).
+  const bool python_monitor = campaign.monitor.type == "python" && !campaign.monitor.settings.contains("class");
   const std::string monitor_type = campaign.monitor.type;
   // Nothing of another campaign is tuned on: summary.json, when there, must be of this
   // campaign.json, and every line of results.jsonl one of its cases (same run_id and seed).

@@ -127,6 +127,27 @@ class MonitorFailure : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// One statistic behind a monitor's alarms as `trace --statistics` shows it: its name, the
+// family its alarm names, its threshold and the test against it (`value > threshold`, or
+// `value >= threshold` where `inclusive`: the built-in monitor's significance).
+struct PublishedStatistic {
+  std::string name;
+  std::string family;
+  double threshold = 0;
+  bool inclusive = false;
+};
+
+// Receives every published statistic's value at every tick (`armfault trace --run RUN
+// --statistics`): Declare once before the first tick, then Values after each tick's values are
+// known, values[(joint - 1) * statistics.size() + s] (NaN: no value at this tick), in time order.
+// Called on the run's thread; `values` is valid for the call only.
+class StatisticsObserver {
+ public:
+  virtual ~StatisticsObserver() = default;
+  virtual void Declare(const std::vector<PublishedStatistic>& statistics, int joints) = 0;
+  virtual void Values(double t_s, const double* values) = 0;
+};
+
 // Scoring's tap on the statistics behind a monitor's alarms. The runner makes one per run and
 // calls AfterObserve() after every Observe(); the tap, not the monitor, knows the fault onset,
 // and keeps what `armfault tune` needs to re-score other thresholds without simulating again.
@@ -139,6 +160,9 @@ class DecisionTap {
   // Why the run was scored as `score` when the truth is (family, joint) ("" when scored right;
   // family "" and joint 0 for a healthy run): the closest statistic, the gate that never opened.
   virtual std::string Explain(const RunScore& score, const std::string& family, int joint) const = 0;
+  // Shows every statistic's value at every tick to `observer` (not owned; outlives the run, or
+  // nullptr to stop): it gets Declare at once and Values per tick from then on.
+  virtual void ShowStatistics(StatisticsObserver* observer) = 0;
 };
 
 // A health monitor in the loop: Observe() is called at every controller tick with every

@@ -724,6 +724,24 @@ class PowerEfficiencyTap : public DecisionTap {
     for (int j = 0; j < monitor_.joint_count(); ++j) {
       recorder_.Record(t_s, j, monitor_.readings(j), monitor_.structural_family(j));
     }
+    if (observer_) ShowTick(t_s);
+  }
+  // Per detector (Detectors() order) two statistics, its held deviation "<parameter>_deviation"
+  // (alarms while > the detector's threshold) and its held significance
+  // "<parameter>_significance" (standard errors, and >= the monitor's significance): the
+  // detector alarms while both pass (detector_statistics.h, Alarms). The tick-level detectors
+  // (stuck sensor, brake, driver, ...) latch on events and publish no statistic.
+  void ShowStatistics(StatisticsObserver* observer) override {
+    observer_ = observer;
+    if (!observer_) return;
+    std::vector<PublishedStatistic> published;
+    for (const DetectorInfo& d : Detectors()) {
+      published.push_back({std::string(d.parameter) + "_deviation", d.family,
+                           model_.thresholds[static_cast<size_t>(d.detector)], false});
+      published.push_back({std::string(d.parameter) + "_significance", d.family, model_.config.significance, true});
+    }
+    values_.assign(published.size() * static_cast<size_t>(monitor_.joint_count()), 0.0);
+    observer_->Declare(published, monitor_.joint_count());
   }
   nlohmann::json Statistics() const override { return ToJson(recorder_.stats()); }
   std::string Explain(const RunScore& score, const std::string& family, int joint) const override {
@@ -739,9 +757,25 @@ class PowerEfficiencyTap : public DecisionTap {
   const DecisionStats& stats() const { return recorder_.stats(); }
 
  private:
+  void ShowTick(double t_s) {
+    const size_t per_joint = 2 * kDetectorCount;
+    for (int j = 0; j < monitor_.joint_count(); ++j) {
+      const DetectorReadings& r = monitor_.readings(j);
+      for (size_t d = 0; d < r.size(); ++d) {
+        double* v = values_.data() + static_cast<size_t>(j) * per_joint + 2 * d;
+        v[0] = r[d].held_quanta == kNoStatistic ? std::nan("") : r[d].held_quanta * kStatisticQuantum;
+        v[1] = r[d].held_significance_quanta == kNoStatistic ? std::nan("")
+                                                             : r[d].held_significance_quanta * kSignificanceQuantum;
+      }
+    }
+    observer_->Values(t_s, values_.data());
+  }
+
   const PowerEfficiencyMonitor& monitor_;
   const PowerMonitorModel& model_;
   DecisionRecorder recorder_;
+  StatisticsObserver* observer_ = nullptr;
+  std::vector<double> values_;  // [joint][detector][deviation, significance]
 };
 
 }  // namespace

@@ -32,14 +32,64 @@ struct MonitorType {
   bool runs_user_code;  // building the model runs code the campaign names
 };
 
-// A Python monitor's campaign.json names its factory ({"type": "python", "factory":
-// "module.Class"}, written by the Python package): the spec reads it like any other type (so
-// merge, tune and score read such a directory); only the Python package can build one.
+// A Python monitor (docs/monitor-api.md, "A monitor in Python"), in one of two forms:
+//   {"type": "python", "class": "package.module:Class", "settings": {...}}
+//       a class named by its import path, which any command that runs the campaign rebuilds
+//       where Python is hosted (`python3 -m armfault ...`, the Python package); settings
+//       (default {}) are the instance's self.settings;
+//   {"type": "python", "factory": "module.Class"}
+//       written by the Python package for a class or factory passed to run_campaign that cannot
+//       be imported by name: a record of what ran, readable (merge, tune, score, diff, boundary
+//       --from read only the spec) but never rebuilt.
+// Only a host can build either (SetMonitorHost): without one the builder says where it runs.
+bool IsIdentifierPath(const std::string& text) {
+  if (text.empty()) return false;
+  bool start = true;
+  for (const char c : text) {
+    const bool letter = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_' ||
+                        static_cast<unsigned char>(c) >= 0x80;  // Python identifiers may be non-ASCII
+    const bool digit = c >= '0' && c <= '9';
+    if (c == '.') {
+      if (start) return false;
+      start = true;
+    } else if (letter || (digit && !start)) {
+      start = false;
+    } else {
+      return false;
+    }
+  }
+  return !start;
+}
+
 nlohmann::json ParsePythonSettings(const nlohmann::json& object, const std::string& pointer, const InputContext& context) {
   try {
     ObjectReader reader(object, pointer);
-    reader.AllowOnly({"factory"});
-    return {{"factory", reader.RequireString("factory")}};
+    if (!object.contains("class")) {
+      reader.AllowOnly({"factory"});
+      if (!object.contains("factory")) {
+        throw InputError("", PointerJoin(pointer, "class"),
+                         "a Python monitor names its class by import path: \"class\": \"package.module:Class\"");
+      }
+      return {{"factory", reader.RequireString("factory")}};
+    }
+    reader.AllowOnly({"class", "settings"});
+    const std::string path = reader.RequireString("class");
+    const size_t colon = path.find(':');
+    if (colon == std::string::npos || !IsIdentifierPath(path.substr(0, colon)) ||
+        !IsIdentifierPath(path.substr(colon + 1))) {
+      throw InputError("", PointerJoin(pointer, "class"),
+                       "expected an import path \"package.module:Class\" (a module Python imports, a colon, the "
+                       "class in it), got \"" + path + "\"");
+    }
+    nlohmann::json settings = nlohmann::json::object();
+    if (const auto it = object.find("settings"); it != object.end()) {
+      if (!it->is_object()) {
+        throw InputError("", PointerJoin(pointer, "settings"),
+                         "expected the monitor's settings as an object (its self.settings), got " + Describe(*it));
+      }
+      settings = *it;
+    }
+    return {{"class", path}, {"settings", settings}};
   } catch (const InputError& e) {
     throw e.WithSource(context.source);
   }
@@ -47,9 +97,18 @@ nlohmann::json ParsePythonSettings(const nlohmann::json& object, const std::stri
 
 std::shared_ptr<const MonitorModel> BuildPythonModel(const nlohmann::json& settings, const MonitorContext& context,
                                                      const std::string& pointer) {
-  throw InputError(context.input.source, PointerJoin(pointer, "type"),
-                   "a Python monitor (factory \"" + settings.value("factory", "") +
-                       "\") runs only from the armfault Python package (import armfault; run_campaign(..., monitor=...))");
+  if (settings.contains("class")) {
+    const std::string path = settings.value("class", "");
+    throw InputError(context.input.source, PointerJoin(pointer, "class"),
+                     "the Python monitor \"" + path + "\" runs where Python is hosted: run this command as "
+                     "`python3 -m armfault ...` (the same arguments, with the armfault Python package and the "
+                     "module of \"" + path + "\" importable, docs/monitor-api.md)");
+  }
+  throw InputError(context.input.source, PointerJoin(pointer, "factory"),
+                   "a Python monitor passed to run_campaign (factory \"" + settings.value("factory", "") +
+                       "\") cannot be rebuilt: it was not named by import path; run it again from Python "
+                       "(run_campaign(..., monitor=...)), or name it in the campaign as \"class\": "
+                       "\"package.module:Class\"");
 }
 
 // The monitor of a directory `armfault score` wrote: the verdicts file that was scored, as
@@ -97,6 +156,13 @@ const MonitorType* FindType(const std::string& type) {
     if (type == t.type) return &t;
   }
   return nullptr;
+}
+
+// The builders hosts installed (SetMonitorHost), by type. Set before any campaign is read, on
+// one thread; read by every build after.
+std::vector<std::pair<std::string, BuildMonitorModel>>& Hosts() {
+  static std::vector<std::pair<std::string, BuildMonitorModel>> hosts;
+  return hosts;
 }
 
 std::vector<std::string> TypeNames() {
@@ -208,7 +274,20 @@ std::shared_ptr<const MonitorModel> MakeMonitorModel(const MonitorSpec& spec, co
                                                      const std::string& pointer) {
   const MonitorType* type = FindType(spec.type);
   if (!type) throw InputError(context.input.source, pointer, "unknown monitor type \"" + spec.type + "\"");
+  for (const auto& [name, build] : Hosts()) {
+    if (name == spec.type) return build(spec.settings, context, pointer);
+  }
   return type->build(spec.settings, context, pointer);
+}
+
+void SetMonitorHost(const std::string& type, MonitorHostBuilder builder) {
+  for (auto& [name, build] : Hosts()) {
+    if (name == type) {
+      build = builder;
+      return;
+    }
+  }
+  Hosts().emplace_back(type, builder);
 }
 
 bool MonitorRunsUserCode(const std::string& type) {

@@ -96,6 +96,16 @@ MonitorSpec MonitorSpecFromJson(const nlohmann::json& value, const std::string& 
 std::shared_ptr<const MonitorModel> MakeMonitorModel(const MonitorSpec& spec, const MonitorContext& context,
                                                      const std::string& pointer = "/monitor");
 
+// A host that can run a type's code installs the builder of its models: the Python package
+// (python/src/module.cc) for "python", whose monitors only an interpreter can make. Installed
+// before any campaign is read, on one thread (the package does it when imported); MakeMonitorModel
+// then calls it in place of the type's own builder, which without a host says where the type
+// runs. Errors are InputErrors naming `pointer` and the cause, as for any builder.
+using MonitorHostBuilder = std::shared_ptr<const MonitorModel> (*)(const nlohmann::json& settings,
+                                                                   const MonitorContext& context,
+                                                                   const std::string& pointer);
+void SetMonitorHost(const std::string& type, MonitorHostBuilder builder);
+
 // True for a type whose model runs the user's own code when built (a plugin library's
 // constructors and armfault_monitor_create, a Python class): `validate` builds it only when asked.
 bool MonitorRunsUserCode(const std::string& type);

@@ -123,7 +123,16 @@ ThresholdRecorder::ThresholdRecorder(std::vector<StatisticInfo> statistics, int 
   next_level_.assign(n, -kLevelSteps);
 }
 
+void ThresholdRecorder::Show(StatisticsObserver* observer) {
+  observer_ = observer;
+  if (!observer_) return;
+  std::vector<PublishedStatistic> published;
+  for (const StatisticInfo& info : stats_.statistics) published.push_back({info.name, info.family, info.threshold, false});
+  observer_->Declare(published, joints_);
+}
+
 void ThresholdRecorder::Record(double t_s, const double* values) {
+  if (observer_) observer_->Values(t_s, values);
   const bool after = t_s >= stats_.onset_s;
   if (after && stats_.first_tick_s < 0) stats_.first_tick_s = t_s;
   const int count = static_cast<int>(stats_.statistics.size());

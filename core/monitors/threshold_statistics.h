@@ -78,10 +78,13 @@ class ThresholdRecorder {
   void Record(double t_s, const double* values);
   const ThresholdStats& stats() const { return stats_; }
   int joints() const { return joints_; }
+  // From now on every Record's values also go to `observer` (DecisionTap::ShowStatistics).
+  void Show(StatisticsObserver* observer);
 
  private:
   ThresholdStats stats_;
   int joints_;
+  StatisticsObserver* observer_ = nullptr;
   std::vector<int> trace_index_;  // [j * statistics + s], -1: no trace yet
   std::vector<int> next_level_;   // the lowest level not passed yet since the onset
 };
@@ -114,6 +117,7 @@ class ThresholdTap : public DecisionTap {
   std::string Explain(const RunScore& score, const std::string& family, int joint) const override {
     return ExplainThresholds(recorder_.stats(), score, family, joint);
   }
+  void ShowStatistics(StatisticsObserver* observer) override { recorder_.Show(observer); }
   ThresholdRecorder* recorder() { return &recorder_; }
 
  private:

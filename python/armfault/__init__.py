@@ -20,7 +20,11 @@ at what a monitor sees::
     verdicts = armfault.replay(Mine, trace)                  # a monitor over a recorded run
 
 Runs go through the same code as the `armfault` command (RunCase), so the records are the CLI's
-byte for byte. docs/monitor-api.md, "Python", documents the package.
+byte for byte. A campaign may also name its Python monitor by import path,
+``"monitor": {"type": "python", "class": "package.module:Class", "settings": {...}}``: then
+``armfault.run_campaign("campaign.json")`` builds it, and ``python3 -m armfault COMMAND ...`` runs
+any command of the `armfault` binary (run, trace --run, tune, boundary, report ...) with it.
+docs/monitor-api.md, "A monitor in Python", documents the package.
 """
 
 import collections
@@ -94,6 +98,12 @@ class Monitor:
     the first such one (a latched alarm publishes the running maximum). `armfault tune` then
     sweeps the thresholds from the stored runs, and checks the contract on every run.
 
+    Settings: a class named in a campaign by import path ({"type": "python", "class":
+    "package.module:Class", "settings": {...}}) finds the campaign's settings as self.settings (a
+    fresh dict per run), set before its __init__ runs so that __init__ may read them; made as
+    MyMonitor(robot) it has {}. `armfault tune` writes a tuned threshold into them at its
+    statistic's `setting` pointer.
+
     Commissioning (optional): where the campaign commissions its units, a monitor that defines
     ``commission_tick(t_s, signals)`` learns each unit before its runs. armfault makes a fresh
     instance for the unit, calls ``commission_begin()`` (if defined), ``commission_tick`` at every
@@ -108,6 +118,10 @@ class Monitor:
     statistics = ()
 
     def __init__(self, robot):
+        # A class named in a campaign ("class": "package.module:Class") has its settings set
+        # before __init__ runs (armfault._Configured); one made as Class(robot) has none.
+        if "settings" not in self.__dict__:
+            self.settings = {}
         self.robot = robot
         self.joints = len(robot["modules"])
         self.dt_s = 1.0 / robot["modules"][0]["controller"]["rate_Hz"]
@@ -125,6 +139,25 @@ class Monitor:
     def finish(self, t_end_s):
         """Called once after the last tick (t_end_s: its time). May return verdicts, like step."""
         return None
+
+
+class _Configured:
+    """factory(robot) of a Monitor subclass named in a campaign ({"type": "python", "class":
+    "package.module:Class", "settings": {...}}): each call makes an instance with a fresh dict of
+    the settings as self.settings before the class's __init__(robot) runs, so __init__ may read
+    them. Attributes other than its own are the class's (commission_tick, statistics, ...)."""
+
+    def __init__(self, cls, settings_json):
+        self._cls, self._settings_json = cls, settings_json
+
+    def __call__(self, robot):
+        instance = self._cls.__new__(self._cls)
+        instance.settings = json.loads(self._settings_json)
+        instance.__init__(robot)
+        return instance
+
+    def __getattr__(self, name):
+        return getattr(self._cls, name)
 
 
 class Trace:
@@ -228,15 +261,32 @@ def _factory_name(factory):
     return f"{module}.{name}"
 
 
+def _class_path(monitor):
+    """"package.module:Class" when `monitor` is a Monitor subclass that importing that path gives
+    back (so any later command can rebuild it), else "" (a class defined in __main__, a notebook
+    or a function, or any other factory)."""
+    if not (isinstance(monitor, type) and issubclass(monitor, Monitor)):
+        return ""
+    module, qualname = getattr(monitor, "__module__", ""), getattr(monitor, "__qualname__", "")
+    if not module or module == "__main__" or "<locals>" in qualname:
+        return ""
+    found = sys.modules.get(module)
+    for part in qualname.split("."):
+        found = getattr(found, part, None)
+    return f"{module}:{qualname}" if found is monitor else ""
+
+
 def with_monitor(campaign, monitor):
     """A copy of `campaign` whose runs use a Python monitor: `monitor` is a class (a Monitor
     subclass) or a factory, called as monitor(robot) once per run. The copy's resolved campaign
-    (campaign.json, summary.json, the campaign hash) names it: {"type": "python", "factory":
-    "module.Class"}."""
+    (campaign.json, summary.json, the campaign hash) names it: a Monitor subclass that can be
+    imported by name as {"type": "python", "class": "module:Class", "settings": {}}, which
+    `python3 -m armfault trace --run`, `boundary` ... rebuild; any other (a class of __main__ or
+    a notebook, a function) as {"type": "python", "factory": "module.Class"}, which they cannot."""
     campaign = load_campaign(campaign)
     if not isinstance(monitor, type) and callable(getattr(monitor, "step", None)):
         raise TypeError("pass the monitor's class (or a factory), not an instance: every run makes its own")
-    return _armfault.with_monitor(campaign, monitor, _factory_name(monitor))
+    return _armfault.with_monitor(campaign, monitor, _factory_name(monitor), _class_path(monitor))
 
 
 class RunsFailed(RuntimeError):

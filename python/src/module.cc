@@ -13,12 +13,14 @@
 #include <cctype>
 #include <chrono>
 #include <condition_variable>
+#include <cstdio>
 #include <exception>
 #include <filesystem>
 #include <mutex>
 #include <optional>
 #include <thread>
 
+#include "app/cli.h"
 #include "campaigns/campaign.h"
 #include "campaigns/campaign_summary.h"
 #include "campaigns/run_dir.h"
@@ -83,8 +85,10 @@ PyCampaign LoadText(const std::string& text, const std::string& source, const st
 
 // The campaign with a Python monitor in place of its own: every run makes one with
 // factory(robot); the resolved campaign (campaign.json, summary.json and the campaign hash)
-// names it, {"type": "python", "factory": "module.Class"}.
-PyCampaign WithMonitor(const PyCampaign& pc, py::object factory, const std::string& name) {
+// names it: {"type": "python", "class": "module:Class", "settings": {}} given `class_path` (a
+// Monitor subclass importable by that path, which any command can then rebuild), else
+// {"type": "python", "factory": "module.Class"} (a record of what ran).
+PyCampaign WithMonitor(const PyCampaign& pc, py::object factory, const std::string& name, const std::string& class_path) {
   if (!PyCallable_Check(factory.ptr())) {
     throw py::type_error("monitor must be a class or a factory callable as monitor(robot), got a " +
                          py::str(py::type::handle_of(factory).attr("__name__")).cast<std::string>());
@@ -93,7 +97,8 @@ PyCampaign WithMonitor(const PyCampaign& pc, py::object factory, const std::stri
   copy->monitor_model = std::make_shared<PythonMonitorModel>(factory, name, RobotToJson(copy->robot).dump(),
                                                              static_cast<int>(copy->robot.modules.size()));
   copy->monitor.type = "python";
-  copy->monitor.settings = {{"factory", name}};
+  copy->monitor.settings = class_path.empty() ? nlohmann::json{{"factory", name}}
+                                              : nlohmann::json{{"class", class_path}, {"settings", nlohmann::json::object()}};
   copy->resolved["monitor"] = copy->monitor.ToJson();
   return {copy};
 }
@@ -320,6 +325,23 @@ std::vector<PyVerdict> ReplayTrace(py::object instance, const std::string& name,
   return out;
 }
 
+// `python3 -m armfault ARGS`: the armfault command line (app/cli.h) in this process, where the
+// package has installed its builder of Python monitors, so a campaign naming one by class runs
+// as with any other monitor. The GIL is released throughout: each Python monitor takes it for
+// its calls (python_monitor.h), from whichever thread runs it.
+int CliMainFromPython(const std::vector<std::string>& args) {
+  std::vector<std::string> copy = args;
+  std::vector<char*> argv;
+  for (std::string& a : copy) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  py::gil_scoped_release release;
+  std::fflush(stdout);
+  const int status = CliMain(static_cast<int>(copy.size()), argv.data());
+  std::fflush(stdout);
+  std::fflush(stderr);
+  return status;
+}
+
 py::dict VerdictDict(const PyVerdict& pv) {
   const Verdict& v = pv.verdict;
   return py::dict("t_s"_a = pv.has_time ? py::object(py::float_(v.t_s)) : py::object(py::none()), "joint"_a = v.joint,
@@ -443,9 +465,13 @@ PYBIND11_MODULE(_armfault, m) {
         return out + ")";
       });
 
+  // Campaigns read from here on build a monitor named by Python class (SetMonitorHost).
+  SetMonitorHost("python", &BuildPythonMonitor);
+  m.def("cli_main", &CliMainFromPython, "argv"_a,
+        "The armfault command line with argv (argv[0]: the program's name); returns its exit status.");
   m.def("load_campaign_file", &LoadFile, "path"_a);
   m.def("load_campaign_text", &LoadText, "text"_a, "source"_a, "base_dir"_a);
-  m.def("with_monitor", &WithMonitor, "campaign"_a, "factory"_a, "name"_a);
+  m.def("with_monitor", &WithMonitor, "campaign"_a, "factory"_a, "name"_a, "class_path"_a);
   m.def("run_cases", &RunCases, "campaign"_a, "threads"_a, "progress"_a);
   m.def("write_outputs", &WriteOutputs, "output_dir"_a, "campaign"_a, "lines"_a, "decision_lines"_a);
   m.def("summary", &SummaryOf, "lines"_a, "campaign"_a);

@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "core/base/json_input.h"
+#include "core/base/suggest.h"
 
 namespace armfault::python {
 
@@ -30,8 +31,8 @@ class GilHold {
   PyThreadState** saved_;
 };
 
-// "ValueError: bad gain (my_monitor.py:42 in step)": the exception's type, its message and
-// where it was raised (the innermost frame of its traceback). Needs the GIL; never throws.
+}  // namespace
+
 std::string DescribeException(PyObject* value) {
   try {
     py::handle v(value);
@@ -41,9 +42,11 @@ std::string DescribeException(PyObject* value) {
     py::object tb = py::reinterpret_steal<py::object>(PyException_GetTraceback(value));
     if (tb && !tb.is_none()) {
       py::list frames = py::module_::import("traceback").attr("extract_tb")(tb);
-      if (!frames.empty()) {
+      // Python's own import machinery ("<frozen importlib._bootstrap>") is not where to look.
+      const std::string file =
+          frames.empty() ? "" : py::str(frames[frames.size() - 1].attr("filename")).cast<std::string>();
+      if (!frames.empty() && file.rfind("<frozen ", 0) != 0) {
         py::object last = frames[frames.size() - 1];
-        const std::string file = py::str(last.attr("filename")).cast<std::string>();
         text += " (" + std::filesystem::path(file).filename().string() + ":" +
                 py::str(last.attr("lineno")).cast<std::string>() + " in " +
                 py::str(last.attr("name")).cast<std::string>() + ")";
@@ -55,6 +58,8 @@ std::string DescribeException(PyObject* value) {
     return "an exception that cannot be shown";
   }
 }
+
+namespace {
 
 // "Class" of "module.Class", for messages.
 std::string ShortName(const std::string& name) {
@@ -487,6 +492,101 @@ std::shared_ptr<const PythonCommissioningBlob> PythonMonitor::EndCommissioning(d
     }
   }
   return blob;
+}
+
+}  // namespace armfault::python
+
+namespace armfault::python {
+
+namespace {
+
+// The current Python exception, described and cleared. Needs the GIL.
+std::string TakePythonError(py::error_already_set& e) {
+  e.restore();
+  PyObject *type, *value, *tb;
+  PyErr_Fetch(&type, &value, &tb);
+  PyErr_NormalizeException(&type, &value, &tb);
+  if (tb && value) PyException_SetTraceback(value, tb);
+  const std::string text = value ? DescribeException(value) : "an unknown error";
+  Py_XDECREF(type);
+  Py_XDECREF(value);
+  Py_XDECREF(tb);
+  return text;
+}
+
+std::string TypeName(py::handle object) {
+  return py::str(py::type::handle_of(object).attr("__name__")).cast<std::string>();
+}
+
+}  // namespace
+
+std::shared_ptr<const MonitorModel> BuildPythonMonitor(const nlohmann::json& settings, const MonitorContext& context,
+                                                       const std::string& pointer) {
+  const std::string& source = context.input.source;
+  if (!settings.contains("class")) {
+    throw InputError(source, PointerJoin(pointer, "factory"),
+                     "a Python monitor passed to run_campaign (factory \"" + settings.value("factory", "") +
+                         "\") cannot be rebuilt: it was not named by import path; run it again from Python "
+                         "(run_campaign(..., monitor=...)), or name it in the campaign as \"class\": "
+                         "\"package.module:Class\"");
+  }
+  const std::string at = PointerJoin(pointer, "class");
+  const std::string path = settings.at("class").get<std::string>();
+  const size_t colon = path.find(':');
+  const std::string module_name = path.substr(0, colon), qualname = path.substr(colon + 1);
+  py::gil_scoped_acquire gil;
+  py::object object;
+  try {
+    object = py::module_::import(module_name.c_str());
+  } catch (py::error_already_set& e) {
+    throw InputError(source, at, "\"" + path + "\": cannot import module \"" + module_name + "\": " + TakePythonError(e) +
+                                     " (imported as Python imports it: from sys.path, which holds the current "
+                                     "directory under `python3 -m armfault`, and PYTHONPATH)");
+  }
+  std::string where = "module \"" + module_name + "\"";
+  size_t start = 0;
+  for (;;) {
+    const size_t dot = qualname.find('.', start);
+    const std::string part = qualname.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
+    py::object next;
+    try {
+      next = py::getattr(object, part.c_str(), py::none());
+      if (next.is_none() && !py::hasattr(object, part.c_str())) {
+        std::vector<std::string> names;
+        for (py::handle n : py::reinterpret_steal<py::list>(PyObject_Dir(object.ptr()))) {
+          const std::string name = py::str(n).cast<std::string>();
+          if (!name.empty() && name[0] != '_') names.push_back(name);
+        }
+        const std::string near = NearestWord(part, names);
+        throw InputError(source, at, "\"" + path + "\": " + where + " has no \"" + part + "\"",
+                         near.empty() ? "" : "did you mean \"" + module_name + ":" +
+                                                 qualname.substr(0, start) + near + "\"?");
+      }
+    } catch (py::error_already_set& e) {
+      throw InputError(source, at, "\"" + path + "\": reading \"" + part + "\" of " + where + " raised " + TakePythonError(e));
+    }
+    object = next;
+    if (dot == std::string::npos) break;
+    where = "\"" + qualname.substr(0, dot) + "\"";
+    start = dot + 1;
+  }
+  const py::object monitor_base = py::module_::import("armfault").attr("Monitor");
+  if (!PyType_Check(object.ptr())) {
+    throw InputError(source, at, "\"" + path + "\" is a " + TypeName(object) +
+                                     ", not a class: name a subclass of armfault.Monitor");
+  }
+  const int is_monitor = PyObject_IsSubclass(object.ptr(), monitor_base.ptr());
+  if (is_monitor != 1) {
+    if (is_monitor < 0) PyErr_Clear();
+    throw InputError(source, at, "\"" + path + "\" is the class " +
+                                     py::str(object.attr("__qualname__")).cast<std::string>() +
+                                     ", which is not a subclass of armfault.Monitor");
+  }
+  // factory(robot): the class, each instance with a fresh dict of the settings as self.settings
+  // before its __init__ runs (armfault._Configured).
+  const py::object factory = py::module_::import("armfault").attr("_Configured")(object, settings.value("settings", nlohmann::json::object()).dump());
+  return std::make_shared<PythonMonitorModel>(factory, module_name + "." + qualname, RobotToJson(context.robot).dump(),
+                                              static_cast<int>(context.robot.modules.size()));
 }
 
 }  // namespace armfault::python

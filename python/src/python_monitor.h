@@ -155,6 +155,19 @@ class PythonMonitor : public HealthMonitor {
   mutable ThresholdRecorder* recorder_ = nullptr;  // the tap's, while the run lasts
 };
 
+// "ValueError: bad gain (my_monitor.py:42 in step)": an exception's type, its message and where
+// it was raised (the innermost frame of its traceback). Needs the GIL; never throws.
+std::string DescribeException(PyObject* value);
+
+// The builder of "python" monitors named by class ({"type": "python", "class":
+// "package.module:Class", "settings": {...}}), installed by the package when imported
+// (SetMonitorHost): imports the module, finds the class, checks that it is a subclass of
+// armfault.Monitor, and makes the model, whose instances get the settings as self.settings
+// before their __init__ runs. A module that does not import, a missing class or one that is not
+// a Monitor is an InputError at <pointer>/class naming the value. Takes the GIL itself.
+std::shared_ptr<const MonitorModel> BuildPythonMonitor(const nlohmann::json& settings, const MonitorContext& context,
+                                                       const std::string& pointer);
+
 // Builds a Verdict the way armfault.Verdict(...) does (for the bindings and their tests).
 PyVerdict MakePyVerdict(int joint, pybind11::object state, pybind11::object family,
                         pybind11::object magnitude_name, double magnitude, double confidence,

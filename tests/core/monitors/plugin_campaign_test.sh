@@ -128,6 +128,34 @@ PY
 }
 check tuned_scores_as_predicted tuned_scores_as_predicted
 
+# trace --statistics of a plugin's run: its two statistics at every tick and joint beside their
+# thresholds; on the first detected K_T run the faulted joint's kt_deficit passes its threshold
+# first at the run's detection, never before the onset (reports/statistics_csv.h).
+plugin_statistics() {
+  local run
+  run=$(/usr/bin/python3 -c 'import json,sys
+rs=[json.loads(l) for l in open(sys.argv[1])]
+print(next(r["case"] for r in rs if r["family"]=="kt_degradation" and r["detected"] and not r["alarm_before_onset"]
+           and r["isolated_family"]=="kt_degradation" and r["isolated_joint"]==r["joint"]))' \
+    "$tmp/out_thresholds/results.jsonl")
+  "$armfault" trace "$tmp/out_thresholds/campaign.json" --run "$run" -o "$tmp/stats_trace.csv" \
+    --statistics "$tmp/stats.csv" >"$tmp/stats_out"
+  grep -qF "statistics: kt_deficit, friction_excess -> $tmp/stats.csv" "$tmp/stats_out" || { cat "$tmp/stats_out"; return 1; }
+  /usr/bin/python3 - "$tmp/stats.csv" "$tmp/out_thresholds/results.jsonl" "$run" <<'PY'
+import csv, json, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+record = [json.loads(l) for l in open(sys.argv[2])][int(sys.argv[3])]
+assert list(rows[0]) == ["t_s", "joint", "statistic", "family", "value", "threshold", "above"], list(rows[0])
+assert {r["statistic"] for r in rows} == {"kt_deficit", "friction_excess"}
+kt = [r for r in rows if r["statistic"] == "kt_deficit" and int(r["joint"]) == record["joint"]]
+above = [float(r["t_s"]) for r in kt if r["above"] == "1"]
+assert above and min(above) == record["detection_time_s"], (above[:3], record["detection_time_s"])
+assert min(above) >= record["onset_s"]
+print("kt_deficit of joint", record["joint"], "passes first at", min(above), "= the detection")
+PY
+}
+check plugin_trace_statistics plugin_statistics
+
 # `validate` runs no code of the campaign's unless asked: a library whose constructor leaves a
 # mark is not loaded (the mark stays absent, the output says why); --load-plugins loads it.
 validate_loads_no_code() {

@@ -54,7 +54,7 @@ TEST(MonitorRegistry, APythonMonitorIsReadAsAnyTypeButBuiltOnlyByThePythonPackag
   EXPECT_EQ(spec.type, "python");
   EXPECT_EQ(spec.ToJson(), (json{{"type", "python"}, {"factory", "m.M"}}));
   EXPECT_THAT(ErrorOf([] { MonitorSpecFromJson(json{{"type", "python"}}, "/monitor", Context()); }).what(),
-              HasSubstr("c.json: /monitor/factory: required key is missing"));
+              HasSubstr("c.json: /monitor/class: a Python monitor names its class by import path"));
   EXPECT_THAT(ErrorOf([] { MonitorSpecFromJson(json{{"type", "python"}, {"factory", "m.M"}, {"x", 1}}, "/monitor",
                                                Context()); })
                   .what(),
@@ -63,8 +63,42 @@ TEST(MonitorRegistry, APythonMonitorIsReadAsAnyTypeButBuiltOnlyByThePythonPackag
   context.input = Context();
   context.robot = RobotPreset("mrr-config1");
   const InputError e = ErrorOf([&] { MakeMonitorModel(spec, context, "/monitor"); });
-  EXPECT_THAT(e.what(), HasSubstr("c.json: /monitor/type: a Python monitor (factory \"m.M\") runs only from the armfault "
-                                  "Python package"));
+  EXPECT_THAT(e.what(), HasSubstr("c.json: /monitor/factory: a Python monitor passed to run_campaign (factory \"m.M\") "
+                                  "cannot be rebuilt"));
+}
+
+TEST(MonitorRegistry, APythonMonitorNamedByClassIsCheckedAndRunsWherePythonIsHosted) {
+  // The import path and settings, resolved with settings defaulting to {}.
+  const MonitorSpec spec =
+      MonitorSpecFromJson(json{{"type", "python"}, {"class", "pkg.mod:Outer.Mine"}}, "/monitor", Context());
+  EXPECT_EQ(spec.ToJson(),
+            (json{{"type", "python"}, {"class", "pkg.mod:Outer.Mine"}, {"settings", json::object()}}));
+  EXPECT_EQ(MonitorSpecFromJson(json{{"type", "python"}, {"class", "m:M"}, {"settings", {{"k", 1}}}}, "/monitor",
+                                Context())
+                .settings["settings"],
+            (json{{"k", 1}}));
+  for (const char* bad : {"m.M", "m:", ":M", "m:M:N", "m/x.py:M", "1m:M", "m:M.", "m..n:M", "m:M()"}) {
+    const InputError e = ErrorOf([&] { MonitorSpecFromJson(json{{"type", "python"}, {"class", bad}}, "/monitor", Context()); });
+    EXPECT_EQ(e.pointer(), "/monitor/class") << bad;
+    EXPECT_THAT(e.message(), HasSubstr(std::string("got \"") + bad + "\"")) << bad;
+  }
+  EXPECT_EQ(ErrorOf([] {
+              MonitorSpecFromJson(json{{"type", "python"}, {"class", "m:M"}, {"settings", 3}}, "/monitor", Context());
+            }).pointer(),
+            "/monitor/settings");
+  EXPECT_EQ(ErrorOf([] {
+              MonitorSpecFromJson(json{{"type", "python"}, {"class", "m:M"}, {"factory", "m.M"}}, "/monitor", Context());
+            }).pointer(),
+            "/monitor/factory");
+  // The armfault binary hosts no Python: the error names the value and the command that runs it.
+  MonitorContext context;
+  context.input = Context();
+  context.robot = RobotPreset("mrr-config1");
+  const InputError e = ErrorOf([&] { MakeMonitorModel(spec, context, "/monitor"); });
+  EXPECT_EQ(e.pointer(), "/monitor/class");
+  EXPECT_THAT(e.what(), HasSubstr("\"pkg.mod:Outer.Mine\" runs where Python is hosted"));
+  EXPECT_THAT(e.what(), HasSubstr("python3 -m armfault"));
+  EXPECT_TRUE(MonitorRunsUserCode("python"));
 }
 
 TEST(MonitorRegistry, SettingsErrorsKeepTheirPointersAndAFileNamesItself) {
