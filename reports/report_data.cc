@@ -15,7 +15,6 @@
 #include "core/base/json_input.h"
 #include "faults/fault.h"
 #include "reports/report_common.h"
-#include "reports/svg_plot.h"
 
 namespace armfault {
 
@@ -25,8 +24,8 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 using report::Count;
 using report::Field;
+using report::Fixed;
 using report::Num;
-using svg::Fixed;
 
 // One faulty run's outcome into its family's detection as run.
 void AddPodRun(const RunRecord& r, PodAsRun* p) {
@@ -53,7 +52,8 @@ void AddPodRun(const RunRecord& r, PodAsRun* p) {
   ++cell->runs;
   cell->detected += r.detected ? 1 : 0;
   std::vector<std::string>& ids = r.detected ? cell->hit_ids : cell->miss_ids;
-  if (ids.size() < PodAsRun::kMaxListed) ids.push_back(r.run_id);
+  std::vector<int>& joints = r.detected ? cell->hit_joints : cell->miss_joints;
+  if (ids.size() < PodAsRun::kMaxListed) ids.push_back(r.run_id), joints.push_back(r.joint);
 }
 
 }  // namespace
@@ -205,7 +205,10 @@ RunCandidates ReadResults(const ReportOptions& options, const CampaignFiles& fil
       }
       if (!r.is_compound()) AddPodRun(r, &d.pod[r.family]);  // no single magnitude to plot against
       if (r.detected) {
-        if (r.latency_s && std::isfinite(*r.latency_s)) d.latencies_s[r.family].push_back(*r.latency_s);
+        if (r.latency_s && std::isfinite(*r.latency_s)) {
+          d.latencies_s[r.family].push_back(*r.latency_s);
+          d.latency_runs[r.family].emplace_back(r.run_id, r.joint);
+        }
         if (!candidates.first_detected) candidates.first_detected = r;
       } else {
         ++d.misses[r.family];

@@ -63,6 +63,7 @@ struct PodAsRun {
     long runs = 0, detected = 0;
     // The first kMaxListed run ids of each outcome (case order), for the plotted dots.
     std::vector<std::string> hit_ids, miss_ids;
+    std::vector<int> hit_joints, miss_joints;  // their faulted joints (1-based), same order
   };
   static constexpr size_t kMaxListed = 40;
   std::string magnitude_key;             // "" when no run has a numeric magnitude
@@ -83,6 +84,8 @@ struct ReportData {
   std::map<std::string, PodAsRun> pod;  // per family, as run
   // From results.jsonl: latencies of detected faulty runs and the misses, per family.
   std::map<std::string, std::vector<double>> latencies_s;
+  // The run (id, faulted joint) of each latency, same order as latencies_s.
+  std::map<std::string, std::vector<std::pair<std::string, int>>> latency_runs;
   std::map<std::string, long> misses;
   long records = 0;
   // Runs scored wrong (missed, wrong family or joint, healthy runs that alarmed) with the

@@ -5,12 +5,10 @@
 #include <cmath>
 
 #include "reports/report_common.h"
-#include "reports/svg_plot.h"
+#include "reports/vega_plot.h"
 
 namespace armfault::report {
 
-using svg::Escape;
-using svg::Fixed;
 
 std::string ThesisSection(const ReportData& d) {
   std::string o = "<section id=\"thesis\"><h2>Efficiency against K_T factor (thesis table 5-3)</h2>";
@@ -18,7 +16,7 @@ std::string ThesisSection(const ReportData& d) {
     if (d.thesis_source.rfind("not shown", 0) == 0) return o + "<p class=\"missing\">" + Escape(d.thesis_source) + ".</p></section>";
     return o + "<p class=\"missing\">No thesis results: " + Escape(d.thesis_source) + " holds no table_5_3 rows.</p></section>";
   }
-  svg::Plot plot("thesis-table-5-3", "Top-joint efficiency (eq 5-5) as the torque constant degrades", kHalfWidth, 340);
+  vega::Plot plot("thesis-table-5-3", "Top-joint efficiency (eq 5-5) as the torque constant degrades", kHalfWidth, 340);
   plot.set_caption("armfault: " + d.thesis_source + ". Degradation grows to the right.");
   plot.x().label = "K_T factor n (torque constant / nominal)";
   plot.x().reversed = true;
@@ -38,10 +36,10 @@ std::string ThesisSection(const ReportData& d) {
     rows.push_back({Fixed(r.factor, 2), Fixed(r.thesis_pct, 2), r.ok ? Fixed(r.armfault_pct, 2) : "failed",
                     Fixed(r.thesis_ratio, 3), Fixed(r.armfault_ratio, 3), std::to_string(r.windows)});
   }
-  plot.Line("thesis (published)", xs, thesis, svg::Stroke{"#444", 2, "6 3", 1}, svg::Marker::kSquare);
-  plot.Points("", xs, thesis, {}, {}, "#444", svg::Marker::kSquare, ttips, 3.5);
-  plot.Line("armfault (simulated)", xs, ours, svg::Stroke{"#1f77b4", 2.2, "", 1}, svg::Marker::kCircle);
-  plot.Points("", xs, ours, {}, {}, "#1f77b4", svg::Marker::kCircle, otips, 3.5);
+  plot.Line("thesis (published)", xs, thesis, vega::Stroke{"#444", 2, "6 3", 1}, vega::Marker::kSquare);
+  plot.Points("", xs, thesis, {}, {}, "#444", vega::Marker::kSquare, ttips, 3.5);
+  plot.Line("armfault (simulated)", xs, ours, vega::Stroke{"#1f77b4", 2.2, "", 1}, vega::Marker::kCircle);
+  plot.Points("", xs, ours, {}, {}, "#1f77b4", vega::Marker::kCircle, otips, 3.5);
   o += "<div class=\"plots\">" + plot.Render() + "<div class=\"side\">" +
        HtmlTable({"K_T factor", "thesis η (%)", "armfault η (%)", "thesis ratio", "armfault ratio", "windows"}, rows) +
        "<p>Ratio: relative to n = 1. Efficiency: Σ E_out / Σ E_mesh_in over the top joint's forward-flow windows "
@@ -110,24 +108,28 @@ std::string RunSection(const ReportData& d) {
   for (size_t k = 0; k < s.joints.size(); ++k) {
     const int j = s.joints[k];
     const std::string jt = "joint " + std::to_string(j);
-    auto marks = [&](svg::Plot* p) {
+    // Every mark of the run view is of this run: its tooltip names it, a click copies its trace command.
+    vega::RunRef ref{s.run_id, r.family, r.joint, std::nullopt, r.magnitude_key};
+    if (!r.magnitude_key.empty()) ref.magnitude = r.magnitude;
+    auto marks = [&](vega::Plot* p) {
+      p->set_run(ref);
       p->set_min_left(72);  // the three panels share their time axis: line them up
       p->x().label = "time (s)";
       p->x().min = 0;
       p->x().max = t_end;
       if (!r.family.empty()) {
         p->VLine(r.onset_s, "fault onset " + Fixed(r.onset_s, 2) + " s (" + r.family + ")",
-                 svg::Stroke{"#d62728", 1.6, "6 3", 1});
+                 vega::Stroke{"#d62728", 1.6, "6 3", 1});
       }
       if (s.first_alarm_s) {
         p->VLine(*s.first_alarm_s,
                  "first alarm " + Fixed(*s.first_alarm_s, 2) + " s" +
                      (s.first_alarm_family.empty() ? "" : " (" + s.first_alarm_family + ")"),
-                 svg::Stroke{"#000", 1.6, "", 1});
+                 vega::Stroke{"#000", 1.6, "", 1});
       }
     };
     // Efficiencies per judged window of this joint.
-    svg::Plot eff("run-j" + std::to_string(j) + "-efficiency", "Efficiencies of " + jt + " per window", kFullWidth, 320);
+    vega::Plot eff("run-j" + std::to_string(j) + "-efficiency", "Efficiencies of " + jt + " per window", kFullWidth, 320);
     const bool judged = std::any_of(s.monitor.windows.begin(), s.monitor.windows.end(),
                                     [&](const EfficiencyWindow& w) { return w.joint == j && w.used; });
     eff.set_caption(judged ? std::string("Judged windows; bar: the window's span; dashed: what a healthy joint would show "
@@ -157,10 +159,10 @@ std::string RunSection(const ReportData& d) {
           if (std::isfinite(v)) ymin = std::min(ymin, v), ymax = std::max(ymax, v);
         }
       }
-      eff.Segments(std::string(se.name) + " measured", x0, x1, m, svg::Stroke{se.color, 2.4, "", 1},
-                   svg::Marker::kCircle);
-      eff.Segments(std::string(se.name) + " healthy", x0, x1, e, svg::Stroke{se.color, 1.6, "5 3", 1},
-                   svg::Marker::kNone);
+      eff.Segments(std::string(se.name) + " measured", x0, x1, m, vega::Stroke{se.color, 2.4, "", 1},
+                   vega::Marker::kCircle);
+      eff.Segments(std::string(se.name) + " healthy", x0, x1, e, vega::Stroke{se.color, 1.6, "5 3", 1},
+                   vega::Marker::kNone);
     }
     // Wild ratios (a window right at a fault's onset) are clipped rather than squashing the rest.
     eff.y().min = std::max(-0.5, ymin);
@@ -168,20 +170,20 @@ std::string RunSection(const ReportData& d) {
     marks(&eff);
 
     std::vector<double> tx, ty;
-    svg::Plot cur("run-j" + std::to_string(j) + "-current", "Currents of " + jt, kFullWidth, 280);
+    vega::Plot cur("run-j" + std::to_string(j) + "-current", "Currents of " + jt, kFullWidth, 280);
     cur.y().label = "current (A)";
     Thin(s.t_s, s.i_cmd_A[k], 1400, &tx, &ty);
-    cur.Line("commanded current i (after the DAC)", tx, ty, svg::Stroke{"#1f77b4", 1.3, "", 1});
+    cur.Line("commanded current i (after the DAC)", tx, ty, vega::Stroke{"#1f77b4", 1.3, "", 1});
     tx.clear(), ty.clear();
     Thin(s.t_s, s.i_supply_A[k], 1400, &tx, &ty);
-    cur.Line("supply current I_d (measured, period mean)", tx, ty, svg::Stroke{"#d62728", 1.1, "", 0.85});
+    cur.Line("supply current I_d (measured, period mean)", tx, ty, vega::Stroke{"#d62728", 1.1, "", 0.85});
     marks(&cur);
 
-    svg::Plot tor("run-j" + std::to_string(j) + "-torque", "Torque sensor of " + jt, kFullWidth, 260);
+    vega::Plot tor("run-j" + std::to_string(j) + "-torque", "Torque sensor of " + jt, kFullWidth, 260);
     tor.y().label = "torque (N m)";
     tx.clear(), ty.clear();
     Thin(s.t_s, s.tau_sensor_Nm[k], 1400, &tx, &ty);
-    tor.Line("torque-sensor reading τ_s", tx, ty, svg::Stroke{"#2ca02c", 1.3, "", 1});
+    tor.Line("torque-sensor reading τ_s", tx, ty, vega::Stroke{"#2ca02c", 1.3, "", 1});
     marks(&tor);
     o += "<div class=\"plots\">" + eff.Render() + cur.Render() + tor.Render() + "</div>";
   }

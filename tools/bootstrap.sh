@@ -13,7 +13,10 @@ cd "$(dirname "$0")/.."
 # parsers' fuzzing test (tests/fuzz/fuzz_test.sh, docs/fuzzing.md).
 # Test-only: jupyter-nbconvert, python3-ipykernel (the python3 kernel) and python3-matplotlib
 # execute examples/notebooks/first-campaign.ipynb (python/tests/notebook_test.sh).
-packages=(build-essential cmake pkg-config libode-dev libeigen3-dev libtbb-dev nlohmann-json3-dev
+# nodejs and npm: `npm ci` installs the report's plotting libraries (Vega, Vega-Lite, vega-embed,
+# pinned with their integrity hashes in reports/web/package-lock.json), which the build inlines
+# into report.html (reports/CMakeLists.txt).
+packages=(build-essential cmake pkg-config nodejs npm libode-dev libeigen3-dev libtbb-dev nlohmann-json3-dev
           libcli11-dev libssl-dev zlib1g-dev liburdfdom-dev libtinyxml-dev libgtest-dev libgmock-dev libbenchmark-dev chromium slurm-wlm
           munge python3-yaml python3-jsonschema python3-dev pybind11-dev python3-pybind11 python3-numpy
           python3-pandas python3-pytest clang libclang-rt-14-dev
@@ -28,6 +31,13 @@ if [ "${#missing[@]}" -gt 0 ]; then
   [ "$(id -u)" -eq 0 ] || SUDO="sudo"
   $SUDO apt-get update -qq
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+
+# The report's plotting libraries, as locked (needs the npm registry unless npm's cache holds them;
+# skipped when node_modules is as new as the lock file). --ignore-scripts: no package runs code here.
+if [ ! -f reports/web/node_modules/.package-lock.json ] ||
+   [ reports/web/package-lock.json -nt reports/web/node_modules/.package-lock.json ]; then
+  (cd reports/web && npm ci --ignore-scripts --no-audit --no-fund)
 fi
 
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
