@@ -42,6 +42,7 @@ using report::SummarySection;
 using report::ThesisSection;
 using report::TuningRate;
 using report::WhySection;
+using report::WrongRunsSection;
 
 // One section of the page: its id (the <section id> its function writes, and the link's
 // target), the link text in the page's nav, and when it is shown (nullptr: always). A new
@@ -65,6 +66,7 @@ const ReportSection kSections[] = {
     {"latency-threshold", "latency vs threshold", LatencyThresholdSection},
     {"confusion", "confusion", ConfusionSection},
     {"why", "why wrong", WhySection},
+    {"wrong-runs", "missed runs", WrongRunsSection},
     {"latency", "latency", LatencyDistributionSection},
     {"thesis", "table 5-3", ThesisSection},
     {"run", "one run", RunSection},

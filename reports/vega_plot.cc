@@ -391,10 +391,13 @@ std::string Plot::Spec() const {
   for (const Layer& l : layers_) {
     json layer = l.spec;
     json& enc = layer["encoding"];
+    // The axes as they are now (a section may set a range after adding the marks).
+    if (enc.contains("x") && enc["x"].contains("field")) enc["x"] = XEnc();
+    if (enc.contains("y") && enc["y"].contains("field")) enc["y"] = YEnc();
     if (enc.contains("color") && enc["color"].contains("field")) {
       enc["color"]["scale"] = {{"domain", domain}, {"range", range}};
       enc["color"]["legend"] = {{"title", nullptr}, {"orient", "bottom"}, {"direction", "horizontal"},
-                                {"columns", std::max<size_t>(1, std::min<size_t>(legend_.size(), 3))},
+                                {"columns", std::max<size_t>(1, std::min<size_t>(legend_.size(), width_ >= 900 ? 3 : width_ >= 500 ? 2 : 1))},
                                 {"labelLimit", 400}, {"labelFontSize", 11}};
     }
     if (run_) {

@@ -465,6 +465,51 @@ TEST_F(CampaignReportTest, RunMarksNameTheirRunAndTheCampaignOfItsTraceCommand) 
   EXPECT_THAT(*html_, HasSubstr("'armfault trace ' + quote(campaign) + ' --run ' + quote(d.run)"));
 }
 
+TEST_F(CampaignReportTest, RunViewShowsEveryJointTheFaultedOneFirst) {
+  // The robot has three joints; the run's fault is on joint 3, which comes first.
+  EXPECT_EQ(data_->run.joints, (std::vector<int>{3, 1, 2}));
+  size_t last = 0;
+  for (int j : {3, 1, 2}) {
+    for (const char* panel : {"efficiency", "current", "torque"}) {
+      const std::string id = "run-j" + std::to_string(j) + "-" + panel;
+      EXPECT_FALSE(SpecById(*html_, id).empty()) << id;
+    }
+    const size_t at = html_->find("data-plot=\"run-j" + std::to_string(j) + "-efficiency\"");
+    EXPECT_GT(at, last) << j;
+    last = at;
+  }
+  EXPECT_THAT(*html_, HasSubstr("<h3>Joint 3 (faulted: kt_degradation)</h3>"));
+  // Joint 1 does not move: its efficiency plot says why it is empty.
+  EXPECT_THAT(SpecById(*html_, "run-j1-efficiency"), HasSubstr("Empty: the monitor judged no window of this joint"));
+}
+
+TEST_F(CampaignReportTest, SmallMultiplesShowEveryMissedOrMisnamedFaultyRun) {
+  std::vector<std::string> expected;
+  for (const RunRecord& r : Records()) {
+    if (r.ok && !r.family.empty() && !r.miss_reason.empty() && r.excited()) expected.push_back(r.run_id);
+  }
+  ASSERT_FALSE(expected.empty()) << "the slight K_T loss is expected to be missed";
+  ASSERT_EQ(data_->wrong_runs.size(), expected.size());
+  for (size_t k = 0; k < expected.size(); ++k) {
+    EXPECT_EQ(data_->wrong_runs[k].run_id, expected[k]);
+    const std::string spec = SpecById(*html_, "wrong-" + std::to_string(k));
+    ASSERT_FALSE(spec.empty()) << k;
+    const json plot = json::parse(spec);
+    EXPECT_EQ(plot["title"]["text"], expected[k]);
+    EXPECT_GT(DataPaths(spec), 0) << k;
+    // Each of its marks is the run's: a click copies its trace command.
+    for (const json& layer : plot["layer"]) {
+      const json& t = layer["transform"];
+      EXPECT_NE(std::find(t.begin(), t.end(), json({{"calculate", json(expected[k]).dump()}, {"as", "run"}})), t.end());
+    }
+  }
+  EXPECT_EQ(SpecById(*html_, "wrong-" + std::to_string(expected.size())), "");
+  // At most kSmallMultiples, however many were wrong; none without wrong faulty runs.
+  ReportData d = *data_;
+  d.wrong_runs.clear();
+  EXPECT_THAT(RenderReportHtml(d), HasSubstr("None: every faulty run was detected and named with its family and joint"));
+}
+
 TEST_F(CampaignReportTest, EscapesNamesFromTheFiles) {
   ReportData d = *data_;
   d.summary["campaign"]["name"] = "<script>alert('x')</script> & co";
@@ -521,7 +566,8 @@ TEST_F(CampaignReportTest, NavLinksEverySectionOnceAndTheBoundaryOnlyWithBoundar
   std::vector<std::string> links = Matches(nav_b, link);
   // The boundary section follows detection probability; its link comes last.
   EXPECT_EQ(sections, (std::vector<std::string>{"summary", "operating-point", "roc", "pod", "boundary",
-                                                "latency-threshold", "confusion", "why", "latency", "thesis", "run"}));
+                                                "latency-threshold", "confusion", "why", "wrong-runs", "latency", "thesis",
+                                                "run"}));
   ASSERT_FALSE(links.empty());
   EXPECT_EQ(links.back(), "boundary");
   std::sort(sections.begin(), sections.end());
@@ -546,7 +592,7 @@ TEST_F(CampaignReportTest, PlotsTheFirstMissedFaultyRunElseTheFirstDetected) {
     }
   }
   EXPECT_EQ(data_->run.run_id, expected);
-  EXPECT_EQ(data_->run.joints, std::vector<int>{3});
+  EXPECT_EQ(data_->run.joints, (std::vector<int>{3, 1, 2}));  // every joint, the faulted one first
 }
 
 TEST_F(CampaignReportTest, ReSimulationMatchesTheRunsRecord) {
@@ -555,7 +601,7 @@ TEST_F(CampaignReportTest, ReSimulationMatchesTheRunsRecord) {
   ASSERT_TRUE(s.stored.has_value());
   EXPECT_EQ(ToJson(s.record).dump(), ToJson(*s.stored).dump());
   EXPECT_FALSE(s.monitor.windows.empty());
-  ASSERT_EQ(s.i_cmd_A.size(), 1u);
+  ASSERT_EQ(s.i_cmd_A.size(), 3u);  // every joint
   EXPECT_EQ(s.i_cmd_A[0].size(), s.t_s.size());
   EXPECT_NEAR(s.t_s.back(), 5.0, 0.01);
 }
@@ -574,7 +620,7 @@ TEST_F(CampaignReportTest, RunOptionPicksAnyRunAndRejectsUnknownOnes) {
   EXPECT_THAT(SpecById(RenderReportHtml(d), "run-j3-torque"), HasSubstr("first alarm"));
 
   ro.run_id = "exp1/healthy/1";
-  EXPECT_EQ(GatherReportData(ro).run.joints, std::vector<int>{3});  // the moving joint
+  EXPECT_EQ(GatherReportData(ro).run.joints, (std::vector<int>{1, 2, 3}));  // no fault: every joint in order
 
   ro.run_id = "exp1/nope";
   try {
