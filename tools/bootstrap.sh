@@ -33,11 +33,12 @@ if [ "${#missing[@]}" -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
 
-# The report's plotting libraries, as locked (needs the npm registry unless npm's cache holds them;
+# The report's plotting libraries, as locked (the npm registry, or npm's cache when it holds them:
+# --prefer-offline; the lock file pins each version with its hash, so a cached copy is the same;
 # skipped when node_modules is as new as the lock file). --ignore-scripts: no package runs code here.
 if [ ! -f reports/web/node_modules/.package-lock.json ] ||
    [ reports/web/package-lock.json -nt reports/web/node_modules/.package-lock.json ]; then
-  (cd reports/web && npm ci --ignore-scripts --no-audit --no-fund)
+  (cd reports/web && npm ci --ignore-scripts --prefer-offline --no-audit --no-fund)
 fi
 
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
