@@ -3,7 +3,8 @@
 # `armfault tune` does not exist, uses the tuning.json fixture), writes the report and renders
 # it in headless Chromium. Checks that vega-embed drew every plot's Vega-Lite spec (its <div>
 # holds an <svg> of marks with non-empty path data), that the required plots are there, that
-# nothing is fetched (no script or link with a source), and that a screenshot is produced.
+# nothing is fetched (no script or link with a source), that a click on a run's dot copies
+# that run's `armfault trace` command, and that a screenshot is produced.
 # Chromium missing is a failure, not a skip: tools/bootstrap.sh installs it.
 # Usage: report_chromium_test.sh path/to/armfault
 # Prints one line per failed check and a final "N passed, M failed"; exits non-zero on failure.
@@ -125,6 +126,31 @@ print("\n".join(bad[:3]))
 PY
 )
 if [[ -z "$loads" ]]; then pass; else fail "report.html loads a file: $loads"; fi
+
+# A click on a run's mark copies its trace command: a copy of the page whose probe, once the
+# plots are drawn, stands in for the clipboard (headless Chromium grants no clipboard to a
+# synthetic click) and clicks the first detection-probability dot.
+python3 - "$dir/report.html" "$tmp/click.html" <<'PY'
+import sys
+html = open(sys.argv[1], encoding="utf-8").read()
+probe = """<script>setTimeout(function () {
+  Object.defineProperty(navigator, 'clipboard', {value: {writeText: function (t) {
+    document.body.setAttribute('data-copied', t); return Promise.resolve(); }}});
+  var mark = document.querySelector('div.plot[id^="pod-"] g.mark-symbol path');
+  if (mark) mark.dispatchEvent(new MouseEvent('click', {bubbles: true, cancelable: true, view: window}));
+}, 3000);</script>"""
+at = html.rindex("</body>")
+open(sys.argv[2], "w", encoding="utf-8").write(html[:at] + probe + html[at:])
+PY
+timeout 120 "$chromium" "${flags[@]}" --virtual-time-budget=10000 --dump-dom "file://$tmp/click.html" \
+  >"$tmp/click-dom.html" 2>"$tmp/chromium-click.log"
+copied=$(grep -o '<body[^>]* data-copied="[^"]*"' "$tmp/click-dom.html" | sed 's/.*data-copied="//; s/"$//')
+run=$(sed -n "s/^armfault trace [^ ]*campaign.json --run '\{0,1\}\([^' ]*\)'\{0,1\} -o [^ ]*\.csv\$/\1/p" <<<"$copied")
+if [[ -n "$run" ]] && grep -qF "\"run_id\":\"$run\"" "$dir/results.jsonl"; then
+  pass
+else
+  fail "a click on a detection-probability dot copied '$copied', not a trace command of a run of results.jsonl"
+fi
 
 timeout 180 "$chromium" "${flags[@]}" --virtual-time-budget=30000 "--screenshot=$tmp/shot.png" --window-size=1400,5000 "$url" \
   >"$tmp/chromium-shot.log" 2>&1
