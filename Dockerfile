@@ -1,16 +1,18 @@
 # The armfault image the Kubernetes recipe runs (deploy/k8s/):
 #   docker build -t registry.example.com/armfault:0.1.0 . && docker push registry.example.com/armfault:0.1.0
 # Stage 1 builds with tools/bootstrap.sh's build_packages (the main job's: no test-only or
-# Python packages); stage 2 holds the binary, the shipped campaigns and their schema
+# Python packages; nodejs and npm fetch the report's plotting libraries, reports/web); stage 2 holds the binary, the shipped campaigns and their schema
 # (share/armfault/) and the runtime libraries only. tests/deploy/deploy_test.sh keeps both lists
 # honest.
 FROM debian:bookworm-slim AS build
 RUN apt-get update \
  && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends \
-      build-essential cmake pkg-config libode-dev libeigen3-dev libtbb-dev nlohmann-json3-dev libcli11-dev libssl-dev zlib1g-dev liburdfdom-dev libtinyxml-dev libboost-math-dev \
+      build-essential cmake pkg-config nodejs npm libode-dev libeigen3-dev libtbb-dev nlohmann-json3-dev libcli11-dev libssl-dev zlib1g-dev liburdfdom-dev libtinyxml-dev libboost-math-dev \
  && rm -rf /var/lib/apt/lists/*
 WORKDIR /src
 COPY . .
+# The report's plotting libraries as locked (reports/web/package-lock.json), inlined by the build.
+RUN cd reports/web && npm ci --ignore-scripts --no-audit --no-fund
 RUN cmake -S . -B /build -DCMAKE_BUILD_TYPE=Release -DBUILD_TESTING=OFF -DARMFAULT_BUILD_BENCH=OFF \
  && cmake --build /build -j "$(nproc)" --target armfault \
  && cmake --install /build --prefix /usr/local

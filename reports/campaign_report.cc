@@ -5,7 +5,8 @@
 #include "campaigns/runner.h"
 #include "reports/report_common.h"
 #include "reports/report_sections.h"
-#include "reports/svg_plot.h"
+#include "reports/report_js.h"
+#include "reports/vega_plot.h"
 
 namespace armfault {
 
@@ -17,7 +18,9 @@ using report::A90Rows;
 using report::BoundarySection;
 using report::ConfusionSection;
 using report::Count;
+using report::Escape;
 using report::Field;
+using report::Fixed;
 using report::LatencyDistributionSection;
 using report::LatencyThresholdSection;
 using report::MdTable;
@@ -39,8 +42,7 @@ using report::SummarySection;
 using report::ThesisSection;
 using report::TuningRate;
 using report::WhySection;
-using svg::Escape;
-using svg::Fixed;
+using report::WrongRunsSection;
 
 // One section of the page: its id (the <section id> its function writes, and the link's
 // target), the link text in the page's nav, and when it is shown (nullptr: always). A new
@@ -64,6 +66,7 @@ const ReportSection kSections[] = {
     {"latency-threshold", "latency vs threshold", LatencyThresholdSection},
     {"confusion", "confusion", ConfusionSection},
     {"why", "why wrong", WhySection},
+    {"wrong-runs", "missed runs", WrongRunsSection},
     {"latency", "latency", LatencyDistributionSection},
     {"thesis", "table 5-3", ThesisSection},
     {"run", "one run", RunSection},
@@ -91,7 +94,8 @@ section{background:#fff;border:1px solid #e2e4e8;border-radius:6px;padding:4px 1
 .tables{display:flex;flex-wrap:wrap;gap:0 28px;align-items:flex-start}
 .note{font-size:12px;color:#555;max-width:520px}
 .plots{display:flex;flex-wrap:wrap;gap:10px;align-items:flex-start}
-svg.plot{background:#fff;border:1px solid #eee;max-width:100%;height:auto}
+.plot{background:#fff;border:1px solid #eee;max-width:100%;overflow:hidden}
+#copy-status{display:none;position:fixed;bottom:14px;left:50%;transform:translateX(-50%);background:#222;color:#fff;padding:6px 12px;border-radius:4px;font-size:13px;z-index:10}
 .side{max-width:620px}
 table{border-collapse:collapse;font-size:13px;margin:4px 0 8px}
 th,td{border:1px solid #ddd;padding:3px 8px;text-align:left;vertical-align:top}th{background:#f0f2f5}
@@ -112,13 +116,17 @@ std::string RenderReportHtml(const ReportData& d) {
                   "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">";
   // The campaign's content hash, also for machines reading the page.
   if (!d.campaign_hash.empty()) o += "<meta name=\"armfault-campaign-hash\" content=\"" + Escape(d.campaign_hash) + "\">";
-  o += "<title>armfault report: " + Escape(name) + "</title><style>" + kStyle + "</style></head><body><main>";
+  o += "<title>armfault report: " + Escape(name) + "</title><style>" + kStyle + "</style></head>";
+  // The campaign file of the trace command a click on a run copies (vega_plot.h).
+  o += "<body data-campaign=\"" + Escape((fs::path(d.dir) / "campaign.json").string()) + "\"><main>";
   o += "<h1>armfault report: " + Escape(name) + "</h1>";
   const bool met = Field(d.summary, "floors_met") && d.summary["floors_met"].is_boolean() &&
                    d.summary["floors_met"].get<bool>();
   o += "<p>Directory <code>" + Escape(d.dir) + "</code>, armfault " + Escape(Str(d.summary, "armfault_version")) +
        ". Floors: " + (met ? "<span class=\"met\">all met</span>" : "<span class=\"missed\">some MISSED</span>") +
-       ". Hover over a point for its numbers.</p>";
+       ". Hover over a point for its numbers and its run; drag or scroll in a plot to zoom (double click: back); "
+       "click a run's mark to copy its <code>armfault trace</code> command.</p>"
+       "<noscript><p class=\"missing\">The plots need JavaScript (inlined in this page; nothing is fetched).</p></noscript>";
   o += "<p>" + CampaignHashText(d, true) + "</p>";
   o += "<nav>";
   // Links to the sections every page has, in page order, then to those shown only with their
@@ -134,7 +142,12 @@ std::string RenderReportHtml(const ReportData& d) {
   for (const ReportSection& s : kSections) {
     if (s.shown == nullptr || s.shown(d)) o += s.html(d);
   }
-  o += "</main></body></html>\n";
+  // The plotting libraries, inlined (nothing fetched), then the script that draws every plot.
+  o += "<p class=\"note\">Plots: " + std::string(report_js::Versions()) + ", inlined.</p></main>";
+  o += "<div id=\"copy-status\" role=\"status\"></div>";
+  o += std::string("<script>") + report_js::Vega() + "</script><script>" + report_js::VegaLite() + "</script><script>" +
+       report_js::VegaEmbed() + "</script><script>" + vega::ReportPlotScript() + "</script>";
+  o += "</body></html>\n";
   return o;
 }
 

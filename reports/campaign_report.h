@@ -1,5 +1,5 @@
-// The campaign report (`armfault report DIR`): DIR/report.html, a self-contained page (inline
-// SVG plots drawn by reports/svg_plot, inline CSS, no script, nothing fetched) and
+// The campaign report (`armfault report DIR`): DIR/report.html, a self-contained page (Vega-Lite
+// plots of reports/vega_plot drawn by the inlined vega-embed, inline CSS, nothing fetched) and
 // DIR/report.md, a short Markdown summary. Inputs, all in DIR:
 //   summary.json   rates with Wilson intervals, per-family rates, confusion matrix, floors
 //   results.jsonl  latency distributions per family; which run to re-simulate

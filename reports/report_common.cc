@@ -1,12 +1,12 @@
 #include "reports/report_common.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <map>
 
 #include "faults/fault.h"
-#include "reports/svg_plot.h"
 
 namespace armfault::report {
 
@@ -23,8 +23,34 @@ std::string MdText(const std::string& s) {
   return out;
 }
 
-using svg::Escape;
-using svg::Fixed;
+std::string Escape(const std::string& text) {
+  std::string out;
+  out.reserve(text.size());
+  for (char c : text) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      case '\'': out += "&#39;"; break;
+      default:
+        // Control characters other than tab and newlines are not allowed in HTML text.
+        out += (static_cast<unsigned char>(c) < 0x20 && c != '\t' && c != '\n' && c != '\r') ? '?' : c;
+    }
+  }
+  return out;
+}
+
+std::string Fixed(double x, int decimals) {
+  if (std::isnan(x)) return "nan";
+  if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", std::clamp(decimals, 0, 17), x);
+  std::string s = buf;
+  // "-0.00" is zero: print it without the sign so equal values print equally.
+  if (s[0] == '-' && s.find_first_not_of("-0.") == std::string::npos) s.erase(0, 1);
+  return s;
+}
 
 namespace {
 

@@ -19,6 +19,13 @@ using nlohmann::json;
 // Lenient JSON access: the report shows what is there and says what is not, it does not
 // validate (the writers of these files do).
 
+// Escapes text for HTML text and attribute values (&, <, >, ", '); control characters other
+// than tab and newlines become '?'.
+std::string Escape(const std::string& text);
+// x with `decimals` digits after the point ("%.*f", C locale); "-0.00" prints as "0.00"; NaN
+// and infinities print as "nan" / "inf" / "-inf".
+std::string Fixed(double x, int decimals);
+
 // j[key] when j is an object holding a non-null key, else nullptr.
 const json* Field(const json& j, const std::string& key);
 // j[key] when it is a number / a string / a number (as long), else nullopt / "" / 0.

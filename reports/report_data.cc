@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 
 #include "campaigns/provenance.h"
 #include "campaigns/run_dir.h"
@@ -15,7 +16,6 @@
 #include "core/base/json_input.h"
 #include "faults/fault.h"
 #include "reports/report_common.h"
-#include "reports/svg_plot.h"
 
 namespace armfault {
 
@@ -25,8 +25,8 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 using report::Count;
 using report::Field;
+using report::Fixed;
 using report::Num;
-using svg::Fixed;
 
 // One faulty run's outcome into its family's detection as run.
 void AddPodRun(const RunRecord& r, PodAsRun* p) {
@@ -53,7 +53,8 @@ void AddPodRun(const RunRecord& r, PodAsRun* p) {
   ++cell->runs;
   cell->detected += r.detected ? 1 : 0;
   std::vector<std::string>& ids = r.detected ? cell->hit_ids : cell->miss_ids;
-  if (ids.size() < PodAsRun::kMaxListed) ids.push_back(r.run_id);
+  std::vector<int>& joints = r.detected ? cell->hit_joints : cell->miss_joints;
+  if (ids.size() < PodAsRun::kMaxListed) ids.push_back(r.run_id), joints.push_back(r.joint);
 }
 
 }  // namespace
@@ -73,14 +74,15 @@ RunSeries SimulateRunSeries(const Campaign& campaign, const CaseSpec& spec) {
   RunSeries s;
   s.run_id = spec.run_id;
   const int joints = static_cast<int>(campaign.robot.modules.size());
-  // The faulted joint; for a healthy run, every joint that moves.
+  // Every joint of the robot, the faulted one first: a fault on one joint shows on the others too
+  // (coupling), and a misnamed run is named on another.
   if (!spec.fault.is_null() && spec.fault.contains("joint") && spec.fault["joint"].is_number_integer()) {
-    s.joints.push_back(spec.fault["joint"].get<int>());
-  } else {
-    for (const auto& [joint, trajectory] : campaign.loaded_trajectories[spec.trajectory]) s.joints.push_back(joint);
+    const int faulted = spec.fault["joint"].get<int>();
+    if (faulted >= 1 && faulted <= joints) s.joints.push_back(faulted);
   }
-  s.joints.erase(std::remove_if(s.joints.begin(), s.joints.end(), [&](int j) { return j < 1 || j > joints; }),
-                 s.joints.end());
+  for (int j = 1; j <= joints; ++j) {
+    if (std::find(s.joints.begin(), s.joints.end(), j) == s.joints.end()) s.joints.push_back(j);
+  }
   s.i_cmd_A.resize(s.joints.size());
   s.i_supply_A.resize(s.joints.size());
   s.tau_sensor_Nm.resize(s.joints.size());
@@ -205,7 +207,10 @@ RunCandidates ReadResults(const ReportOptions& options, const CampaignFiles& fil
       }
       if (!r.is_compound()) AddPodRun(r, &d.pod[r.family]);  // no single magnitude to plot against
       if (r.detected) {
-        if (r.latency_s && std::isfinite(*r.latency_s)) d.latencies_s[r.family].push_back(*r.latency_s);
+        if (r.latency_s && std::isfinite(*r.latency_s)) {
+          d.latencies_s[r.family].push_back(*r.latency_s);
+          d.latency_runs[r.family].emplace_back(r.run_id, r.joint);
+        }
         if (!candidates.first_detected) candidates.first_detected = r;
       } else {
         ++d.misses[r.family];
@@ -338,6 +343,24 @@ void SimulateChosenRun(const ReportOptions& options, const CampaignFiles& files,
   s.stored = chosen;
 }
 
+// The missed and misnamed faulty runs among d.wrong (case order), the first
+// ReportData::kSmallMultiples of them re-simulated into d.wrong_runs.
+void SimulateWrongRuns(const CampaignFiles& files, ReportData* d_out) {
+  ReportData& d = *d_out;
+  if (!files.campaign || d.wrong.empty()) return;
+  std::map<std::string, const CaseSpec*> by_id;
+  const std::vector<CaseSpec> cases = ExpandCases(*files.campaign);
+  for (const CaseSpec& c : cases) by_id[c.run_id] = &c;
+  for (const ReportData::ListedRun& w : d.wrong) {
+    auto it = by_id.find(w.run_id);
+    if (it == by_id.end() || it->second->fault.is_null()) continue;  // a healthy run that alarmed
+    if (d.wrong_runs.size() >= ReportData::kSmallMultiples) break;
+    RunSeries s = SimulateRunSeries(*files.campaign, *it->second);
+    s.why = w.reason;
+    d.wrong_runs.push_back(std::move(s));
+  }
+}
+
 }  // namespace
 
 ReportData GatherReportData(const ReportOptions& options) {
@@ -349,6 +372,7 @@ ReportData GatherReportData(const ReportOptions& options) {
   ReadBoundary(options, &files.claims, &d);
   ReadThesisTable(options, files, &d);
   SimulateChosenRun(options, files, candidates, &d);
+  SimulateWrongRuns(files, &d);
   return d;
 }
 

@@ -43,7 +43,7 @@ struct RunSeries {
   std::string why;                  // how the run was chosen, for the page
   RunRecord record;                 // as re-simulated
   std::optional<RunRecord> stored;  // its line in results.jsonl, to show they agree
-  std::vector<int> joints;          // plotted joints (1-based): the faulted one, else the moving ones
+  std::vector<int> joints;          // plotted joints (1-based): every joint, the faulted one first
   std::vector<double> t_s;          // controller ticks
   // Per plotted joint (same order as `joints`), per tick.
   std::vector<std::vector<double>> i_cmd_A, i_supply_A, tau_sensor_Nm;
@@ -53,7 +53,7 @@ struct RunSeries {
   std::string error;                // set when the run could not be re-simulated
 };
 
-// Re-simulates one case; `joints` empty: the faulted joint, else every joint with a trajectory.
+// Re-simulates one case, recording every joint's signals.
 RunSeries SimulateRunSeries(const Campaign& campaign, const CaseSpec& spec);
 
 // Detection as run, per family, from results.jsonl: the outcome of every faulty run against
@@ -63,6 +63,7 @@ struct PodAsRun {
     long runs = 0, detected = 0;
     // The first kMaxListed run ids of each outcome (case order), for the plotted dots.
     std::vector<std::string> hit_ids, miss_ids;
+    std::vector<int> hit_joints, miss_joints;  // their faulted joints (1-based), same order
   };
   static constexpr size_t kMaxListed = 40;
   std::string magnitude_key;             // "" when no run has a numeric magnitude
@@ -83,6 +84,8 @@ struct ReportData {
   std::map<std::string, PodAsRun> pod;  // per family, as run
   // From results.jsonl: latencies of detected faulty runs and the misses, per family.
   std::map<std::string, std::vector<double>> latencies_s;
+  // The run (id, faulted joint) of each latency, same order as latencies_s.
+  std::map<std::string, std::vector<std::pair<std::string, int>>> latency_runs;
   std::map<std::string, long> misses;
   long records = 0;
   // Runs scored wrong (missed, wrong family or joint, healthy runs that alarmed) with the
@@ -100,6 +103,10 @@ struct ReportData {
   std::vector<ThesisRow> table_5_3;     // K_T factor 1 ... 0.5
   std::string thesis_source;            // "DIR/thesis.json" or "simulated, seed 1"
   RunSeries run;
+  // The missed and misnamed faulty runs (the faulty ones of `wrong`, case order), the first
+  // kSmallMultiples re-simulated, each with its record's reason as `why`: one small plot each.
+  static constexpr size_t kSmallMultiples = 12;
+  std::vector<RunSeries> wrong_runs;
 };
 
 // Reads everything the report shows and re-simulates the chosen run. Throws InputError for a

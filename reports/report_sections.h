@@ -32,6 +32,8 @@ std::vector<std::vector<std::string>> A90Rows(const ReportData& d);
 
 // Simulated runs (report_sections_run.cc).
 std::string ThesisSection(const ReportData& d);
-std::string RunSection(const ReportData& d);
+std::string RunSection(const ReportData& d);  // every joint, the faulted one first
+// The missed and misnamed faulty runs (ReportData::wrong_runs): one small efficiency plot each.
+std::string WrongRunsSection(const ReportData& d);
 
 }  // namespace armfault::report

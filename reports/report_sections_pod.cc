@@ -9,12 +9,10 @@
 #include "core/base/json_input.h"
 #include "faults/fault.h"
 #include "reports/report_common.h"
-#include "reports/svg_plot.h"
+#include "reports/vega_plot.h"
 
 namespace armfault::report {
 
-using svg::Escape;
-using svg::Fixed;
 
 namespace {
 
@@ -50,7 +48,7 @@ std::string PodFamilyPlot(const std::string& family, const PodAsRun& p, const js
   const std::string color = FamilyColor(family);
   const bool numeric = !p.magnitude_key.empty() && !p.by_magnitude.empty();
   const std::string key = numeric ? p.magnitude_key : p.name_key;
-  svg::Plot plot("pod-" + IdPart(family), family, kHalfWidth, 340);
+  vega::Plot plot("pod-" + IdPart(family), family, kHalfWidth, 340);
   plot.y().label = "detection probability (fraction of runs)";
   plot.y().min = 0;
   plot.y().max = 1;
@@ -58,6 +56,7 @@ std::string PodFamilyPlot(const std::string& family, const PodAsRun& p, const js
                            : (key.empty() ? std::string("fault (no magnitude)") : key + " (named fault variant)");
   std::vector<double> xs, ys, lo, hi, hx, hy, mx, my;
   std::vector<std::string> tips, htips, mtips, categories;
+  std::vector<vega::RunRef> hruns, mruns;
   long runs = 0, detected = 0;
   bool capped = false;
   auto add_cell = [&](double x, const std::string& mtext, const PodAsRun::Cell& c) {
@@ -75,12 +74,16 @@ std::string PodFamilyPlot(const std::string& family, const PodAsRun& p, const js
     for (size_t i = 0; i < c.hit_ids.size(); ++i) {
       hx.push_back(x);
       hy.push_back(1 - 0.014 * static_cast<double>(i % 5));
-      htips.push_back(c.hit_ids[i] + ": detected");
+      htips.push_back("detected");
+      hruns.push_back({c.hit_ids[i], family, i < c.hit_joints.size() ? c.hit_joints[i] : 0,
+                       numeric ? std::optional<double>(x) : std::nullopt, numeric ? key : ""});
     }
     for (size_t i = 0; i < c.miss_ids.size(); ++i) {
       mx.push_back(x);
       my.push_back(0.014 * static_cast<double>(i % 5));
-      mtips.push_back(c.miss_ids[i] + ": missed");
+      mtips.push_back("missed");
+      mruns.push_back({c.miss_ids[i], family, i < c.miss_joints.size() ? c.miss_joints[i] : 0,
+                       numeric ? std::optional<double>(x) : std::nullopt, numeric ? key : ""});
     }
     capped = capped || c.hit_ids.size() < static_cast<size_t>(c.detected) ||
              c.miss_ids.size() < static_cast<size_t>(c.runs - c.detected);
@@ -112,14 +115,14 @@ std::string PodFamilyPlot(const std::string& family, const PodAsRun& p, const js
       ch.push_back(c["high"].get<double>());
     }
     plot.Band("95 % confidence band (as run)", cx, cl, ch, color, 0.18);
-    plot.Line("fitted as run", cx, cp, svg::Stroke{color, 2, "", 1});
-    plot.HLine(0.9, "90 %", svg::Stroke{"#666", 1, "4 3", 1});
+    plot.Line("fitted as run", cx, cp, vega::Stroke{color, 2, "", 1});
+    plot.HLine(0.9, "90 %", vega::Stroke{"#666", 1, "4 3", 1});
     if (const json* a = Field(*usable, "a90"); a != nullptr && Num(*a, "magnitude")) {
-      plot.VLine(*Num(*a, "magnitude"), "a90 = " + Sig4(*Num(*a, "magnitude")), svg::Stroke{"#333", 1.4, "", 1});
+      plot.VLine(*Num(*a, "magnitude"), "a90 = " + Sig4(*Num(*a, "magnitude")), vega::Stroke{"#333", 1.4, "", 1});
     }
     if (const json* a = Field(*usable, "a90_95"); a != nullptr && Num(*a, "magnitude")) {
       plot.VLine(*Num(*a, "magnitude"), "a90/95 = " + Sig4(*Num(*a, "magnitude")),
-                 svg::Stroke{"#b00020", 1.4, "5 3", 1});
+                 vega::Stroke{"#b00020", 1.4, "5 3", 1});
     }
     if (Field(*usable, "a90_95") == nullptr) caption += "a90/95 not reached in the tested range.";
   } else if (!numeric) {
@@ -139,12 +142,12 @@ std::string PodFamilyPlot(const std::string& family, const PodAsRun& p, const js
         if (Num(c, "magnitude") && Num(c, "pod")) cx.push_back(*Num(c, "magnitude")), cp.push_back(*Num(c, "pod"));
       }
     }
-    if (!cx.empty()) plot.Line("fitted at the tuned operating point", cx, cp, svg::Stroke{"#000", 1.4, "6 4", 0.8});
+    if (!cx.empty()) plot.Line("fitted at the tuned operating point", cx, cp, vega::Stroke{"#000", 1.4, "6 4", 0.8});
   }
   plot.set_caption(caption);
-  if (!hx.empty()) plot.Points("runs detected (at 1)", hx, hy, {}, {}, color, svg::Marker::kCircle, htips, 2.2);
-  if (!mx.empty()) plot.Points("runs missed (at 0)", mx, my, {}, {}, "#c62828", svg::Marker::kSquare, mtips, 2.4);
-  plot.Points("detected fraction as run (95 % Wilson)", xs, ys, lo, hi, color, svg::Marker::kCircle, tips, 4.5);
+  if (!hx.empty()) plot.Points("runs detected (at 1)", hx, hy, {}, {}, color, vega::Marker::kCircle, htips, 2.2, hruns);
+  if (!mx.empty()) plot.Points("runs missed (at 0)", mx, my, {}, {}, "#c62828", vega::Marker::kSquare, mtips, 2.4, mruns);
+  plot.Points("detected fraction as run (95 % Wilson)", xs, ys, lo, hi, color, vega::Marker::kCircle, tips, 4.5);
   return plot.Render();
 }
 
@@ -233,21 +236,25 @@ std::string BoundarySection(const ReportData& d) {
     const std::string family = Str(c, "family"), key = Str(c, "magnitude_key");
     const std::string title = Str(c, "trajectory") + ": " + family + ", joint " + std::to_string(Count(c, "joint"));
     const std::string color = FamilyColor(family);
-    svg::Plot plot("boundary-" + std::to_string(k), title, kHalfWidth, 340);
+    vega::Plot plot("boundary-" + std::to_string(k), title, kHalfWidth, 340);
     plot.y().label = "detection probability";
     plot.y().min = 0;
     plot.y().max = 1;
     plot.x().label = WithUnit(key) + ", fault magnitude";
     plot.x().reversed = FaultSeverity(key, 2.0) < FaultSeverity(key, 1.0);
     std::vector<double> hx, hy, mx, my;
+    std::vector<std::string> htips, mtips;
     std::map<double, int> stack;
     if (const json* points = Field(c, "points"); points != nullptr && points->is_array()) {
       for (const json& p : *points) {
         if (!p.is_array() || p.size() != 2 || !p[0].is_number() || !p[1].is_boolean()) continue;
         const double m = p[0].get<double>();
         const int n = stack[m]++;
-        if (p[1].get<bool>()) hx.push_back(m), hy.push_back(1 - 0.014 * (n % 5));
-        else mx.push_back(m), my.push_back(0.014 * (n % 5));
+        if (p[1].get<bool>()) {
+          hx.push_back(m), hy.push_back(1 - 0.014 * (n % 5)), htips.push_back(key + " = " + Sig4(m) + ": detected");
+        } else {
+          mx.push_back(m), my.push_back(0.014 * (n % 5)), mtips.push_back(key + " = " + Sig4(m) + ": missed");
+        }
       }
     }
     const json* fit = Field(c, "fit");
@@ -262,19 +269,19 @@ std::string BoundarySection(const ReportData& d) {
         ch.push_back(p["high"].get<double>());
       }
       plot.Band("one-sided bounds", cx, cl, ch, color, 0.18);
-      plot.Line("fit", cx, cp, svg::Stroke{color, 2, "", 1});
+      plot.Line("fit", cx, cp, vega::Stroke{color, 2, "", 1});
     } else {
       caption += " No fitted curve" + (fit != nullptr && Field(*fit, "reason") ? ": " + Str(*fit, "reason") : std::string()) + ".";
     }
-    plot.HLine(target, Pct(target, 0), svg::Stroke{"#666", 1, "4 3", 1});
-    if (const auto a = Num(c, "a90")) plot.VLine(*a, "a90 = " + Sig4(*a), svg::Stroke{"#333", 1.4, "", 1});
+    plot.HLine(target, Pct(target, 0), vega::Stroke{"#666", 1, "4 3", 1});
+    if (const auto a = Num(c, "a90")) plot.VLine(*a, "a90 = " + Sig4(*a), vega::Stroke{"#333", 1.4, "", 1});
     if (const auto a = Num(c, "a90_95")) {
-      plot.VLine(*a, "boundary a90/95 = " + Sig4(*a), svg::Stroke{"#b00020", 2, "5 3", 1});
+      plot.VLine(*a, "boundary a90/95 = " + Sig4(*a), vega::Stroke{"#b00020", 2, "5 3", 1});
     } else {
       caption += " No boundary within the magnitudes run.";
     }
-    if (!hx.empty()) plot.Points("runs detected (at 1)", hx, hy, {}, {}, color, svg::Marker::kCircle, {}, 2.2);
-    if (!mx.empty()) plot.Points("runs missed (at 0)", mx, my, {}, {}, "#c62828", svg::Marker::kSquare, {}, 2.4);
+    if (!hx.empty()) plot.Points("runs detected (at 1)", hx, hy, {}, {}, color, vega::Marker::kCircle, htips, 2.2);
+    if (!mx.empty()) plot.Points("runs missed (at 0)", mx, my, {}, {}, "#c62828", vega::Marker::kSquare, mtips, 2.4);
     plot.set_caption(caption);
     o += plot.Render();
     const json* interval = Field(c, "interval");

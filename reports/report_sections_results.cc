@@ -6,12 +6,10 @@
 #include <cmath>
 
 #include "reports/report_common.h"
-#include "reports/svg_plot.h"
+#include "reports/vega_plot.h"
 
 namespace armfault::report {
 
-using svg::Escape;
-using svg::Fixed;
 
 namespace {
 
@@ -105,7 +103,7 @@ std::string ConfusionSection(const ReportData& d) {
     return o + "<p class=\"missing\">No confusion matrix: summary.json has none (an older or edited file); run the "
                "campaign again to rebuild it.</p></section>";
   }
-  svg::HeatMap h;
+  vega::HeatMap h;
   h.id = "confusion";
   h.title = "True class against the class the monitor isolated";
   h.caption = "Counts of runs; shade: share of the row. healthy = no alarm, unknown = alarm without a family.";
@@ -178,7 +176,7 @@ std::string LatencyDistributionSection(const ReportData& d) {
     }
   }
   const int height = 110 + 46 * static_cast<int>(families.size());
-  svg::Plot plot("latency-distribution", "Time from onset to first alarm, detected faulty runs", kFullWidth, height);
+  vega::Plot plot("latency-distribution", "Time from onset to first alarm, detected faulty runs", kFullWidth, height);
   constexpr size_t kMaxDots = 400;
   plot.set_caption("Box: quartiles; thick line: median; whiskers: range; dots: runs (at most " +
                    std::to_string(kMaxDots) + " per family, evenly spread). Log scale.");
@@ -197,19 +195,25 @@ std::string LatencyDistributionSection(const ReportData& d) {
   for (size_t k = 0; k < families.size(); ++k) {
     auto it = d.latencies_s.find(families[k]);
     if (it == d.latencies_s.end() || it->second.empty()) continue;
-    std::vector<double> v = it->second;
-    std::sort(v.begin(), v.end());
+    // Sorted with their runs, which the dots name.
+    const auto runs_it = d.latency_runs.find(families[k]);
+    std::vector<size_t> order(it->second.size());
+    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return it->second[a] < it->second[b]; });
+    std::vector<double> v;
+    for (size_t i : order) v.push_back(it->second[i]);
     const std::string color = FamilyColor(families[k]);
     const double y = static_cast<double>(k);
     const double q1 = Quantile(v, 0.25), q2 = Quantile(v, 0.5), q3 = Quantile(v, 0.75);
     const double floor_x = plot.x().min.value_or(1e-3);
     auto at = [&](double x) { return std::max(x, floor_x); };
-    plot.Line("", {at(v.front()), at(v.back())}, {y, y}, svg::Stroke{color, 1.2, "", 0.8});
+    plot.Line("", {at(v.front()), at(v.back())}, {y, y}, vega::Stroke{color, 1.2, "", 0.8});
     plot.Rect(at(q1), at(q3), y - 0.28, y + 0.28, color, 0.22, color,
               families[k] + ": quartiles " + Fixed(q1, 3) + " to " + Fixed(q3, 3) + " s, median " + Fixed(q2, 3) + " s");
-    plot.Line("", {at(q2), at(q2)}, {y - 0.3, y + 0.3}, svg::Stroke{color, 3, "", 1});
+    plot.Line("", {at(q2), at(q2)}, {y - 0.3, y + 0.3}, vega::Stroke{color, 3, "", 1});
     std::vector<double> xs, ys;
     std::vector<std::string> tips;
+    std::vector<vega::RunRef> runs;
     // At most kMaxDots dots per family (every k-th of the sorted latencies) keep a big campaign's page small.
     const size_t stride = (v.size() + kMaxDots - 1) / kMaxDots;
     for (size_t i = 0; i < v.size(); i += stride) {
@@ -217,9 +221,13 @@ std::string LatencyDistributionSection(const ReportData& d) {
       const double jitter = (std::fmod(static_cast<double>(i / stride) * 0.6180339887, 1.0) - 0.5) * 0.4;
       xs.push_back(at(v[i]));
       ys.push_back(y + jitter);
-      tips.push_back(families[k] + ": " + Fixed(v[i], 3) + " s");
+      tips.push_back(Fixed(v[i], 3) + " s after onset");
+      if (runs_it != d.latency_runs.end() && order[i] < runs_it->second.size()) {
+        runs.push_back({runs_it->second[order[i]].first, families[k], runs_it->second[order[i]].second, std::nullopt, ""});
+      }
     }
-    plot.Points("", xs, ys, {}, {}, color, svg::Marker::kCircle, tips, 2.6);
+    if (runs.size() != xs.size()) runs.clear();
+    plot.Points("", xs, ys, {}, {}, color, vega::Marker::kCircle, tips, 2.6, runs);
   }
   return o + "<div class=\"plots\">" + plot.Render() + "</div></section>";
 }

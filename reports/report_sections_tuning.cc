@@ -8,12 +8,10 @@
 
 #include "core/base/json_input.h"
 #include "reports/report_common.h"
-#include "reports/svg_plot.h"
+#include "reports/vega_plot.h"
 
 namespace armfault::report {
 
-using svg::Escape;
-using svg::Fixed;
 
 namespace {
 
@@ -175,7 +173,7 @@ RocView ReadRocCurve(const std::string& name, const json& curve) {
 // A marked point of the ROC plots, from tuning.json.
 struct RocMark {
   std::string label, color;
-  svg::Marker marker;
+  vega::Marker marker;
   double size;
   const json* point;
 };
@@ -184,14 +182,14 @@ using PlacedRocMark = std::pair<RocMark, std::pair<double, double>>;  // at (fal
 // The marked points: the thresholds as run, the operating point over every run and, when
 // it was chosen on one half, on each half; those with both rates.
 std::vector<PlacedRocMark> PlacedRocMarks(const json& tuning) {
-  std::vector<RocMark> marks = {{"thresholds as run", "#888888", svg::Marker::kTriangle, 5, Field(tuning, "default_point")},
-                                {"operating point (all runs)", "#000000", svg::Marker::kDiamond, 6,
+  std::vector<RocMark> marks = {{"thresholds as run", "#888888", vega::Marker::kTriangle, 5, Field(tuning, "default_point")},
+                                {"operating point (all runs)", "#000000", vega::Marker::kDiamond, 6,
                                  Field(tuning, "operating_point")}};
   const json* selection = Field(tuning, "selection");
   if (selection != nullptr) {
-    marks.push_back({"operating point on the runs it was chosen on", "#1a7f37", svg::Marker::kDiamond, 4,
+    marks.push_back({"operating point on the runs it was chosen on", "#1a7f37", vega::Marker::kDiamond, 4,
                      Field(*selection, "chosen_on")});
-    marks.push_back({"operating point on the held-out runs", "#b00020", svg::Marker::kDiamond, 4,
+    marks.push_back({"operating point on the held-out runs", "#b00020", vega::Marker::kDiamond, 4,
                      Field(*selection, "held_out")});
   }
   std::vector<PlacedRocMark> placed;
@@ -207,7 +205,7 @@ std::vector<PlacedRocMark> PlacedRocMarks(const json& tuning) {
 // false-alarm axis from 0 to x_max.
 std::string RocPlot(const std::string& id, const std::string& title, double x_max, const std::string& caption,
                     const std::vector<RocView>& swept, const std::vector<PlacedRocMark>& placed) {
-  svg::Plot plot(id, title, kFullWidth, 430);
+  vega::Plot plot(id, title, kFullWidth, 430);
   plot.set_caption(caption);
   plot.x().label = "false-alarm rate (fraction of healthy runs alarmed; axis 0 to " + FormatNumber(x_max) + ")";
   plot.x().min = 0;
@@ -228,8 +226,8 @@ std::string RocPlot(const std::string& id, const std::string& title, double x_ma
                      [&](size_t a, size_t b) { return std::tie(v.fa[a], v.det[a]) < std::tie(v.fa[b], v.det[b]); });
     std::vector<double> xs, ys;
     for (size_t i : order) xs.push_back(v.fa[i]), ys.push_back(v.det[i]);
-    plot.Line("", xs, ys, svg::Stroke{color, v.overall ? 2.6 : 1.6, "", 0.9});
-    plot.Points(label, v.fa, v.det, {}, {}, color, v.overall ? svg::Marker::kCircle : svg::Marker::kSquare, v.tips,
+    plot.Line("", xs, ys, vega::Stroke{color, v.overall ? 2.6 : 1.6, "", 0.9});
+    plot.Points(label, v.fa, v.det, {}, {}, color, v.overall ? vega::Marker::kCircle : vega::Marker::kSquare, v.tips,
                 v.overall ? 3.2 : 2.8);
   }
   for (const auto& [m, p] : placed) {
@@ -366,20 +364,20 @@ std::string LatencyThresholdSection(const ReportData& d) {
                ".</li>";
       continue;
     }
-    svg::Plot plot("latency-threshold-" + IdPart(family), family, kHalfWidth, 320);
+    vega::Plot plot("latency-threshold-" + IdPart(family), family, kHalfWidth, 320);
     plot.x().label = (param.empty() ? std::string("threshold") : WithUnit(param)) + ", threshold";
     plot.y().label = "latency after onset (s)";
     plot.y().include_zero = true;
     const std::string color = FamilyColor(family);
-    plot.Line("95th percentile", xs, p95, svg::Stroke{color, 1.6, "5 3", 1}, svg::Marker::kTriangle);
-    plot.Line("median", xs, med, svg::Stroke{color, 2.2, "", 1});
-    plot.Points("", xs, med, {}, {}, color, svg::Marker::kCircle, tips, 3.5);
+    plot.Line("95th percentile", xs, p95, vega::Stroke{color, 1.6, "5 3", 1}, vega::Marker::kTriangle);
+    plot.Line("median", xs, med, vega::Stroke{color, 2.2, "", 1});
+    plot.Points("", xs, med, {}, {}, color, vega::Marker::kCircle, tips, 3.5);
     if (setting != nullptr && Num(*setting, param)) {
       plot.VLine(*Num(*setting, param), "operating " + FormatNumber(*Num(*setting, param)),
-                 svg::Stroke{"#000", 1.4, "", 1});
+                 vega::Stroke{"#000", 1.4, "", 1});
     }
     if (auto it = defaults.find(param); it != defaults.end()) {
-      plot.VLine(it->second, "as run " + FormatNumber(it->second), svg::Stroke{"#888", 1.4, "4 3", 1});
+      plot.VLine(it->second, "as run " + FormatNumber(it->second), vega::Stroke{"#888", 1.4, "4 3", 1});
     }
     o += plot.Render();
   }

@@ -28,8 +28,10 @@ done
 # Building and running armfault: the compiler and CMake, ODE (physics), Eigen, oneTBB,
 # nlohmann-json, CLI11, OpenSSL (SHA-256 of the provenance), zlib (`armfault export` writes gzip
 # CSV), urdfdom and TinyXML (URDF robots), Boost.Math (header-only here: the statistics'
-# distributions). The Dockerfile's build stage installs exactly these (tests/deploy/deploy_test.sh).
-build_packages=(build-essential cmake pkg-config libode-dev libeigen3-dev libtbb-dev nlohmann-json3-dev
+# distributions), nodejs and npm (`npm ci` fetches the report's plotting libraries, pinned with
+# their integrity hashes in reports/web/package-lock.json; the build inlines them into report.html).
+# The Dockerfile's build stage installs exactly these (tests/deploy/deploy_test.sh).
+build_packages=(build-essential cmake pkg-config nodejs npm libode-dev libeigen3-dev libtbb-dev nlohmann-json3-dev
                 libcli11-dev libssl-dev zlib1g-dev liburdfdom-dev libtinyxml-dev libboost-math-dev)
 # The Python package (python/): pybind11 and python3-dev to build it, NumPy and pandas for its
 # arrays and DataFrames.
@@ -60,6 +62,14 @@ if [ "${#missing[@]}" -gt 0 ]; then
   [ "$(id -u)" -eq 0 ] || SUDO="sudo"
   $SUDO apt-get update -qq
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+
+# The report's plotting libraries, as locked (the npm registry, or npm's cache when it holds them:
+# --prefer-offline; the lock file pins each version with its hash, so a cached copy is the same;
+# skipped when node_modules is as new as the lock file). --ignore-scripts: no package runs code here.
+if [ ! -f reports/web/node_modules/.package-lock.json ] ||
+   [ reports/web/package-lock.json -nt reports/web/node_modules/.package-lock.json ]; then
+  (cd reports/web && npm ci --ignore-scripts --prefer-offline --no-audit --no-fund)
 fi
 
 options=(-DCMAKE_BUILD_TYPE=Release)

@@ -34,28 +34,46 @@ using testing_support::Lines;
 using testing_support::ReadAll;
 using testing_support::ScratchDir;
 
-// The <svg> element with this id, or "" if there is none.
-std::string SvgById(const std::string& html, const std::string& id) {
-  const size_t at = html.find("<svg id=\"" + id + "\"");
+// The Vega-Lite spec (JSON text) of the plot with this id, or "" if there is none.
+std::string SpecById(const std::string& html, const std::string& id) {
+  const std::string open = "<script type=\"application/json\" class=\"vega-spec\" data-plot=\"" + id + "\">";
+  const size_t at = html.find(open);
   if (at == std::string::npos) return "";
-  const size_t end = html.find("</svg>", at);
-  return end == std::string::npos ? "" : html.substr(at, end + 6 - at);
+  const size_t end = html.find("</script>", at);
+  EXPECT_NE(html.find("<div class=\"plot\" id=\"" + id + "\""), std::string::npos) << id;
+  return end == std::string::npos ? "" : html.substr(at + open.size(), end - at - open.size());
 }
 
-// Data paths with non-empty path data: tags <path class="data ..." ... d="M..."> counted by a
-// loop, not std::regex, whose libstdc++ matcher recurses once per character and overflows the
-// stack on a long path's data (under AddressSanitizer, tools/sanitizers.sh asan).
-int DataPaths(const std::string& svg) {
-  const std::string open = "<path class=\"data ", data = " d=\"M";
+// The layers of a plot's spec (one for a heat map: the spec itself, whose data is shared).
+std::vector<json> Layers(const std::string& spec) {
+  const json j = json::parse(spec);
+  std::vector<json> out;
+  if (j.contains("data")) {
+    json layer = j;
+    layer["mark"] = "heatmap";
+    out.push_back(layer);
+    return out;
+  }
+  for (const json& l : j.at("layer")) out.push_back(l);
+  return out;
+}
+
+std::string MarkType(const json& layer) {
+  const json& m = layer.at("mark");
+  return m.is_string() ? m.get<std::string>() : m.at("type").get<std::string>();
+}
+
+// Data marks drawn from data: rows of lines, points, areas, rectangles, heat-map cells and
+// rules spanning data (segments, error bars), not the marker lines and labels.
+int DataPaths(const std::string& spec) {
   int n = 0;
-  for (size_t at = svg.find(open); at != std::string::npos; at = svg.find(open, at + 1)) {
-    const size_t tag_end = svg.find('>', at);
-    const size_t class_end = svg.find('"', at + open.size());
-    if (tag_end == std::string::npos || class_end > tag_end) continue;
-    const size_t d = svg.find(data, class_end);
-    if (d > tag_end) continue;
-    const size_t d_end = svg.find('"', d + data.size());
-    if (d_end > d + data.size() && d_end < tag_end) ++n;
+  for (const json& l : Layers(spec)) {
+    const std::string type = MarkType(l);
+    for (const json& row : l.at("data").at("values")) {
+      const bool drawn = type == "line" || type == "point" || type == "area" || type == "rect" || type == "heatmap" ||
+                         (type == "rule" && (row.contains("x2") || row.contains("y2")));
+      if (drawn && row.contains(type == "heatmap" ? "count" : "x")) ++n;
+    }
   }
   return n;
 }
@@ -134,9 +152,9 @@ TEST_F(CampaignReportTest, EveryPlotIsThereWithData) {
   for (const char* id : {"roc", "pod-kt_degradation", "pod-torque_sensor_stuck", "latency-threshold-kt_degradation",
                          "latency-threshold-friction_increase", "confusion", "latency-distribution",
                          "thesis-table-5-3", "run-j3-efficiency", "run-j3-current", "run-j3-torque"}) {
-    const std::string svg = SvgById(*html_, id);
-    ASSERT_FALSE(svg.empty()) << id;
-    EXPECT_GT(DataPaths(svg), 0) << id;
+    const std::string spec = SpecById(*html_, id);
+    ASSERT_FALSE(spec.empty()) << id;
+    EXPECT_GT(DataPaths(spec), 0) << id;
   }
   // Every axis label carries its unit.
   for (const char* label : {"time (s)", "current (A)", "torque (N m)", "efficiency η (%)", "efficiency (fraction)",
@@ -147,21 +165,25 @@ TEST_F(CampaignReportTest, EveryPlotIsThereWithData) {
     EXPECT_THAT(*html_, HasSubstr(label));
   }
   // The run plot marks the onset and the alarm.
-  EXPECT_THAT(SvgById(*html_, "run-j3-current"), HasSubstr("fault onset"));
+  EXPECT_THAT(SpecById(*html_, "run-j3-current"), HasSubstr("fault onset"));
 }
 
-// The <title> tooltips of the data points of an SVG.
-std::vector<std::string> PointTips(const std::string& svg) {
-  static const std::regex point("<path class=\"data point\"[^>]*><title>([^<]*)</title>");
+// The tooltips of the points of a plot: "RUN_ID: tip" for a point of a run, else its tip.
+std::vector<std::string> PointTips(const std::string& spec) {
   std::vector<std::string> out;
-  for (auto it = std::sregex_iterator(svg.begin(), svg.end(), point); it != std::sregex_iterator(); ++it) {
-    out.push_back((*it)[1].str());
+  for (const json& l : Layers(spec)) {
+    if (MarkType(l) != "point") continue;
+    for (const json& row : l.at("data").at("values")) {
+      if (!row.contains("tip")) continue;
+      out.push_back(row.contains("run") ? row["run"].get<std::string>() + ": " + row["tip"].get<std::string>()
+                                        : row["tip"].get<std::string>());
+    }
   }
   return out;
 }
 
 TEST_F(CampaignReportTest, RocDrawsOnlySweptCurvesWithMeasuredPointsAndTheOperatingPoint) {
-  const std::string roc = SvgById(*html_, "roc");
+  const std::string roc = SpecById(*html_, "roc");
   // The three swept curves (5 points each) and four marked points, nothing else: no point was
   // added at (0, 0) or (1, 1).
   const std::vector<std::string> tips = PointTips(roc);
@@ -170,12 +192,12 @@ TEST_F(CampaignReportTest, RocDrawsOnlySweptCurvesWithMeasuredPointsAndTheOperat
     EXPECT_THAT(tip, Not(HasSubstr("false alarms 0.0 %, detection 0.0 %")));
     EXPECT_THAT(tip, Not(HasSubstr("false alarms 100.0 %")));
   }
-  // Each curve's line joins its five measured points: four segments, no extrapolated ends.
-  static const std::regex line("<path class=\"data line\" d=\"([^\"]*)\"");
+  // Each curve's line joins its five measured points, no extrapolated ends.
   int lines = 0;
-  for (auto it = std::sregex_iterator(roc.begin(), roc.end(), line); it != std::sregex_iterator(); ++it, ++lines) {
-    const std::string d = (*it)[1].str();
-    EXPECT_EQ(std::count(d.begin(), d.end(), 'L'), 4) << d;
+  for (const json& l : Layers(roc)) {
+    if (MarkType(l) != "line") continue;
+    ++lines;
+    EXPECT_EQ(l["data"]["values"].size(), 5u) << l.dump();
   }
   EXPECT_EQ(lines, 3);
   // AUCs only as measured; none for the families without a swept threshold, which are not drawn.
@@ -201,7 +223,7 @@ TEST_F(CampaignReportTest, RocWithoutASweptCurveSaysWhyInsteadOfDrawing) {
   roc["kt_degradation"]["points"] = json::array({roc["kt_degradation"]["points"][2]});
   roc.erase("friction_increase");
   const std::string html = RenderReportHtml(d);
-  EXPECT_EQ(SvgById(html, "roc"), "");
+  EXPECT_EQ(SpecById(html, "roc"), "");
   EXPECT_THAT(html, HasSubstr("No ROC curve to draw"));
   EXPECT_THAT(html, HasSubstr("Not drawn: <b>overall frontier</b>: one operating point only (false alarms 0.0 %, "
                               "detection 61.0 %): every setting of the grid gave these rates; no AUC."));
@@ -210,7 +232,7 @@ TEST_F(CampaignReportTest, RocWithoutASweptCurveSaysWhyInsteadOfDrawing) {
   d = *data_;
   (*d.tuning)["roc"]["kt_degradation"]["auc"] = 1.0;
   (*d.tuning)["roc"]["kt_degradation"]["auc_false_alarm_range"] = {0, 0};
-  EXPECT_THAT(SvgById(RenderReportHtml(d), "roc"),
+  EXPECT_THAT(SpecById(RenderReportHtml(d), "roc"),
               HasSubstr("kt_degradation (kt_factor.worn swept), no AUC: every point at one false-alarm rate"));
 }
 
@@ -218,16 +240,16 @@ TEST_F(CampaignReportTest, RocZoomsOnTheLowEndWhenTheCurvesReachFar) {
   ReportData d = *data_;
   (*d.tuning)["roc"]["overall"]["points"].push_back({{"false_alarm_rate", 0.9}, {"detection_rate", 1.0}});
   const std::string html = RenderReportHtml(d);
-  EXPECT_THAT(SvgById(html, "roc"), HasSubstr("false-alarm rate (fraction of healthy runs alarmed; axis 0 to 1)"));
-  const std::string low = SvgById(html, "roc-low-false-alarms");
+  EXPECT_THAT(SpecById(html, "roc"), HasSubstr("false-alarm rate (fraction of healthy runs alarmed; axis 0 to 1)"));
+  const std::string low = SpecById(html, "roc-low-false-alarms");
   EXPECT_THAT(low, HasSubstr("false-alarm rate (fraction of healthy runs alarmed; axis 0 to 0.2)"));
   EXPECT_THAT(low, HasSubstr("Zoomed to false alarms 0 to 0.2: 3 points lie beyond the axis"));
   // Without far points, one plot is enough.
-  EXPECT_EQ(SvgById(*html_, "roc-low-false-alarms"), "");
+  EXPECT_EQ(SpecById(*html_, "roc-low-false-alarms"), "");
 }
 
 TEST_F(CampaignReportTest, DetectionProbabilityShowsEveryRunAsRunAndTheFit) {
-  const std::string pod = SvgById(*html_, "pod-kt_degradation");
+  const std::string pod = SpecById(*html_, "pod-kt_degradation");
   const std::vector<std::string> tips = PointTips(pod);
   long runs = 0, missed = 0;
   for (const RunRecord& r : Records()) {
@@ -246,8 +268,11 @@ TEST_F(CampaignReportTest, DetectionProbabilityShowsEveryRunAsRunAndTheFit) {
                              std::to_string(missed) + " missed"));
   EXPECT_THAT(pod, HasSubstr("fitted as run"));
   // Named variants: their runs and fractions, no curve.
-  const std::string stuck = SvgById(*html_, "pod-torque_sensor_stuck");
-  EXPECT_THAT(stuck, HasSubstr("exp1/torque_sensor_stuck#1/lead=supply/j3/r0: "));
+  const std::string stuck = SpecById(*html_, "pod-torque_sensor_stuck");
+  const std::vector<std::string> stuck_tips = PointTips(stuck);
+  EXPECT_TRUE(std::any_of(stuck_tips.begin(), stuck_tips.end(), [](const std::string& t) {
+    return t.rfind("exp1/torque_sensor_stuck#1/lead=supply/j3/r0: ", 0) == 0;
+  }));
   EXPECT_THAT(stuck, HasSubstr("Named variants: no fitted curve."));
 }
 
@@ -268,12 +293,13 @@ TEST_F(CampaignReportTest, MissesAreVisibleAtZero) {
     }
   }
   d.pod = {{"friction_increase", p}};
-  const std::string pod = SvgById(RenderReportHtml(d), "pod-friction_increase");
+  const std::string pod = SpecById(RenderReportHtml(d), "pod-friction_increase");
   EXPECT_THAT(pod, HasSubstr("runs missed (at 0)"));
-  EXPECT_THAT(pod, HasSubstr("exp1/friction_increase#0/friction_factor=1.2/j3/r2: missed"));
+  const std::vector<std::string> tips = PointTips(pod);
+  EXPECT_NE(std::find(tips.begin(), tips.end(), "exp1/friction_increase#0/friction_factor=1.2/j3/r2: missed"), tips.end());
   EXPECT_THAT(pod, HasSubstr("friction_factor 1.2: 0 of 3 runs detected (0.0 %"));
   EXPECT_THAT(pod, HasSubstr("9 runs at 3 magnitudes: 4 detected, 5 missed"));
-  EXPECT_THAT(pod, HasSubstr("fill=\"#c62828\""));  // the misses' own colour
+  EXPECT_THAT(pod, HasSubstr("\"#c62828\""));  // the misses' own colour
 }
 
 TEST_F(CampaignReportTest, EveryEmptyPlotSaysWhy) {
@@ -281,12 +307,12 @@ TEST_F(CampaignReportTest, EveryEmptyPlotSaysWhy) {
   ReportData d = *data_;
   PodAsRun one;
   one.magnitude_key = "kt_factor";
-  one.by_magnitude[0.6] = PodAsRun::Cell{2, 1, {"a"}, {"b"}};
+  one.by_magnitude[0.6] = PodAsRun::Cell{2, 1, {"a"}, {"b"}, {3}, {3}};
   one.severities = {0.4, 0.4};
   one.hits = {true, false};
   d.pod = {{"kt_degradation", one}};
   std::string html = RenderReportHtml(d);
-  EXPECT_THAT(SvgById(html, "pod-kt_degradation"), HasSubstr("One magnitude only: no curve (a fit needs 2 or more)."));
+  EXPECT_THAT(SpecById(html, "pod-kt_degradation"), HasSubstr("One magnitude only: no curve (a fit needs 2 or more)."));
   EXPECT_THAT(html, HasSubstr("No family had more than one magnitude: no detection-probability curve could be fitted"));
 
   // No faulty runs at all.
@@ -308,7 +334,7 @@ TEST_F(CampaignReportTest, EveryEmptyPlotSaysWhy) {
   d = *data_;
   (*d.tuning)["latency"]["kt_degradation"]["points"] = json::array({(*d.tuning)["latency"]["kt_degradation"]["points"][0]});
   html = RenderReportHtml(d);
-  EXPECT_EQ(SvgById(html, "latency-threshold-kt_degradation"), "");
+  EXPECT_EQ(SpecById(html, "latency-threshold-kt_degradation"), "");
   EXPECT_THAT(html, HasSubstr("kt_degradation: one threshold value only (kt_factor.worn not swept): no curve."));
 }
 
@@ -337,11 +363,11 @@ TEST_F(CampaignReportTest, HeatMapHoldsTheSummaryConfusionCounts) {
   const json summary = ReadJsonFile((*dir_ / "summary.json").string());
   const json& labels = summary["confusion"]["labels"];
   const json& counts = summary["confusion"]["counts"];
-  const std::string svg = SvgById(*html_, "confusion");
+  const std::string spec = SpecById(*html_, "confusion");
   std::map<std::pair<std::string, std::string>, long> cells;
-  static const std::regex cell("data-row=\"([^\"]*)\" data-col=\"([^\"]*)\" data-count=\"([0-9]+)\"");
-  for (auto it = std::sregex_iterator(svg.begin(), svg.end(), cell); it != std::sregex_iterator(); ++it) {
-    cells[{(*it)[1].str(), (*it)[2].str()}] = std::stol((*it)[3].str());
+  const json parsed = json::parse(spec);
+  for (const json& row : parsed.at("data").at("values")) {
+    cells[{row.at("row").get<std::string>(), row.at("col").get<std::string>()}] = row.at("count").get<long>();
   }
   // Every true class but "unknown" (never a true class) is a row; every label a column.
   EXPECT_EQ(cells.size(), (labels.size() - 1) * labels.size());
@@ -359,22 +385,129 @@ TEST_F(CampaignReportTest, HeatMapHoldsTheSummaryConfusionCounts) {
   }
 }
 
+// The page without the text of its <script> elements (the inlined libraries and the specs),
+// and the opening tags of those elements.
+std::string WithoutScripts(const std::string& html, std::vector<std::string>* tags) {
+  std::string out;
+  size_t from = 0;
+  for (size_t at = html.find("<script"); at != std::string::npos; at = html.find("<script", from)) {
+    const size_t tag_end = html.find('>', at);
+    const size_t end = html.find("</script>", at);
+    if (tag_end == std::string::npos || end == std::string::npos) break;
+    tags->push_back(html.substr(at, tag_end + 1 - at));
+    out += html.substr(from, at - from);
+    from = end + 9;
+  }
+  return out + html.substr(from);
+}
+
 TEST_F(CampaignReportTest, FetchesNothing) {
-  EXPECT_THAT(*html_, Not(HasSubstr("http")));
-  EXPECT_THAT(*html_, Not(HasSubstr("src=")));
-  EXPECT_THAT(*html_, Not(HasSubstr("<script")));
-  EXPECT_THAT(*html_, Not(HasSubstr("@import")));
+  std::vector<std::string> tags;
+  const std::string page = WithoutScripts(*html_, &tags);
+  EXPECT_THAT(page, Not(HasSubstr("http")));
+  EXPECT_THAT(page, Not(HasSubstr("src=")));
+  EXPECT_THAT(page, Not(HasSubstr("@import")));
+  // Scripts: the three libraries and the page's own, inline, then one spec per plot; none
+  // names a source.
+  ASSERT_GE(tags.size(), 4u);
+  EXPECT_EQ(std::count(tags.begin(), tags.end(), "<script>"), 4);
+  for (const std::string& tag : tags) {
+    EXPECT_TRUE(tag == "<script>" || tag.rfind("<script type=\"application/json\" class=\"vega-spec\" data-plot=\"", 0) == 0)
+        << tag;
+  }
+  EXPECT_THAT(*html_, HasSubstr("vegaEmbed"));
+  EXPECT_THAT(*html_, Not(HasSubstr("sourceMappingURL")));
   static const std::regex href("href=\"([^\"]*)\"");
   int links = 0;
-  for (auto it = std::sregex_iterator(html_->begin(), html_->end(), href); it != std::sregex_iterator(); ++it) {
+  for (auto it = std::sregex_iterator(page.begin(), page.end(), href); it != std::sregex_iterator(); ++it) {
     EXPECT_EQ((*it)[1].str().substr(0, 1), "#") << (*it)[1].str();
     ++links;
   }
   EXPECT_GT(links, 0);
   static const std::regex url("url\\(([^)]*)\\)");
-  for (auto it = std::sregex_iterator(html_->begin(), html_->end(), url); it != std::sregex_iterator(); ++it) {
+  for (auto it = std::sregex_iterator(page.begin(), page.end(), url); it != std::sregex_iterator(); ++it) {
     EXPECT_EQ((*it)[1].str().substr(0, 1), "#") << (*it)[1].str();
   }
+}
+
+TEST_F(CampaignReportTest, RunMarksNameTheirRunAndTheCampaignOfItsTraceCommand) {
+  // The run view: every layer carries the run by calculation, and its tooltip names it.
+  const json eff = json::parse(SpecById(*html_, "run-j3-efficiency"));
+  const std::string run_id = data_->run.run_id;
+  for (const json& layer : eff.at("layer")) {
+    ASSERT_TRUE(layer.contains("transform")) << layer.dump();
+    const json& t = layer["transform"];
+    EXPECT_NE(std::find(t.begin(), t.end(), json({{"calculate", json(run_id).dump()}, {"as", "run"}})), t.end());
+    EXPECT_TRUE(layer["encoding"].contains("tooltip")) << layer.dump();
+  }
+  // Every plot zooms: one interval selection bound to its scales (the heat map excepted).
+  for (const char* id : {"roc", "pod-kt_degradation", "latency-distribution", "run-j3-current", "thesis-table-5-3"}) {
+    int zooms = 0;
+    const json plot = json::parse(SpecById(*html_, id));
+    for (const json& layer : plot.at("layer")) {
+      if (layer.contains("params")) zooms += layer["params"][0].value("bind", "") == "scales";
+    }
+    EXPECT_EQ(zooms, 1) << id;
+  }
+  // The latency dots name their runs, with family and joint.
+  int named = 0;
+  const json latency = json::parse(SpecById(*html_, "latency-distribution"));
+  for (const json& layer : latency.at("layer")) {
+    for (const json& row : layer["data"]["values"]) {
+      if (!row.contains("run")) continue;
+      ++named;
+      EXPECT_TRUE(row.contains("family") && row.contains("joint")) << row.dump();
+    }
+  }
+  EXPECT_GT(named, 0);
+  // The command's campaign file, for the click handler.
+  EXPECT_THAT(*html_, HasSubstr("<body data-campaign=\"" + (*dir_ / "campaign.json").string() + "\">"));
+  EXPECT_THAT(*html_, HasSubstr("'armfault trace ' + quote(campaign) + ' --run ' + quote(d.run)"));
+}
+
+TEST_F(CampaignReportTest, RunViewShowsEveryJointTheFaultedOneFirst) {
+  // The robot has three joints; the run's fault is on joint 3, which comes first.
+  EXPECT_EQ(data_->run.joints, (std::vector<int>{3, 1, 2}));
+  size_t last = 0;
+  for (int j : {3, 1, 2}) {
+    for (const char* panel : {"efficiency", "current", "torque"}) {
+      const std::string id = "run-j" + std::to_string(j) + "-" + panel;
+      EXPECT_FALSE(SpecById(*html_, id).empty()) << id;
+    }
+    const size_t at = html_->find("data-plot=\"run-j" + std::to_string(j) + "-efficiency\"");
+    EXPECT_GT(at, last) << j;
+    last = at;
+  }
+  EXPECT_THAT(*html_, HasSubstr("<h3>Joint 3 (faulted: kt_degradation)</h3>"));
+  // Joint 1 does not move: its efficiency plot says why it is empty.
+  EXPECT_THAT(SpecById(*html_, "run-j1-efficiency"), HasSubstr("Empty: the monitor judged no window of this joint"));
+}
+
+TEST_F(CampaignReportTest, SmallMultiplesShowEveryMissedOrMisnamedFaultyRun) {
+  std::vector<std::string> expected;
+  for (const RunRecord& r : Records()) {
+    if (r.ok && !r.family.empty() && !r.miss_reason.empty() && r.excited()) expected.push_back(r.run_id);
+  }
+  ASSERT_FALSE(expected.empty()) << "the slight K_T loss is expected to be missed";
+  ASSERT_EQ(data_->wrong_runs.size(), expected.size());
+  for (size_t k = 0; k < expected.size(); ++k) {
+    EXPECT_EQ(data_->wrong_runs[k].run_id, expected[k]);
+    const std::string spec = SpecById(*html_, "wrong-" + std::to_string(k));
+    ASSERT_FALSE(spec.empty()) << k;
+    const json plot = json::parse(spec);
+    EXPECT_EQ(plot["title"]["text"], expected[k]);
+    EXPECT_GT(DataPaths(spec), 0) << k;
+    // Each of its marks is the run's: a click copies its trace command.
+    for (const json& layer : plot["layer"]) {
+      const json& t = layer["transform"];
+      EXPECT_NE(std::find(t.begin(), t.end(), json({{"calculate", json(expected[k]).dump()}, {"as", "run"}})), t.end());
+    }
+  }
+  EXPECT_EQ(SpecById(*html_, "wrong-" + std::to_string(expected.size())), "");
+  // At most kSmallMultiples, however many were wrong; none without wrong faulty runs.
+  ReportData d = *data_;
+  d.wrong_runs.clear();
+  EXPECT_THAT(RenderReportHtml(d), HasSubstr("None: every faulty run was detected and named with its family and joint"));
 }
 
 TEST_F(CampaignReportTest, EscapesNamesFromTheFiles) {
@@ -382,7 +515,7 @@ TEST_F(CampaignReportTest, EscapesNamesFromTheFiles) {
   d.summary["campaign"]["name"] = "<script>alert('x')</script> & co";
   d.summary["per_family"]["kt_degradation\"><b>"] = d.summary["per_family"]["kt_degradation"];
   const std::string html = RenderReportHtml(d);
-  EXPECT_THAT(html, Not(HasSubstr("<script>")));
+  EXPECT_THAT(html, Not(HasSubstr("<script>alert")));
   EXPECT_THAT(html, HasSubstr("&lt;script&gt;alert(&#39;x&#39;)&lt;/script&gt; &amp; co"));
   EXPECT_THAT(html, HasSubstr("kt_degradation&quot;&gt;&lt;b&gt;"));
 }
@@ -433,7 +566,8 @@ TEST_F(CampaignReportTest, NavLinksEverySectionOnceAndTheBoundaryOnlyWithBoundar
   std::vector<std::string> links = Matches(nav_b, link);
   // The boundary section follows detection probability; its link comes last.
   EXPECT_EQ(sections, (std::vector<std::string>{"summary", "operating-point", "roc", "pod", "boundary",
-                                                "latency-threshold", "confusion", "why", "latency", "thesis", "run"}));
+                                                "latency-threshold", "confusion", "why", "wrong-runs", "latency", "thesis",
+                                                "run"}));
   ASSERT_FALSE(links.empty());
   EXPECT_EQ(links.back(), "boundary");
   std::sort(sections.begin(), sections.end());
@@ -458,7 +592,7 @@ TEST_F(CampaignReportTest, PlotsTheFirstMissedFaultyRunElseTheFirstDetected) {
     }
   }
   EXPECT_EQ(data_->run.run_id, expected);
-  EXPECT_EQ(data_->run.joints, std::vector<int>{3});
+  EXPECT_EQ(data_->run.joints, (std::vector<int>{3, 1, 2}));  // every joint, the faulted one first
 }
 
 TEST_F(CampaignReportTest, ReSimulationMatchesTheRunsRecord) {
@@ -467,7 +601,7 @@ TEST_F(CampaignReportTest, ReSimulationMatchesTheRunsRecord) {
   ASSERT_TRUE(s.stored.has_value());
   EXPECT_EQ(ToJson(s.record).dump(), ToJson(*s.stored).dump());
   EXPECT_FALSE(s.monitor.windows.empty());
-  ASSERT_EQ(s.i_cmd_A.size(), 1u);
+  ASSERT_EQ(s.i_cmd_A.size(), 3u);  // every joint
   EXPECT_EQ(s.i_cmd_A[0].size(), s.t_s.size());
   EXPECT_NEAR(s.t_s.back(), 5.0, 0.01);
 }
@@ -483,10 +617,10 @@ TEST_F(CampaignReportTest, RunOptionPicksAnyRunAndRejectsUnknownOnes) {
   ASSERT_TRUE(d.run.record.detected);
   ASSERT_TRUE(d.run.first_alarm_s.has_value());
   EXPECT_DOUBLE_EQ(*d.run.first_alarm_s, *d.run.record.detection_time_s);
-  EXPECT_THAT(SvgById(RenderReportHtml(d), "run-j3-torque"), HasSubstr("first alarm"));
+  EXPECT_THAT(SpecById(RenderReportHtml(d), "run-j3-torque"), HasSubstr("first alarm"));
 
   ro.run_id = "exp1/healthy/1";
-  EXPECT_EQ(GatherReportData(ro).run.joints, std::vector<int>{3});  // the moving joint
+  EXPECT_EQ(GatherReportData(ro).run.joints, (std::vector<int>{1, 2, 3}));  // no fault: every joint in order
 
   ro.run_id = "exp1/nope";
   try {
@@ -502,19 +636,19 @@ TEST_F(CampaignReportTest, WithoutTuningTheTunedSectionsSayWhatToRun) {
   d.tuning.reset();
   d.tuning_source = (*dir_ / "tuning.json").string() + " is absent: run `armfault tune " + dir_->string() + "`";
   const std::string html = RenderReportHtml(d);
-  EXPECT_EQ(SvgById(html, "roc"), "");
-  EXPECT_EQ(SvgById(html, "latency-threshold-kt_degradation"), "");
+  EXPECT_EQ(SpecById(html, "roc"), "");
+  EXPECT_EQ(SpecById(html, "latency-threshold-kt_degradation"), "");
   const std::string hint = "No tuning results: " + (*dir_ / "tuning.json").string() +
                            " is absent: run <code>armfault tune " + dir_->string() + "</code>.";
   size_t n = 0;
   for (size_t p = html.find(hint); p != std::string::npos; p = html.find(hint, p + 1)) ++n;
   EXPECT_EQ(n, 3u);  // operating point, ROC, latency against threshold
   // Detection probability as run needs no tuning; it says the tuned curve is missing and why.
-  EXPECT_GT(DataPaths(SvgById(html, "pod-kt_degradation")), 0);
+  EXPECT_GT(DataPaths(SpecById(html, "pod-kt_degradation")), 0);
   EXPECT_THAT(html, HasSubstr("No tuned curve: " + (*dir_ / "tuning.json").string() + " is absent"));
   // The rest is still there.
-  EXPECT_FALSE(SvgById(html, "confusion").empty());
-  EXPECT_FALSE(SvgById(html, "run-j3-efficiency").empty());
+  EXPECT_FALSE(SpecById(html, "confusion").empty());
+  EXPECT_FALSE(SpecById(html, "run-j3-efficiency").empty());
   EXPECT_THAT(RenderReportMarkdown(d), HasSubstr("No tuning results: " + (*dir_ / "tuning.json").string() +
                                                  " is absent: run `armfault tune " + dir_->string() + "`."));
 
