@@ -99,6 +99,7 @@ int TraceCampaignCase(const TraceOptions& o) {
   MonitorOutput output;
   const RunRecord record = RunCase(campaign, spec, [&](const Tick& tick) { writer.Write(tick); }, nullptr, &output);
   file.Commit();
+  WriteTraceChannels(o.output, static_cast<int>(campaign.robot.modules.size()));  // what each column is, beside it
 
   if (!o.monitor_output.empty()) {
     nlohmann::json out = ToJson(output);

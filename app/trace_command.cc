@@ -144,6 +144,7 @@ int RunTrace(const TraceOptions& o) {
   const RunResult& result = run_out.result;
   const HealthMonitor& monitor = *run_out.monitor;
   file.Commit();
+  WriteTraceChannels(o.output, n);  // what each column is, beside it
 
   if (!o.quiet) {
     std::printf("run: robot %s, %.3g s, seed %llu -> %s\n", run.robot.name.c_str(), run.duration_s,
