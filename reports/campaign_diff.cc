@@ -118,7 +118,12 @@ std::string OptionsLine(const DiffOptions& o) {
 std::string SideLine(const char* which, const DiffSide& s) {
   std::string line = std::string(which) + " = " + s.label + " (campaign " +
                      (s.campaign_name.empty() ? std::string("unknown") : "\"" + s.campaign_name + "\"") + ", " +
-                     std::to_string(s.runs) + " runs, " + std::to_string(s.failed) + " failed)";
+                     std::to_string(s.runs) + " runs, " + std::to_string(s.failed) + " failed" +
+                     (s.not_excited > 0 ? ", " + std::to_string(s.not_excited) + " not excited" +
+                                              (s.not_excited_included ? " (scored)" : ", left out")
+                                        : std::string()) +
+                     (s.not_injected > 0 ? ", " + std::to_string(s.not_injected) + " not injected, left out" : std::string()) +
+                     ")";
   return line;
 }
 
@@ -377,15 +382,21 @@ CampaignResults ReadCampaignResults(const std::string& dir_name) {
   if (!fs::exists(results, ec)) {
     throw InputError(results.string(), "", "no such file (is " + dir_name + " an armfault run output directory?)");
   }
-  JsonLinesOptions lines;
-  lines.open_error = "cannot open the file for reading";
-  ReadRunRecords(results, lines, [&](RunRecord&& record, long) { r.records.Add(record); });
   const fs::path campaign = dir / run_dir::kCampaign;
   if (fs::exists(campaign, ec)) {
     r.campaign = ReadCampaignFileJson(dir).at("campaign");
   } else {
     r.warnings.push_back(campaign.string() + " is missing: the campaign is unknown");
   }
+  // The runs summary.json leaves out (not excited, unless the campaign scores them) are left
+  // out here too: one denominator in every command.
+  const nlohmann::json* include = r.campaign.is_object() && r.campaign.contains("include_not_excited")
+                                      ? &r.campaign["include_not_excited"]
+                                      : nullptr;
+  r.records = SummaryBuilder(include != nullptr && include->is_boolean() && include->get<bool>());
+  JsonLinesOptions lines;
+  lines.open_error = "cannot open the file for reading";
+  ReadRunRecords(results, lines, [&](RunRecord&& record, long) { r.records.Add(record); });
   // Cross-check: summary.json's overall counts against the records (a stale summary warns).
   const fs::path summary = dir / run_dir::kSummary;
   if (fs::exists(summary, ec)) {
@@ -429,6 +440,9 @@ DiffResult DiffCampaigns(const CampaignResults& a, const CampaignResults& b, con
     }
     s.runs = r.records.runs();
     s.failed = r.records.failed_runs();
+    s.not_excited = r.records.not_excited_runs();
+    s.not_excited_included = r.records.includes_not_excited();
+    s.not_injected = r.records.not_injected_runs();
     return s;
   };
   d.a = side(a);
@@ -522,7 +536,10 @@ nlohmann::json DiffToJson(const DiffResult& d) {
     return nlohmann::json{{"dir", s.label},
                           {"campaign", s.campaign_name.empty() ? nlohmann::json(nullptr) : nlohmann::json(s.campaign_name)},
                           {"runs", s.runs},
-                          {"failed", s.failed}};
+                          {"failed", s.failed},
+                          {"not_excited", s.not_excited},
+                          {"not_excited_included", s.not_excited_included},
+                          {"not_injected", s.not_injected}};
   };
   j["a"] = side(d.a);
   j["b"] = side(d.b);

@@ -137,6 +137,10 @@ struct DiffSide {
   std::string label;
   std::string campaign_name;  // "" if unknown
   long runs = 0, failed = 0;
+  // Left out of every rate, as summary.json leaves them out (not excited: unless the campaign
+  // sets include_not_excited, then scored and counted here all the same).
+  long not_excited = 0, not_injected = 0;
+  bool not_excited_included = false;
 };
 
 struct DiffResult {
@@ -158,7 +162,8 @@ struct DiffResult {
 DiffResult DiffCampaigns(const CampaignResults& a, const CampaignResults& b, const DiffOptions& options);
 
 // diff.json: {"armfault_version", "options": {"alpha", "tolerance", "latency_tolerance_s"},
-//  "a"/"b": {"dir", "campaign", "runs", "failed"}, "same_campaign", "campaign_differences",
+//  "a"/"b": {"dir", "campaign", "runs", "failed", "not_excited", "not_excited_included",
+//            "not_injected"}, "same_campaign", "campaign_differences",
 //  "common_groups", "only_in_a"/"only_in_b": {"groups", "families"},
 //  "comparisons": [{"scope", "name", "family", "metric", "better": "higher"|"lower",
 //                   "a"/"b": {"successes", "trials", "rate"} | {"count", "median_s"},

@@ -82,6 +82,20 @@ long Count(const json& j, const std::string& key) {
   return f != nullptr && f->is_number() ? f->get<long>() : 0;
 }
 
+std::string TuningLeftOutText(const json& tuning) {
+  const json* runs = Field(tuning, "runs");
+  if (runs == nullptr) return "";
+  const json* included = Field(*runs, "not_excited_included");
+  const long not_excited = included != nullptr && included->is_boolean() && included->get<bool>() ? 0 : Count(*runs, "not_excited");
+  const long not_injected = Count(*runs, "not_injected");
+  std::string text;
+  if (not_excited > 0) text += " " + std::to_string(not_excited) + " runs not excited (their fault could not act)";
+  if (not_injected > 0) {
+    text += std::string(text.empty() ? " " : " and ") + std::to_string(not_injected) + " runs not injected";
+  }
+  return text.empty() ? "" : text + " are left out of every rate, as in summary.json.";
+}
+
 Rate SummaryRate(const json* j) {
   Rate r;
   if (j == nullptr || !j->is_object()) return r;

@@ -227,6 +227,24 @@ TEST(CampaignDiffTest, CountsFollowTheSummaryDefinitions) {
   EXPECT_EQ(before->a.trials, summary["per_family"][kKt]["alarm_before_onset_rate"]["trials"].get<long>());
 }
 
+// One denominator: runs whose fault could not act are out of diff's rates as out of
+// summary.json's, and the header says how many each side left out.
+TEST(CampaignDiffTest, NotExcitedRunsAreLeftOutAndCounted) {
+  CampaignResults a = Baseline();
+  for (int i = 0; i < 3; ++i) {
+    RunRecord r = Faulty("still/r" + std::to_string(i), kKt07, false);
+    r.not_excited_reason = "joint 3 was asked to move 0 rad after the onset";
+    a.records.Add(r);
+  }
+  const DiffResult d = DiffCampaigns(a, Baseline(), DiffOptions{});
+  EXPECT_EQ(d.a.not_excited, 3);
+  EXPECT_EQ(d.b.not_excited, 0);
+  EXPECT_EQ(Find(d, "overall", "", "detection")->a.trials, 100);  // 40 + 40 + 20, the 3 left out
+  EXPECT_EQ(Find(d, "group", kKt07, "detection")->verdict, "same");
+  EXPECT_THAT(DiffToText(d), HasSubstr("(campaign \"ci\", 143 runs, 0 failed, 3 not excited, left out)"));
+  EXPECT_EQ(DiffToJson(d)["a"]["not_excited"], 3);
+}
+
 TEST(CampaignDiffTest, AWorseCandidateIsWorseAndNamed) {
   const CampaignResults a = Baseline();
   CampaignResults b;
