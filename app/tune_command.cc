@@ -26,6 +26,7 @@ std::string LeftOutText(const TuningResult& r) {
   std::string text;
   if (r.not_excited > 0) text += "; " + std::to_string(r.not_excited) + " not excited, left out";
   if (r.not_injected > 0) text += "; " + std::to_string(r.not_injected) + " not injected, left out";
+  if (r.compound > 0) text += "; " + std::to_string(r.compound) + " compound, left out (tune scores single faults)";
   return text;
 }
 

@@ -275,6 +275,7 @@ struct TuneDir {
   // act (unless the campaign includes them) and whose onset condition never fired.
   bool include_not_excited = false;
   long not_excited = 0, not_injected = 0;
+  long compound = 0;  // compound runs: tune scores single faults only
 };
 
 // One completed run's table of first alarms under every setting, from its stored statistics
@@ -409,7 +410,10 @@ void ReadRunTables(const CaseMatcher& matcher, const std::string& sweep, TuneDir
       ++td->not_excited;
       if (!td->include_not_excited) return;
     }
-    if (rec.is_compound()) return;  // several faults at once: no family or magnitude to fit
+    if (rec.is_compound()) {  // several faults at once: no family or magnitude to fit
+      ++td->compound;
+      return;
+    }
     AddRunTable(rec, decision, separate, where(), sweep, td);
   });
   if (separate && std::getline(decisions_in, decision_line)) {
@@ -526,6 +530,8 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
   result.report["runs"]["not_excited"] = td.not_excited;
   result.report["runs"]["not_excited_included"] = td.include_not_excited;
   if (td.not_injected > 0) result.report["runs"]["not_injected"] = td.not_injected;
+  if (td.compound > 0) result.report["runs"]["compound"] = td.compound;
+  result.compound = td.compound;
   result.not_excited = td.include_not_excited ? 0 : td.not_excited;
   result.not_injected = td.not_injected;
   result.settings = scored.settings;

@@ -93,7 +93,11 @@ std::string TuningLeftOutText(const json& tuning) {
   if (not_injected > 0) {
     text += std::string(text.empty() ? " " : " and ") + std::to_string(not_injected) + " runs not injected";
   }
-  return text.empty() ? "" : text + " are left out of every rate, as in summary.json.";
+  std::string out = text.empty() ? "" : text + " are left out of every rate, as in summary.json.";
+  if (const long compound = Count(*runs, "compound"); compound > 0) {
+    out += " " + std::to_string(compound) + " compound runs are left out too (tuning scores single faults; summary.json scores them).";
+  }
+  return out;
 }
 
 Rate SummaryRate(const json* j) {
