@@ -20,7 +20,7 @@ namespace {
 namespace fs = std::filesystem;
 using internal::SummaryTally;
 
-const char* const kVerdicts[] = {"better", "worse", "same", "n/a"};
+const char* const kVerdicts[] = {"better", "worse", "same", "inconclusive", "n/a"};
 
 double LogChoose(long n, long k) {
   return std::lgamma(static_cast<double>(n) + 1) - std::lgamma(static_cast<double>(k) + 1) -
@@ -190,6 +190,10 @@ Comparison RateComparison(const std::string& metric, bool higher_is_better, long
     c.verdict = "worse";
   } else if (c.significant && worsening < 0) {
     c.verdict = "better";
+  } else if (!c.significant && (SmallestFisherP(n_a, n_b) >= o.alpha ||
+                                std::fabs(d.difference) >= MaterialRateChange(o) - 1e-12)) {
+    // Too few runs to show any change, or a material change seen that they cannot confirm.
+    c.verdict = "inconclusive";
   } else {
     c.verdict = "same";
   }
@@ -220,6 +224,10 @@ Comparison LatencyComparison(const SummaryTally& a, const SummaryTally& b, const
     c.verdict = "worse";
   } else if (c.significant && *c.change < 0) {
     c.verdict = "better";
+  } else if (!c.significant && (SmallestMannWhitneyP(static_cast<long>(a.latencies_s.size()),
+                                                     static_cast<long>(b.latencies_s.size())) >= o.alpha ||
+                                std::fabs(*c.change) >= MaterialLatencyChange(o) - 1e-12)) {
+    c.verdict = "inconclusive";
   } else {
     c.verdict = "same";
   }
@@ -299,6 +307,20 @@ double FisherExactTwoSided(long s_a, long n_a, long s_b, long n_b) {
   }
   return std::min(1.0, tail / total);
 }
+
+double SmallestFisherP(long n_a, long n_b) {
+  if (n_a <= 0 || n_b <= 0) return 1;
+  return FisherExactTwoSided(n_a, n_a, 0, n_b);
+}
+
+double SmallestMannWhitneyP(long n_a, long n_b) {
+  if (n_a <= 0 || n_b <= 0) return 1;
+  // Every B above every A (or below): probability 1 / C(n_a + n_b, n_a) each, two-sided.
+  return std::min(1.0, 2 * std::exp(-LogChoose(n_a + n_b, n_a)));
+}
+
+double MaterialRateChange(const DiffOptions& o) { return std::max(o.rate_tolerance, kMaterialRateChange); }
+double MaterialLatencyChange(const DiffOptions& o) { return std::max(o.latency_tolerance_s, kMaterialLatencyChange_s); }
 
 DifferenceInterval NewcombeDifference(long s_a, long n_a, long s_b, long n_b) {
   CheckCounts(s_a, n_a, "NewcombeDifference");
@@ -621,7 +643,7 @@ std::string DiffToText(const DiffResult& d) {
   out += "\n" + worse;
   out += std::to_string(d.comparisons.size()) + " comparisons: " + std::to_string(d.Count("better")) + " better, " +
          std::to_string(d.Count("worse")) + " worse, " + std::to_string(d.Count("same")) + " same, " +
-         std::to_string(d.Count("n/a")) + " n/a\n";
+         std::to_string(d.Count("inconclusive")) + " inconclusive, " + std::to_string(d.Count("n/a")) + " n/a\n";
   return out;
 }
 
@@ -651,7 +673,7 @@ std::string DiffToMarkdown(const DiffResult& d) {
   }
   out += "\n" + std::to_string(d.comparisons.size()) + " comparisons: " + std::to_string(d.Count("better")) +
          " better, " + std::to_string(d.Count("worse")) + " worse, " + std::to_string(d.Count("same")) + " same, " +
-         std::to_string(d.Count("n/a")) + " n/a.\n";
+         std::to_string(d.Count("inconclusive")) + " inconclusive, " + std::to_string(d.Count("n/a")) + " n/a.\n";
   return out;
 }
 
