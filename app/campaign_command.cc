@@ -2,6 +2,7 @@
 #include <sys/ioctl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <csignal>
 #include <chrono>
@@ -114,6 +115,26 @@ int FinishCampaignOutputs(const std::string& dir_name, const CampaignSpec& campa
                  "%.2f s in one; sensor_saturated_s in results.jsonl): a saturated reading is no evidence for the "
                  "built-in monitor; widen torque_sensor/full_scale_Nm or ease the motion\n",
                  joint, tally.runs, builder.runs(), tally.longest_s);
+  }
+  // Per joint, compactly: where the misses, misnamings and false alarms are (summary.json
+  // "per_joint"; per family x joint there and in junit.xml).
+  const std::map<int, internal::SummaryTally> joints = builder.JointTallies();
+  if (!joints.empty()) std::printf("per joint (summary.json per_joint, per_family_joint, confusion_by_joint):\n");
+  for (const auto& [joint, t] : joints) {
+    std::string latency = "-";
+    if (!t.latencies_s.empty()) {
+      std::vector<double> v = t.latencies_s;
+      std::sort(v.begin(), v.end());
+      const size_t n = v.size();
+      char buf[32];
+      std::snprintf(buf, sizeof buf, "%.3f s", n % 2 ? v[n / 2] : (v[n / 2 - 1] + v[n / 2]) / 2);
+      latency = buf;
+    }
+    std::printf("  joint %d: detection %ld/%ld, isolation %ld/%ld, latency median %s, false alarms naming it %ld/%ld%s\n",
+                joint, t.detected, t.faulty, t.isolated, t.detected, latency.c_str(), t.healthy_alarms, t.healthy,
+                t.not_excited > 0 ? ("; " + std::to_string(t.not_excited) + " not excited" +
+                                     (campaign.include_not_excited ? " (scored)" : ", left out")).c_str()
+                                  : "");
   }
   bool all_met = true;
   for (const FloorVerdict& v : verdicts) {

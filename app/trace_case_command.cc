@@ -123,6 +123,7 @@ int TraceCampaignCase(const TraceOptions& o) {
     if (!statistics->declared()) statistics->Declare({}, static_cast<int>(campaign.robot.modules.size()));
     statistics_file->Commit();
   }
+  WriteTraceChannels(o.output, static_cast<int>(campaign.robot.modules.size()));  // what each column is, beside it
 
   if (!o.monitor_output.empty()) {
     nlohmann::json out = ToJson(output);

@@ -156,6 +156,7 @@ int RunTrace(const TraceOptions& o) {
     if (!statistics->declared()) statistics->Declare({}, n);
     statistics_file->Commit();
   }
+  WriteTraceChannels(o.output, n);  // what each column is, beside it
 
   if (!o.quiet) {
     std::printf("run: robot %s, %.3g s, seed %llu -> %s\n", run.robot.name.c_str(), run.duration_s,

@@ -21,10 +21,19 @@ std::string RateText(const nlohmann::json& r) {
   return buf;
 }
 
-void PrintPoint(const char* title, const nlohmann::json& p) {
+// "; 32 not excited, left out" (the runs outside every rate, as `run` counts them), or "".
+std::string LeftOutText(const TuningResult& r) {
+  std::string text;
+  if (r.not_excited > 0) text += "; " + std::to_string(r.not_excited) + " not excited, left out";
+  if (r.not_injected > 0) text += "; " + std::to_string(r.not_injected) + " not injected, left out";
+  if (r.compound > 0) text += "; " + std::to_string(r.compound) + " compound, left out (tune scores single faults)";
+  return text;
+}
+
+void PrintPoint(const char* title, const nlohmann::json& p, const std::string& left_out) {
   std::printf("%s: %s\n", title, p["setting"].dump().c_str());
-  std::printf("  detection %s\n  false alarms %s\n  isolation %s\n", RateText(p["detection_rate"]).c_str(),
-              RateText(p["false_alarm_rate"]).c_str(), RateText(p["isolation_accuracy"]).c_str());
+  std::printf("  detection %s%s\n  false alarms %s\n  isolation %s\n", RateText(p["detection_rate"]).c_str(),
+              left_out.c_str(), RateText(p["false_alarm_rate"]).c_str(), RateText(p["isolation_accuracy"]).c_str());
 }
 
 }  // namespace
@@ -54,8 +63,8 @@ int TuneCommand(const TuneCommandOptions& o) {
 
   std::printf("scored %ld threshold settings on %ld runs in %.2f s (rule %s)\n", r.settings, r.runs, seconds,
               r.report["rule"].dump().c_str());
-  PrintPoint("as run", r.report["default_point"]);
-  PrintPoint("operating point", r.report["operating_point"]);
+  PrintPoint("as run", r.report["default_point"], LeftOutText(r));
+  PrintPoint("operating point", r.report["operating_point"], LeftOutText(r));
   const nlohmann::json& sel = r.report["selection"];
   std::printf("operating point chosen on: %s\n", sel["split"].get<std::string>().c_str());
   if (sel.contains("held_out")) {

@@ -171,6 +171,34 @@ std::string XmlEscape(const std::string& s) {
   return out;
 }
 
+// Counts one scored (ok, injected, excited or included) run into `t`.
+void CountScored(const RunRecord& r, SummaryTally* tally) {
+  SummaryTally& t = *tally;
+  if (r.family.empty()) {
+    ++t.healthy;
+    if (r.detected) ++t.healthy_alarms;
+    return;
+  }
+  ++t.faulty;
+  if (r.alarm_before_onset) ++t.before_onset;
+  if (!r.detected) return;
+  ++t.detected;
+  if (r.latency_s && std::isfinite(*r.latency_s)) t.latencies_s.push_back(*r.latency_s);
+  if (!IsolatedRight(r)) return;
+  ++t.isolated;
+  if (r.magnitude_estimate && !r.magnitude_key.empty() && r.magnitude_name == r.magnitude_key && r.magnitude != 0) {
+    const double error = std::abs(*r.magnitude_estimate - r.magnitude) / std::abs(r.magnitude);
+    if (std::isfinite(error)) t.magnitude_errors.push_back(error);
+  }
+}
+
+// A class of the joint confusion matrix: (family or "healthy"/"unknown", joint or 0).
+using JointClass = std::pair<std::string, int>;
+
+nlohmann::json JointClassJson(const JointClass& c) {
+  return {{"family", c.first}, {"joint", c.second ? nlohmann::json(c.second) : nlohmann::json(nullptr)}};
+}
+
 }  // namespace
 
 void internal::MergeTally(const SummaryTally& from, SummaryTally* into) { MergeInto(from, into); }
@@ -230,6 +258,7 @@ void SummaryBuilder::Add(const RunRecord& r) {
     TrajectoryCell& cell = by_trajectory_[{r.family, r.trajectory, r.group}];
     ++cell.tally.not_excited;
     if (cell.not_excited_reason.empty()) cell.not_excited_reason = r.not_excited_reason;
+    if (!r.is_compound()) ++by_family_joint_[{r.family, r.joint}].not_excited;
     SummaryTally& t = cells_[{r.group, r.family}];
     ++t.not_excited;
     if (!t.has_descriptor || std::tie(r.joint, r.magnitude_key, r.magnitude) < std::tie(t.joint, t.magnitude_key, t.magnitude)) {
@@ -286,24 +315,19 @@ void SummaryBuilder::Add(const RunRecord& r) {
     const std::string predicted =
         !r.detected ? kHealthyLabel : (r.isolated_family.empty() ? kUnknownLabel : r.isolated_family);
     ++confusion_[r.family.empty() ? kHealthyLabel : r.family][predicted];
+    const JointClass truth = r.family.empty() ? JointClass{kHealthyLabel, 0} : JointClass{r.family, r.joint};
+    const JointClass named = !r.detected ? JointClass{kHealthyLabel, 0} : JointClass{predicted, r.isolated_joint};
+    ++joint_confusion_[truth][named];
   }
 
+  CountScored(r, &t);
+  if (r.is_compound()) return;  // no single joint: in no per-joint scope
   if (r.family.empty()) {
-    ++t.healthy;
-    if (r.detected) ++t.healthy_alarms;
+    // A false alarm counts against the joint its alarm named (0: none named).
+    if (r.detected) ++healthy_alarms_by_joint_[r.isolated_joint];
     return;
   }
-  ++t.faulty;
-  if (r.alarm_before_onset) ++t.before_onset;
-  if (!r.detected) return;
-  ++t.detected;
-  if (r.latency_s && std::isfinite(*r.latency_s)) t.latencies_s.push_back(*r.latency_s);
-  if (!IsolatedRight(r)) return;
-  ++t.isolated;
-  if (r.magnitude_estimate && !r.magnitude_key.empty() && r.magnitude_name == r.magnitude_key && r.magnitude != 0) {
-    const double error = std::abs(*r.magnitude_estimate - r.magnitude) / std::abs(r.magnitude);
-    if (std::isfinite(error)) t.magnitude_errors.push_back(error);
-  }
+  CountScored(r, &by_family_joint_[{r.family, r.joint}]);
 }
 
 std::vector<FloorVerdict> SummaryBuilder::Verdicts(const Floors& floors) const {
@@ -410,6 +434,10 @@ nlohmann::json SummaryBuilder::Build(const Floors& floors, const nlohmann::json&
     counts.push_back(std::move(row));
   }
   j["confusion"] = {{"labels", labels}, {"counts", std::move(counts)}};
+  j["confusion_by_joint"] = JointConfusionJson();
+  const auto [per_joint, per_family_joint] = PerJointJson();
+  j["per_joint"] = per_joint;
+  j["per_family_joint"] = per_family_joint;
 
   nlohmann::json verdicts = nlohmann::json::array();
   bool all_met = true;
@@ -453,6 +481,76 @@ nlohmann::json SummaryBuilder::Build(const Floors& floors, const nlohmann::json&
                               {"runs", std::move(not_injected)}};
   }
   return j;
+}
+
+std::map<int, SummaryTally> SummaryBuilder::JointTallies() const {
+  std::map<int, SummaryTally> joints;
+  for (const auto& [key, t] : by_family_joint_) MergeInto(t, &joints[key.second]);
+  long healthy = 0;
+  for (const auto& [key, t] : cells_) healthy += key.second.empty() ? t.healthy : 0;
+  for (const auto& [joint, alarms] : healthy_alarms_by_joint_) {
+    if (joint > 0) joints[joint];  // a joint that only false-alarmed has a row too
+  }
+  for (auto& [joint, t] : joints) {
+    t.healthy = healthy;
+    const auto it = healthy_alarms_by_joint_.find(joint);
+    t.healthy_alarms = it == healthy_alarms_by_joint_.end() ? 0 : it->second;
+  }
+  return joints;
+}
+
+std::pair<nlohmann::json, nlohmann::json> SummaryBuilder::PerJointJson() const {
+  nlohmann::json per_joint = nlohmann::json::array();
+  for (const auto& [joint, t] : JointTallies()) {
+    nlohmann::json row = {{"joint", joint}};
+    row.update(MetricsJson(t, false));
+    row["runs"] = t.faulty;  // its faulty runs; the healthy runs are the campaign's
+    row["healthy_runs"] = t.healthy;
+    row["false_alarm"] = RateJson(t.healthy_alarms, t.healthy);
+    per_joint.push_back(std::move(row));
+  }
+  nlohmann::json per_family_joint = nlohmann::json::array();
+  for (const auto& [key, t] : by_family_joint_) {
+    nlohmann::json row = {{"family", key.first}, {"joint", key.second}};
+    row.update(MetricsJson(t, false));
+    per_family_joint.push_back(std::move(row));
+  }
+  return {per_joint, per_family_joint};
+}
+
+nlohmann::json SummaryBuilder::JointConfusionJson() const {
+  // Labels: every (family, joint) seen as a true or named class, sorted, then healthy and
+  // unknown (always present), then any unknown family named on a joint.
+  std::set<JointClass> seen;
+  for (const auto& [truth, row] : joint_confusion_) {
+    seen.insert(truth);
+    for (const auto& [named, count] : row) seen.insert(named);
+  }
+  std::vector<JointClass> labels;
+  for (const JointClass& c : seen) {
+    if (c.first != kHealthyLabel && c.first != kUnknownLabel) labels.push_back(c);
+  }
+  labels.push_back({kHealthyLabel, 0});
+  labels.push_back({kUnknownLabel, 0});
+  for (const JointClass& c : seen) {
+    if (c.first == kUnknownLabel && c.second != 0) labels.push_back(c);
+  }
+  nlohmann::json label_json = nlohmann::json::array(), counts = nlohmann::json::array();
+  for (const JointClass& truth : labels) {
+    label_json.push_back(JointClassJson(truth));
+    nlohmann::json row = nlohmann::json::array();
+    const auto r = joint_confusion_.find(truth);
+    for (const JointClass& named : labels) {
+      long n = 0;
+      if (r != joint_confusion_.end()) {
+        const auto c = r->second.find(named);
+        if (c != r->second.end()) n = c->second;
+      }
+      row.push_back(n);
+    }
+    counts.push_back(std::move(row));
+  }
+  return {{"labels", std::move(label_json)}, {"counts", std::move(counts)}};
 }
 
 std::string JUnitXml(const std::string& campaign_name, const std::vector<FloorVerdict>& verdicts) {
@@ -550,6 +648,45 @@ std::string JUnitXml(const std::string& campaign_name, const SummaryBuilder& bui
     if (!family.empty()) emit_suite(family);
   }
   emit_suite("");
+  // Per joint and per family x joint: counts only (floors are overall and per family), so that
+  // a CI page shows which joint the misses and false alarms are on.
+  {
+    auto latency = [](const SummaryTally& t) {
+      if (t.latencies_s.empty()) return std::string();
+      const nlohmann::json l = LatencyJson(t);
+      char buf[64];
+      std::snprintf(buf, sizeof buf, ", latency median %.3f s", l["median_s"].get<double>());
+      return std::string(buf);
+    };
+    auto faulty_counts = [&](const SummaryTally& t) {
+      std::string text = t.faulty == 0 && t.not_excited == 0 ? std::string("no faulty runs") : std::to_string(t.faulty) + " runs, " + std::to_string(t.detected) + " detected, " +
+                         std::to_string(t.isolated) + " isolated (family and joint)" + latency(t);
+      if (t.not_excited > 0) {
+        text += "; " + std::to_string(t.not_excited) + " not excited" +
+                (builder.includes_not_excited() ? " (scored)" : " (left out)");
+      }
+      return text;
+    };
+    std::string cases;
+    long count = 0;
+    for (const auto& [joint, t] : builder.JointTallies()) {
+      const std::string text = faulty_counts(t) + "; false alarms naming joint " + std::to_string(joint) + ": " +
+                               std::to_string(t.healthy_alarms) + " of " + std::to_string(t.healthy) + " healthy runs";
+      cases += "    <testcase classname=\"per joint\" name=\"joint " + std::to_string(joint) + "\">\n      <system-out>" +
+               XmlEscape(text) + "</system-out>\n    </testcase>\n";
+      ++count;
+    }
+    for (const auto& [key, t] : builder.family_joint_cells()) {
+      cases += "    <testcase classname=\"per joint\" name=\"" + XmlEscape(key.first + ": joint " + std::to_string(key.second)) +
+               "\">\n      <system-out>" + XmlEscape(faulty_counts(t)) + "</system-out>\n    </testcase>\n";
+      ++count;
+    }
+    if (count > 0) {
+      body += "  <testsuite name=\"per joint\" tests=\"" + std::to_string(count) + "\" failures=\"0\">\n" + cases +
+              "  </testsuite>\n";
+      tests += count;
+    }
+  }
   // Failed runs: one failing case (a stable name, "every run completes") naming the first (its run_id and reason) and how to replay it.
   // Only when a run failed, so the junit.xml of a campaign without failures is unchanged.
   if (builder.failed_runs() > 0) {

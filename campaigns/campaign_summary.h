@@ -26,6 +26,13 @@
 //     (isolated_family if detected, "unknown" if detected without a family, else "healthy").
 //     One label list for rows and columns: every family seen as true or predicted class,
 //     sorted, then "healthy" and "unknown" (always present).
+//   - per joint: per_joint holds, for each joint that had faulty runs (compound runs left out)
+//     or a false alarm, its faulty runs' metrics (every family) and false_alarm = healthy runs
+//     whose alarm named this joint / healthy runs; per_family_joint each (family, joint)'s.
+//   - confusion_by_joint: as confusion, a class being (family, joint): rows the true (family,
+//     joint) ({"healthy", null} for a healthy run), columns the named (isolated_family or
+//     "unknown", isolated_joint) if detected, else {"healthy", null}; a fault named on the
+//     wrong joint is off the diagonal here though not in "confusion".
 //   Every rate is reported as {"rate", "low", "high", "successes", "trials"} with the 95 %
 //   Wilson score interval.
 //
@@ -43,6 +50,11 @@
 //                "faulty_runs", "detection", ...; "healthy_runs" and "false_alarm" only for a
 //                group holding healthy runs}],   (sorted by group; null family etc. if healthy)
 //    "confusion": {"labels": [...], "counts": [[row per true label]]},
+//    "confusion_by_joint": {"labels": [{"family", "joint"}...], "counts": [[...]]},
+//    "per_joint": [{"joint", "runs" (faulty), "faulty_runs", "not_excited", "detection",
+//                   "isolation", "alarm_before_onset_rate", "latency", "magnitude_error",
+//                   "healthy_runs", "false_alarm"}],   (sorted by joint)
+//    "per_family_joint": [{"family", "joint", as per_family}],   (sorted by family, joint)
 //    "floors": [{"name", "kind", "bound", "measured" (null if nothing to measure), "met",
 //                "message"}],
 //    "floors_met": all floors met (true if there are none),
@@ -145,6 +157,14 @@ class SummaryBuilder {
   // The tally of every (group, family) cell, sorted: for tools that compare or re-pool
   // campaigns (armfault diff) with exactly the definitions above.
   const std::map<std::pair<std::string, std::string>, internal::SummaryTally>& cells() const { return cells_; }
+  // The scored faulty runs of each (family, joint), compound runs left out (no single joint);
+  // not_excited counts its runs left out.
+  const std::map<std::pair<std::string, int>, internal::SummaryTally>& family_joint_cells() const {
+    return by_family_joint_;
+  }
+  // Per joint: its faulty runs (every family), and as healthy / healthy_alarms the campaign's
+  // healthy runs and those whose false alarm named this joint. Joints with neither are absent.
+  std::map<int, internal::SummaryTally> JointTallies() const;
 
   // The runs of one group on one trajectory (a JUnit test case), with the first run (lowest
   // case number) that went wrong: a faulty run missed or misisolated, a healthy run that
@@ -169,6 +189,12 @@ class SummaryBuilder {
   std::map<int, SaturationTally> saturation_;
   std::map<std::pair<std::string, std::string>, internal::SummaryTally> cells_;  // (group, family)
   std::map<std::string, std::map<std::string, long>> confusion_;  // true -> predicted -> count
+  // (family, joint) -> (named family, named joint) -> count; ("healthy", 0) for healthy / no alarm
+  std::map<std::pair<std::string, int>, std::map<std::pair<std::string, int>, long>> joint_confusion_;
+  std::map<std::pair<std::string, int>, internal::SummaryTally> by_family_joint_;
+  std::map<int, long> healthy_alarms_by_joint_;  // healthy runs that alarmed, by the joint named (0: none)
+  std::pair<nlohmann::json, nlohmann::json> PerJointJson() const;  // per_joint, per_family_joint
+  nlohmann::json JointConfusionJson() const;
   std::map<TrajectoryKey, TrajectoryCell> by_trajectory_;
   std::multiset<std::pair<std::string, std::string>> failed_listed_;  // (run_id, reason)
   std::multiset<std::pair<std::string, std::string>> not_excited_listed_;  // (run_id, reason)
@@ -195,6 +221,9 @@ std::string JUnitXml(const std::string& campaign_name, const std::vector<FloorVe
 // case's own runs; each one missed is a <failure> with the numbers and the command that
 // replays the case's first wrong run: `armfault trace <campaign_json> --run <run_id>`, with
 // `campaign_json` relative to the output directory (so a merged directory's file is the same).
+// Then a suite "per joint": one case per joint ("joint 3") and per family x joint
+// ("kt_degradation: joint 3") holding its counts, latency median and (per joint) the false
+// alarms that named it; no floor is checked there.
 std::string JUnitXml(const std::string& campaign_name, const SummaryBuilder& builder, const Floors& floors,
                      const std::string& campaign_json);
 

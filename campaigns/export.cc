@@ -22,6 +22,7 @@
 #include "core/base/suggest.h"
 #include "core/monitors/monitor.h"
 #include "core/plant/simulation.h"
+#include "campaigns/channels.h"
 #include "campaigns/provenance.h"
 #include "faults/fault.h"
 
@@ -159,19 +160,17 @@ std::string ManifestCsvRow(const nlohmann::json& m) {
 }  // namespace
 
 const std::vector<std::string>& SignalColumnNames() {
-  static const std::vector<std::string> names = {"q_ref_rad",     "qd_ref_rad_s", "q_meas_rad",
-                                                 "qd_est_rad_s",  "tau_sensor_Nm", "i_cmd_A",
-                                                 "i_supply_meas_A", "v_bus_meas_V", "winding_temp_C"};
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> out;
+    for (const Channel& c : MonitorSignalChannels(1)) {
+      if (c.joint == 1) out.push_back(c.quantity);
+    }
+    return out;
+  }();
   return names;
 }
 
-std::string SignalsCsvHeader(int joints) {
-  std::string header = "t_s";
-  for (int j = 1; j <= joints; ++j) {
-    for (const std::string& name : SignalColumnNames()) header += "," + name + "_j" + std::to_string(j);
-  }
-  return header + "\n";
-}
+std::string SignalsCsvHeader(int joints) { return ChannelsCsvHeader(MonitorSignalChannels(joints)); }
 
 SplitSpec ParseSplit(const std::string& text) {
   SplitSpec s;
@@ -256,6 +255,7 @@ ExportResult ExportCampaign(const Campaign& campaign, const ExportOptions& o) {
             }));
   });
   WriteAtomically(dir / run_dir::kCampaign, CampaignFileJson(campaign, o.shard).dump(2) + "\n");
+  WriteAtomically(dir / "channels.json", ChannelsJson(MonitorSignalChannels(joints), "runs/*.csv.gz"));
   manifest.Commit();
   manifest_csv.Commit();
   return out;

@@ -10,6 +10,8 @@
 //   DIR/manifest.csv         the same, flat (scalar columns only), for pandas
 //   DIR/runs/<case>.csv.gz   t_s, then <field>_j<joint> for every JointSignals field and joint;
 //                            numbers in shortest round-trip form (exact doubles), empty = NaN
+//   DIR/channels.json        each column of runs/*.csv.gz: name, unit, source, joint
+//                            (campaigns/channels.h)
 // See docs/monitor-api.md, "Export and score".
 //
 // `armfault score DIR VERDICTS` reads verdicts made by any tool (JSON Lines: run_id, t_s,

@@ -4,6 +4,7 @@
 #include <optional>
 
 #include "core/base/csv.h"
+#include "faults/fault.h"
 
 namespace armfault {
 
@@ -20,10 +21,20 @@ std::string Number(const std::optional<double>& x) { return x ? Number(*x) : std
 
 }  // namespace
 
+std::string MagnitudeUnit(const std::string& magnitude_key) {
+  const std::string label = FaultMagnitudeUnit(magnitude_key);
+  // "× nominal K_T", "× brake holding torque": a ratio, dimensionless.
+  return label.rfind("×", 0) == 0 ? "1" : label;
+}
+
+namespace {
+
+}  // namespace
+
 std::string ResultsCsvHeader() {
   return "case,run_id,trajectory,group,family,joint,onset_s,magnitude_key,magnitude,seed,repetition,unit,ambient_C,"
          "status,reason,took_effect,detected,alarm_before_onset,detection_time_s,latency_s,isolated_family,"
-         "isolated_joint,isolated,magnitude_name,magnitude_estimate,confidence\n";
+         "isolated_joint,isolated,magnitude_name,magnitude_estimate,confidence,magnitude_unit,miss_reason\n";
 }
 
 std::string ResultsCsvRow(const RunRecord& r) {
@@ -74,6 +85,8 @@ std::string ResultsCsvRow(const RunRecord& r) {
   add(Quote(r.magnitude_name));
   add(Number(r.magnitude_estimate));
   add(r.detected ? Number(r.confidence) : "");
+  add(r.magnitude_key.empty() ? "" : Quote(MagnitudeUnit(r.magnitude_key)));
+  add(Quote(r.miss_reason));
   return row + "\n";
 }
 

@@ -271,6 +271,11 @@ struct TuneDir {
   FamilyTable families;
   std::vector<RunTable> runs;
   long failed = 0;
+  // Left out of every rate, as summary.json leaves them out: faulty runs whose fault could not
+  // act (unless the campaign includes them) and whose onset condition never fired.
+  bool include_not_excited = false;
+  long not_excited = 0, not_injected = 0;
+  long compound = 0;  // compound runs: tune scores single faults only
 };
 
 // One completed run's table of first alarms under every setting, from its stored statistics
@@ -396,8 +401,19 @@ void ReadRunTables(const CaseMatcher& matcher, const std::string& sweep, TuneDir
       ++td->failed;
       return;
     }
-    if (!rec.injected()) return;  // its onset condition never fired: no fault to detect
-    if (rec.is_compound()) return;  // several faults at once: no family or magnitude to fit
+    if (!rec.family.empty() && !rec.injected()) {  // its onset condition never fired: no fault to detect
+      ++td->not_injected;
+      return;
+    }
+    if (!rec.family.empty() && !rec.excited()) {
+      // Its fault could not act: out of every rate unless the campaign scores such runs.
+      ++td->not_excited;
+      if (!td->include_not_excited) return;
+    }
+    if (rec.is_compound()) {  // several faults at once: no family or magnitude to fit
+      ++td->compound;
+      return;
+    }
     AddRunTable(rec, decision, separate, where(), sweep, td);
   });
   if (separate && std::getline(decisions_in, decision_line)) {
@@ -486,6 +502,7 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
   }
 
   // Load the runs: per run, the first alarm of each axis at each of its values.
+  td.include_not_excited = campaign.include_not_excited;
   if (td.power) {
     for (const DetectorInfo& d : Detectors()) td.families.Id(d.family);
   }
@@ -511,6 +528,14 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
   TuningResult result;
   SetTunedMonitor(td, op, monitor_json, campaign, python_monitor, &result);
   result.report = std::move(scored.report);
+  // What was left out of every rate, as summary.json counts it.
+  result.report["runs"]["not_excited"] = td.not_excited;
+  result.report["runs"]["not_excited_included"] = td.include_not_excited;
+  if (td.not_injected > 0) result.report["runs"]["not_injected"] = td.not_injected;
+  if (td.compound > 0) result.report["runs"]["compound"] = td.compound;
+  result.compound = td.compound;
+  result.not_excited = td.include_not_excited ? 0 : td.not_excited;
+  result.not_injected = td.not_injected;
   result.settings = scored.settings;
   result.runs = static_cast<long>(td.runs.size());
   return result;

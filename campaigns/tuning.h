@@ -53,7 +53,13 @@ struct TuningResult {
   // that publishes statistics, its "monitor" value with each threshold written at its setting.
   nlohmann::json tuned_monitor;
   long settings = 0;
-  long runs = 0;
+  long runs = 0;  // scored
+  // Left out of every rate (as summary.json): not excited (0 when the campaign includes them),
+  // not injected (a conditional onset that never fired).
+  long not_excited = 0, not_injected = 0;
+  // Compound runs (several faults at once), which summary.json scores but tune does not (no
+  // single family or magnitude to re-score and fit): the one difference left between them.
+  long compound = 0;
 };
 
 // Reads DIR/campaign.json, DIR/results.jsonl and DIR/decisions.jsonl (line for line, of the

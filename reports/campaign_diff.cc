@@ -24,7 +24,7 @@ namespace {
 namespace fs = std::filesystem;
 using internal::SummaryTally;
 
-const char* const kVerdicts[] = {"better", "worse", "same", "n/a"};
+const char* const kVerdicts[] = {"better", "worse", "same", "inconclusive", "n/a"};
 
 void CheckCounts(long s, long n, const char* who) {
   if (n <= 0 || s < 0 || s > n) {
@@ -117,7 +117,12 @@ std::string OptionsLine(const DiffOptions& o) {
 std::string SideLine(const char* which, const DiffSide& s) {
   std::string line = std::string(which) + " = " + s.label + " (campaign " +
                      (s.campaign_name.empty() ? std::string("unknown") : "\"" + s.campaign_name + "\"") + ", " +
-                     std::to_string(s.runs) + " runs, " + std::to_string(s.failed) + " failed)";
+                     std::to_string(s.runs) + " runs, " + std::to_string(s.failed) + " failed" +
+                     (s.not_excited > 0 ? ", " + std::to_string(s.not_excited) + " not excited" +
+                                              (s.not_excited_included ? " (scored)" : ", left out")
+                                        : std::string()) +
+                     (s.not_injected > 0 ? ", " + std::to_string(s.not_injected) + " not injected, left out" : std::string()) +
+                     ")";
   return line;
 }
 
@@ -184,6 +189,10 @@ Comparison RateComparison(const std::string& metric, bool higher_is_better, long
     c.verdict = "worse";
   } else if (c.significant && worsening < 0) {
     c.verdict = "better";
+  } else if (!c.significant && (SmallestFisherP(n_a, n_b) >= o.alpha ||
+                                std::fabs(d.difference) >= MaterialRateChange(o) - 1e-12)) {
+    // Too few runs to show any change, or a material change seen that they cannot confirm.
+    c.verdict = "inconclusive";
   } else {
     c.verdict = "same";
   }
@@ -214,6 +223,10 @@ Comparison LatencyComparison(const SummaryTally& a, const SummaryTally& b, const
     c.verdict = "worse";
   } else if (c.significant && *c.change < 0) {
     c.verdict = "better";
+  } else if (!c.significant && (SmallestMannWhitneyP(static_cast<long>(a.latencies_s.size()),
+                                                     static_cast<long>(b.latencies_s.size())) >= o.alpha ||
+                                std::fabs(*c.change) >= MaterialLatencyChange(o) - 1e-12)) {
+    c.verdict = "inconclusive";
   } else {
     c.verdict = "same";
   }
@@ -311,6 +324,20 @@ double FisherExactTwoSided(long s_a, long n_a, long s_b, long n_b) {
   return std::min(1.0, p);
 }
 
+double SmallestFisherP(long n_a, long n_b) {
+  if (n_a <= 0 || n_b <= 0) return 1;
+  return FisherExactTwoSided(n_a, n_a, 0, n_b);
+}
+
+double SmallestMannWhitneyP(long n_a, long n_b) {
+  if (n_a <= 0 || n_b <= 0) return 1;
+  // Every B above every A (or below): probability 1 / C(n_a + n_b, n_a) each, two-sided.
+  return std::min(1.0, 2 * std::exp(-LogChoose(n_a + n_b, n_a)));
+}
+
+double MaterialRateChange(const DiffOptions& o) { return std::max(o.rate_tolerance, kMaterialRateChange); }
+double MaterialLatencyChange(const DiffOptions& o) { return std::max(o.latency_tolerance_s, kMaterialLatencyChange_s); }
+
 DifferenceInterval NewcombeDifference(long s_a, long n_a, long s_b, long n_b) {
   CheckCounts(s_a, n_a, "NewcombeDifference");
   CheckCounts(s_b, n_b, "NewcombeDifference");
@@ -393,15 +420,21 @@ CampaignResults ReadCampaignResults(const std::string& dir_name) {
   if (!fs::exists(results, ec)) {
     throw InputError(results.string(), "", "no such file (is " + dir_name + " an armfault run output directory?)");
   }
-  JsonLinesOptions lines;
-  lines.open_error = "cannot open the file for reading";
-  ReadRunRecords(results, lines, [&](RunRecord&& record, long) { r.records.Add(record); });
   const fs::path campaign = dir / run_dir::kCampaign;
   if (fs::exists(campaign, ec)) {
     r.campaign = ReadCampaignFileJson(dir).at("campaign");
   } else {
     r.warnings.push_back(campaign.string() + " is missing: the campaign is unknown");
   }
+  // The runs summary.json leaves out (not excited, unless the campaign scores them) are left
+  // out here too: one denominator in every command.
+  const nlohmann::json* include = r.campaign.is_object() && r.campaign.contains("include_not_excited")
+                                      ? &r.campaign["include_not_excited"]
+                                      : nullptr;
+  r.records = SummaryBuilder(include != nullptr && include->is_boolean() && include->get<bool>());
+  JsonLinesOptions lines;
+  lines.open_error = "cannot open the file for reading";
+  ReadRunRecords(results, lines, [&](RunRecord&& record, long) { r.records.Add(record); });
   // Cross-check: summary.json's overall counts against the records (a stale summary warns).
   const fs::path summary = dir / run_dir::kSummary;
   if (fs::exists(summary, ec)) {
@@ -445,6 +478,9 @@ DiffResult DiffCampaigns(const CampaignResults& a, const CampaignResults& b, con
     }
     s.runs = r.records.runs();
     s.failed = r.records.failed_runs();
+    s.not_excited = r.records.not_excited_runs();
+    s.not_excited_included = r.records.includes_not_excited();
+    s.not_injected = r.records.not_injected_runs();
     return s;
   };
   d.a = side(a);
@@ -538,7 +574,10 @@ nlohmann::json DiffToJson(const DiffResult& d) {
     return nlohmann::json{{"dir", s.label},
                           {"campaign", s.campaign_name.empty() ? nlohmann::json(nullptr) : nlohmann::json(s.campaign_name)},
                           {"runs", s.runs},
-                          {"failed", s.failed}};
+                          {"failed", s.failed},
+                          {"not_excited", s.not_excited},
+                          {"not_excited_included", s.not_excited_included},
+                          {"not_injected", s.not_injected}};
   };
   j["a"] = side(d.a);
   j["b"] = side(d.b);
@@ -620,7 +659,7 @@ std::string DiffToText(const DiffResult& d) {
   out += "\n" + worse;
   out += std::to_string(d.comparisons.size()) + " comparisons: " + std::to_string(d.Count("better")) + " better, " +
          std::to_string(d.Count("worse")) + " worse, " + std::to_string(d.Count("same")) + " same, " +
-         std::to_string(d.Count("n/a")) + " n/a\n";
+         std::to_string(d.Count("inconclusive")) + " inconclusive, " + std::to_string(d.Count("n/a")) + " n/a\n";
   return out;
 }
 
@@ -650,7 +689,7 @@ std::string DiffToMarkdown(const DiffResult& d) {
   }
   out += "\n" + std::to_string(d.comparisons.size()) + " comparisons: " + std::to_string(d.Count("better")) +
          " better, " + std::to_string(d.Count("worse")) + " worse, " + std::to_string(d.Count("same")) + " same, " +
-         std::to_string(d.Count("n/a")) + " n/a.\n";
+         std::to_string(d.Count("inconclusive")) + " inconclusive, " + std::to_string(d.Count("n/a")) + " n/a.\n";
   return out;
 }
 

@@ -47,7 +47,13 @@
 //   - Verdict: "worse" when p < alpha and the worsening (the change in the bad direction)
 //     exceeds the tolerance (rates: --tolerance, an absolute rate difference; latency:
 //     --latency-tolerance in seconds); "better" when p < alpha and the change is in the good
-//     direction; else "same" (this includes a significant worsening within the tolerance).
+//     direction; "inconclusive" when p >= alpha and the samples cannot show a change: no
+//     outcome of these sample sizes could reach p < alpha (SmallestFisherP,
+//     SmallestMannWhitneyP: 2 runs against 2 never can, whatever they do), or the change seen
+//     is material (|change| >= MaterialRateChange: the rate tolerance, at least 0.1;
+//     MaterialLatencyChange: the latency tolerance, at least 0.1 s) but not significant
+//     (4/4 -> 2/4, p = 0.43); else "same" (this includes a significant worsening within the
+//     tolerance). "inconclusive" does not fail the exit status; only "worse" does.
 //   No correction for multiple comparisons is made: with many groups, some "worse" verdicts
 //   at alpha = 0.05 are expected by chance when B's runs differ from A's (other seeds).
 #pragma once
@@ -76,6 +82,18 @@ void CheckDiffOptions(const DiffOptions& options);
 // Two-sided Fisher exact p-value for s_a of n_a against s_b of n_b. Throws
 // std::invalid_argument unless 0 <= s <= n and n > 0 on both sides.
 double FisherExactTwoSided(long s_a, long n_a, long s_b, long n_b);
+
+// The smallest two-sided p any outcome of these sample sizes can give: Fisher's at n_a of n_a
+// against 0 of n_b (2 runs a side: 0.333); Mann-Whitney's exact at every B beyond every A,
+// 2 / C(n_a + n_b, n_a) (3 a side: 0.1). 1 when a side is empty.
+double SmallestFisherP(long n_a, long n_b);
+double SmallestMannWhitneyP(long n_a, long n_b);
+// What diff calls a material change (docs/assumptions.md): a rate difference of 0.1 and a
+// median-latency shift of 0.1 s, or the tolerance given when larger.
+constexpr double kMaterialRateChange = 0.1;
+constexpr double kMaterialLatencyChange_s = 0.1;
+double MaterialRateChange(const DiffOptions& options);
+double MaterialLatencyChange(const DiffOptions& options);
 
 // rate_B - rate_A with its 95 % Newcombe hybrid score interval (clamped to [-1, 1]).
 struct DifferenceInterval {
@@ -132,13 +150,17 @@ struct Comparison {
   std::string test;                        // "fisher_exact", "mann_whitney_exact", "mann_whitney_normal", ""
   std::optional<double> u_b, z;            // latency: Mann-Whitney U of B and z (normal only)
   bool significant = false;                // p < alpha
-  std::string verdict;                     // "better", "worse", "same", "n/a"
+  std::string verdict;                     // "better", "worse", "same", "inconclusive", "n/a"
 };
 
 struct DiffSide {
   std::string label;
   std::string campaign_name;  // "" if unknown
   long runs = 0, failed = 0;
+  // Left out of every rate, as summary.json leaves them out (not excited: unless the campaign
+  // sets include_not_excited, then scored and counted here all the same).
+  long not_excited = 0, not_injected = 0;
+  bool not_excited_included = false;
 };
 
 struct DiffResult {
@@ -160,13 +182,14 @@ struct DiffResult {
 DiffResult DiffCampaigns(const CampaignResults& a, const CampaignResults& b, const DiffOptions& options);
 
 // diff.json: {"armfault_version", "options": {"alpha", "tolerance", "latency_tolerance_s"},
-//  "a"/"b": {"dir", "campaign", "runs", "failed"}, "same_campaign", "campaign_differences",
+//  "a"/"b": {"dir", "campaign", "runs", "failed", "not_excited", "not_excited_included",
+//            "not_injected"}, "same_campaign", "campaign_differences",
 //  "common_groups", "only_in_a"/"only_in_b": {"groups", "families"},
 //  "comparisons": [{"scope", "name", "family", "metric", "better": "higher"|"lower",
 //                   "a"/"b": {"successes", "trials", "rate"} | {"count", "median_s"},
 //                   "change", "ci_low", "ci_high", "p", "test", "u_b", "z", "significant",
 //                   "verdict"}],
-//  "counts": {"better", "worse", "same", "n/a"}, "worse": bool, "warnings": [...]}
+//  "counts": {"better", "worse", "same", "inconclusive", "n/a"}, "worse": bool, "warnings": [...]}
 // Absent values are null. Healthy-only groups (key "") are named "" as in summary.json.
 nlohmann::json DiffToJson(const DiffResult& diff);
 // A header, one aligned table row per comparison (scope, metric, A, B, change, p, verdict),

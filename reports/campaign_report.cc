@@ -177,7 +177,8 @@ std::string RenderReportMarkdown(const ReportData& d) {
   } else {
     const json& t = *d.tuning;
     const json& op = Field(t, "operating_point") ? t["operating_point"] : empty;
-    md += "Rule: " + RuleText(Field(t, "rule")) + ". Setting: " + SettingText(Field(op, "setting")) + ".\n\n";
+    md += "Rule: " + RuleText(Field(t, "rule")) + ". Setting: " + SettingText(Field(op, "setting")) + "." +
+          MdText(report::TuningLeftOutText(t)) + "\n\n";
     md += MdTable({"metric", "operating point"},
                   {{"detection", RateText(TuningRate(Field(op, "detection_rate")))},
                    {"false alarm", RateText(TuningRate(Field(op, "false_alarm_rate")))},

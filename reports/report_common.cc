@@ -108,6 +108,24 @@ long Count(const json& j, const std::string& key) {
   return f != nullptr && f->is_number() ? f->get<long>() : 0;
 }
 
+std::string TuningLeftOutText(const json& tuning) {
+  const json* runs = Field(tuning, "runs");
+  if (runs == nullptr) return "";
+  const json* included = Field(*runs, "not_excited_included");
+  const long not_excited = included != nullptr && included->is_boolean() && included->get<bool>() ? 0 : Count(*runs, "not_excited");
+  const long not_injected = Count(*runs, "not_injected");
+  std::string text;
+  if (not_excited > 0) text += " " + std::to_string(not_excited) + " runs not excited (their fault could not act)";
+  if (not_injected > 0) {
+    text += std::string(text.empty() ? " " : " and ") + std::to_string(not_injected) + " runs not injected";
+  }
+  std::string out = text.empty() ? "" : text + " are left out of every rate, as in summary.json.";
+  if (const long compound = Count(*runs, "compound"); compound > 0) {
+    out += " " + std::to_string(compound) + " compound runs are left out too (tuning scores single faults; summary.json scores them).";
+  }
+  return out;
+}
+
 Rate SummaryRate(const json* j) {
   Rate r;
   if (j == nullptr || !j->is_object()) return r;

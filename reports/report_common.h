@@ -32,6 +32,10 @@ const json* Field(const json& j, const std::string& key);
 std::optional<double> Num(const json& j, const std::string& key);
 std::string Str(const json& j, const std::string& key);
 long Count(const json& j, const std::string& key);
+// " 32 runs not excited (their fault could not act) are left out of every rate, as in
+// summary.json." from tuning.json's "runs" (one denominator across commands); "" when none are
+// (or the campaign scores them).
+std::string TuningLeftOutText(const json& tuning);
 
 // A rate with its 95 % Wilson interval, from summary.json ({rate, low, high, successes,
 // trials}) or tuning.json ({value, low, high, count, runs}).

@@ -34,7 +34,7 @@ std::string OperatingPointSection(const ReportData& d) {
   o += "<p>Chosen by the rule <b>" + Escape(RuleText(Field(t, "rule"))) + "</b> among " +
        std::to_string(Count(t, "settings")) + " threshold settings scored on this campaign's runs" +
        (Str(sel, "split").empty() ? "" : " (" + Escape(Str(sel, "split")) + ")") + ". Tuning: " +
-       CodeSpans(d.tuning_source) + ".</p>";
+       CodeSpans(d.tuning_source) + "." + Escape(TuningLeftOutText(t)) + "</p>";
   // Thresholds: operating beside the monitor's defaults.
   std::vector<std::vector<std::string>> rows;
   std::map<std::string, double> defaults;

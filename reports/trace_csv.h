@@ -1,6 +1,7 @@
 // Writes a run's time series as CSV: one row per controller tick, a header, SI units
 // (angles rad, velocities rad/s, torques N m, currents A, voltages V, powers W; the column
-// list is in docs/trace-format.md). Attach Observer() to Simulate().
+// list is in docs/trace-format.md; each name ends in its unit and joint, "tau_sensor_Nm_j3").
+// Attach Observer() to Simulate().
 #pragma once
 
 #include <functional>
@@ -8,6 +9,7 @@
 #include <string_view>
 #include <vector>
 
+#include "campaigns/channels.h"
 #include "core/plant/simulation.h"
 
 namespace armfault {
@@ -26,7 +28,13 @@ class TraceCsvWriter {
   std::function<void(std::string_view)> sink_;
 };
 
-// The column names, in order, for `joint_count` joints ("t", then per joint "q_ref_1", ...).
-std::vector<std::string> TraceCsvColumns(int joint_count);
+// The columns, in order, for `joint_count` joints: "t_s", then per joint "q_ref_rad_j1", ...
+// (campaigns/channels.h: the names `armfault export` uses, with units); what channels.json
+// beside the trace describes.
+std::vector<Channel> TraceCsvChannels(int joint_count);
+std::vector<std::string> TraceCsvColumns(int joint_count);  // their names
+// Writes the channels.json of a trace written to `csv_path` beside it (ChannelsSidecarPath:
+// "trace.csv" -> "trace.channels.json"), atomically.
+void WriteTraceChannels(const std::string& csv_path, int joint_count);
 
 }  // namespace armfault

@@ -43,8 +43,8 @@ from ._armfault import (FAULT_FAMILIES, SIGNAL_FIELDS, Campaign, InputError, Ver
 __all__ = [
     "Campaign", "FAULT_FAMILIES", "InputError", "Monitor", "RunsFailed", "RunsFailedWarning", "SIGNAL_FIELDS",
     "Signals", "Statistic", "Trace",
-    "Verdict", "load_campaign", "magnitude_key", "replay", "run_campaign", "simulate", "summary",
-    "with_monitor", "__version__",
+    "Verdict", "load_campaign", "magnitude_key", "read_channels", "read_results_csv", "replay", "run_campaign",
+    "simulate", "summary", "with_monitor", "__version__",
 ]
 
 
@@ -408,6 +408,57 @@ def summary(records, campaign=None):
         records = records.to_dict("records")
     lines = [_record_line(r) for r in records]
     return json.loads(_armfault.summary(lines, None if campaign is None else load_campaign(campaign)))
+
+
+# ------------------------------------------------------------------------------ CSV files
+
+# Columns of results.csv and an export's manifest.csv that hold integers or booleans, with empty
+# cells where results.jsonl has null (docs/campaign-format.md, "results.csv").
+_CSV_INTEGERS = ("case", "joint", "seed", "repetition", "unit", "isolated_joint", "ticks")
+_CSV_BOOLEANS = ("took_effect", "detected", "alarm_before_onset", "isolated", "excited")
+
+
+def read_results_csv(path):
+    """results.csv (or an export's manifest.csv) as a pandas DataFrame whose integer columns
+    (joint, case, seed, ...) are pandas' nullable Int64 and boolean ones (detected, isolated,
+    took_effect, ...) nullable boolean, where plain pandas.read_csv makes a column with an empty
+    cell (a healthy run's joint) float or object. seed is UInt64 (a seed may exceed 2^63)."""
+    import pandas
+    header = pandas.read_csv(path, nrows=0).columns
+    dtype = {c: "Int64" for c in _CSV_INTEGERS if c in header}
+    if "seed" in dtype:
+        dtype["seed"] = "UInt64"
+    dtype.update({c: "boolean" for c in _CSV_BOOLEANS if c in header})
+    return pandas.read_csv(path, dtype=dtype, keep_default_na=False,
+                           na_values={c: [""] for c in header})
+
+
+def _sidecar(csv_path):
+    """The channels.json of a CSV of signals: beside a trace, "<stem>.channels.json"; for an
+    export's runs/<case>.csv.gz, the export directory's channels.json."""
+    path = os.fspath(csv_path)
+    folder, name = os.path.split(path)
+    own = os.path.join(folder, (name[:-4] if name.endswith(".csv") else name) + ".channels.json")
+    if os.path.exists(own):
+        return own
+    return os.path.join(os.path.dirname(folder), "channels.json")
+
+
+def read_channels(csv_path):
+    """A CSV of signals armfault wrote (`armfault trace -o X.csv`, an export's runs/<case>.csv.gz)
+    with its channels.json: returns (frame, channels), frame a pandas DataFrame of the CSV,
+    channels the list of {"name", "quantity", "unit", "source", "joint", "description"} in column
+    order (source "sensor", "truth" or "monitor"; docs/trace-format.md, "Column names and
+    channels.json"). Raises ValueError when the sidecar does not describe the CSV's columns."""
+    import pandas
+    with open(_sidecar(csv_path)) as f:
+        channels = json.load(f)["channels"]
+    frame = pandas.read_csv(csv_path)
+    names = [c["name"] for c in channels]
+    if list(frame.columns) != names:
+        raise ValueError(f"{csv_path}: its channels.json describes other columns "
+                         f"({names[:3]}... against {list(frame.columns)[:3]}...)")
+    return frame, channels
 
 
 # ------------------------------------------------------------------------------ one run

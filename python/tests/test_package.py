@@ -86,6 +86,34 @@ def test_builtin_monitor_gives_the_cli_records_and_files(cli, small_file, tmp_pa
     assert armfault.summary(frame, small_file) == written
     assert armfault.summary(records, small_file) == written
     assert armfault.summary(records)["overall"] == written["overall"]
+    # results.csv reads back with integer joints and boolean outcomes, blanks as <NA>.
+    table = armfault.read_results_csv(tmp_path / "cli" / "results.csv")
+    assert str(table["joint"].dtype) == "Int64" and str(table["detected"].dtype) == "boolean"
+    assert str(table["isolated"].dtype) == "boolean" and str(table["seed"].dtype) == "UInt64"
+    assert list(table["run_id"]) == [r["run_id"] for r in records]
+    for row, record in zip(table.itertuples(), records):
+        assert (pd.isna(row.joint) and record["joint"] is None) or row.joint == record["joint"]
+        assert bool(row.detected) == record["detected"]
+        assert (pd.isna(row.miss_reason) and record["miss_reason"] is None) or row.miss_reason == record["miss_reason"]
+
+
+def test_trace_and_export_csvs_read_with_their_channels(cli, small_file, tmp_path):
+    done = run_cli(cli, "trace", small_file, "--run", "0", "-q", "-o", tmp_path / "t.csv")
+    assert done.returncode == 0, done.stderr
+    frame, channels = armfault.read_channels(tmp_path / "t.csv")
+    assert list(frame.columns)[:3] == ["t_s", "q_ref_rad_j1", "q_rad_j1"]
+    by_name = {c["name"]: c for c in channels}
+    assert by_name["tau_true_Nm_j3"]["source"] == "truth" and by_name["tau_true_Nm_j3"]["joint"] == 3
+    assert by_name["tau_sensor_Nm_j3"]["unit"] == "N m" and by_name["tau_sensor_Nm_j3"]["source"] == "sensor"
+    done = run_cli(cli, "export", small_file, "-q", "-o", tmp_path / "exp")
+    assert done.returncode == 0, done.stderr
+    frame, channels = armfault.read_channels(tmp_path / "exp" / "runs" / "000000.csv.gz")
+    # The sensor quantities are the package's SIGNAL_FIELDS, under the trace's names.
+    assert [c["quantity"] for c in channels if c["joint"] == 1] == list(armfault.SIGNAL_FIELDS)
+    assert {c["name"] for c in channels if c["source"] == "sensor"} >= {"q_ref_rad_j1", "i_cmd_A_j3"}
+    assert set(by_name) >= {c["name"] for c in channels if c["quantity"] not in ("qd_ref_rad_s", "winding_temp_C")}
+    manifest = armfault.read_results_csv(tmp_path / "exp" / "manifest.csv")
+    assert str(manifest["joint"].dtype) == "Int64" and str(manifest["excited"].dtype) == "boolean"
 
 
 def test_simulate_returns_what_the_monitor_sees(small, cli, small_file, tmp_path):

@@ -156,7 +156,10 @@ expect_stdout_contains "energy balance"
 if [[ -f "$tmp/t.csv" ]]; then
   pass
   header=$(head -n 1 "$tmp/t.csv")
-  if [[ $header == t,q_ref_1,* ]]; then pass; else fail "header starts '${header:0:40}'"; fi
+  if [[ $header == t_s,q_ref_rad_j1,q_rad_j1,* ]]; then pass; else fail "header starts '${header:0:40}'"; fi
+  # channels.json beside it: one entry per column, in order, with unit and source.
+  if python3 -c 'import json,sys; c=json.load(open(sys.argv[1]))["channels"]; h=open(sys.argv[2]).readline().strip().split(","); sys.exit(not ([x["name"] for x in c]==h and c[1]["unit"]=="rad" and c[2]["source"]=="truth"))' \
+      "$tmp/t.channels.json" "$tmp/t.csv"; then pass; else fail "t.channels.json does not describe t.csv's columns"; fi
   rows=$(($(wc -l <"$tmp/t.csv") - 1))
   if [[ $rows -eq 251 ]]; then pass; else fail "$rows data rows, expected 251 (500 Hz, t = 0 .. 0.5)"; fi
   first_t=$(sed -n 2p "$tmp/t.csv" | cut -d, -f1)
@@ -199,7 +202,7 @@ status=$?
 expect_status 0
 if [[ -f "$tmp/p.csv" ]]; then
   header=$(head -n 1 "$tmp/p.csv")
-  if [[ $header == t,q_ref_1,* && $header != *q_ref_2* ]]; then pass; else fail "pendulum header '${header:0:60}'"; fi
+  if [[ $header == t_s,q_ref_rad_j1,* && $header != *q_ref_rad_j2* ]]; then pass; else fail "pendulum header '${header:0:60}'"; fi
   rows=$(($(wc -l <"$tmp/p.csv") - 1))
   if [[ $rows -eq 51 ]]; then pass; else fail "$rows data rows, expected 51"; fi
 else
@@ -659,6 +662,11 @@ expect_status 0
 if [[ -f "$tmp/exp/runs/000000.csv.gz" && -f "$tmp/exp/runs/000001.csv.gz" && $(wc -l <"$tmp/exp/manifest.jsonl") -eq 2 ]] &&
   zcat "$tmp/exp/runs/000000.csv.gz" | head -1 | grep -q "^t_s,q_ref_rad_j1,"; then pass; else
   fail "export did not write two runs and a manifest: $(ls -R "$tmp/exp" | head -20)"
+fi
+# channels.json describes the runs' columns, in order: every one a sensor's (what a monitor reads).
+if python3 -c 'import json,sys; c=json.load(open(sys.argv[1])); h=sys.stdin.readline().strip().split(","); sys.exit(not (c["file"]=="runs/*.csv.gz" and [x["name"] for x in c["channels"]]==h and {x["source"] for x in c["channels"]}=={"sensor"} and c["channels"][5]["unit"]=="N m"))' \
+    "$tmp/exp/channels.json" < <(zcat "$tmp/exp/runs/000000.csv.gz" | head -1); then pass; else
+  fail "export's channels.json does not describe runs/*.csv.gz"
 fi
 # No verdict at all: the fault is missed, the floor fails (exit 1) as it would in `run`.
 : >"$tmp/none.jsonl"

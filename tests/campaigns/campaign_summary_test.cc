@@ -282,6 +282,49 @@ TEST(CampaignSummaryTest, ConfusionMatrix) {
                                             {0, 0, 0, 0}}));  // nothing is truly "unknown"
 }
 
+// A fault named right but on the wrong joint: on the family confusion's diagonal, off the
+// joint confusion's; per joint and per family x joint rates, false alarms by the joint named.
+TEST(CampaignSummaryTest, PerJointRatesAndTheJointConfusionMatrix) {
+  std::vector<RunRecord> records = MixedRecords();
+  records.push_back(Detect(Faulty("kt/r6", kKt, 2, kKtGroup), kKt, 3, 0.4));  // kt named on joint 3
+  const nlohmann::json s = BuilderOf(records).Build(Floors{}, nullptr, "v");
+  EXPECT_EQ(s.at("confusion").at("counts").at(0), (nlohmann::json{3, 1, 1, 0}));  // r6 looks right here
+  const nlohmann::json c = s.at("confusion_by_joint");
+  auto label = [](const char* family, int joint) {
+    return nlohmann::json{{"family", family}, {"joint", joint ? nlohmann::json(joint) : nlohmann::json(nullptr)}};
+  };
+  EXPECT_EQ(c.at("labels"), (nlohmann::json{label(kKt, 2), label(kKt, 3), label(kStuck, 1), label(kStuck, 2),
+                                            label("healthy", 0), label("unknown", 0)}));
+  EXPECT_EQ(c.at("counts"), (nlohmann::json{{2, 1, 0, 1, 1, 0},    // kt j2: r1 r2 | r6 on j3 | r3 as stuck | r4 missed
+                                            {0, 0, 0, 0, 0, 0},    // nothing injected on kt j3
+                                            {0, 0, 1, 0, 0, 1},    // stuck j1: right, unknown
+                                            {0, 0, 0, 0, 0, 0},
+                                            {0, 1, 0, 0, 3, 0},    // healthy: one alarm named kt j3
+                                            {0, 0, 0, 0, 0, 0}}));
+  const nlohmann::json& joints = s.at("per_joint");
+  ASSERT_EQ(joints.size(), 3u);
+  EXPECT_EQ(joints[0].at("joint"), 1);
+  ExpectRate(joints[0].at("detection"), 2, 2);
+  ExpectRate(joints[0].at("isolation"), 1, 2);
+  ExpectRate(joints[0].at("false_alarm"), 0, 4);
+  EXPECT_EQ(joints[1].at("joint"), 2);
+  EXPECT_EQ(joints[1].at("runs"), 5);
+  ExpectRate(joints[1].at("detection"), 4, 5);
+  ExpectRate(joints[1].at("isolation"), 2, 4);
+  EXPECT_EQ(joints[1].at("latency").at("count"), 4);
+  EXPECT_EQ(joints[1].at("latency").at("misses"), 1);
+  EXPECT_EQ(joints[2].at("joint"), 3);  // only a false alarm named it
+  EXPECT_EQ(joints[2].at("faulty_runs"), 0);
+  ExpectRate(joints[2].at("false_alarm"), 1, 4);
+  const nlohmann::json& cells = s.at("per_family_joint");
+  ASSERT_EQ(cells.size(), 2u);
+  EXPECT_EQ(cells[0].at("family"), kKt);
+  EXPECT_EQ(cells[0].at("joint"), 2);
+  ExpectRate(cells[0].at("detection"), 4, 5);
+  EXPECT_EQ(cells[1].at("family"), kStuck);
+  ExpectRate(cells[1].at("isolation"), 1, 2);
+}
+
 TEST(CampaignSummaryTest, ConfusionOfAnEmptyCampaignStillHasTheFixedLabels) {
   const nlohmann::json s = SummaryBuilder().Build(Floors{}, nullptr, "v");
   EXPECT_EQ(s.at("confusion").at("labels"), (nlohmann::json{"healthy", "unknown"}));
@@ -451,8 +494,15 @@ TEST(CampaignSummaryJUnitTest, OneSuitePerFamilyOneCasePerGroupAndTrajectoryWith
   EXPECT_THAT(xml, HasSubstr("<testsuite name=\"healthy\" tests=\"1\" failures=\"1\">"));
   EXPECT_THAT(xml, HasSubstr("false_alarm_rate 0.500 &gt; 0.100 (1 of 2 healthy runs)"));
   EXPECT_THAT(xml, HasSubstr("--run &apos;exp1/healthy/0&apos;"));
-  // The floors suite comes first, and the totals count every case: 3 floors + 3 group cases.
-  EXPECT_THAT(xml, HasSubstr("<testsuites name=\"armfault: c\" tests=\"5\" failures=\"4\">"));
+  // Per joint: counts only, and the false alarm on the joint it named (Healthy names joint 3).
+  EXPECT_THAT(xml, HasSubstr("<testsuite name=\"per joint\" tests=\"3\" failures=\"0\">"));
+  EXPECT_THAT(xml, HasSubstr("name=\"joint 2\">\n      <system-out>5 runs, 3 detected, 3 isolated (family and joint), "
+                             "latency median 0.500 s; false alarms naming joint 2: 0 of 2 healthy runs</system-out>"));
+  EXPECT_THAT(xml, HasSubstr("name=\"joint 3\">\n      <system-out>no faulty runs; false alarms naming joint 3: 1 of 2"));
+  EXPECT_THAT(xml, HasSubstr("name=\"kt_degradation: joint 2\">\n      <system-out>5 runs, 3 detected"));
+  // The floors suite comes first, and the totals count every case: 2 floors + 3 group cases
+  // + 3 per-joint cases.
+  EXPECT_THAT(xml, HasSubstr("<testsuites name=\"armfault: c\" tests=\"8\" failures=\"4\">"));
 }
 
 // Failed runs are a failing JUnit case naming the first failure (lowest case number, whatever

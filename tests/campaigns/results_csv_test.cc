@@ -47,7 +47,7 @@ TEST(ResultsCsv, QuotesRunIdsWithCommasAndLeavesNullsEmpty) {
   EXPECT_EQ(row,
             "7,\"p2p/friction_increase#1/friction_factor=1.5,onset_s=U[1,3]/j2/r0\",p2p,"
             "friction_increase friction_factor=1.5 joint=2,friction_increase,2,1.25,friction_factor,1.5,42,0,3,31.5,ok,"
-            "\"said \"\"no\"\"\",true,true,false,2,0.75,friction_increase,2,true,friction_factor,1.48,0.99\n");
+            "\"said \"\"no\"\"\",true,true,false,2,0.75,friction_increase,2,true,friction_factor,1.48,0.99,1,\n");
   EXPECT_EQ(Commas(row), Commas(ResultsCsvHeader()));
 
   RunRecord healthy;
@@ -55,7 +55,24 @@ TEST(ResultsCsv, QuotesRunIdsWithCommasAndLeavesNullsEmpty) {
   healthy.trajectory = "exp1";
   const std::string h = ResultsCsvRow(healthy);
   EXPECT_EQ(Commas(h), Commas(ResultsCsvHeader()));
-  EXPECT_EQ(h, "0,exp1/healthy/0,exp1,,,,,,,0,0,,,ok,,,false,false,,,,,,,,\n");
+  EXPECT_EQ(h, "0,exp1/healthy/0,exp1,,,,,,,0,0,,,ok,,,false,false,,,,,,,,,,\n");
+}
+
+TEST(ResultsCsv, MagnitudeUnitAndMissReasonAreTheLastColumns) {
+  EXPECT_THAT(ResultsCsvHeader(), ::testing::EndsWith(",confidence,magnitude_unit,miss_reason\n"));
+  EXPECT_EQ(MagnitudeUnit("kt_factor"), "1");
+  EXPECT_EQ(MagnitudeUnit("drag_fraction"), "1");
+  EXPECT_EQ(MagnitudeUnit("resistance_ohm"), "Ω");
+  EXPECT_EQ(MagnitudeUnit("drift_Nm_per_s"), "N m/s");
+  RunRecord r;
+  r.run_id = "exp1/kt/j3/r0";
+  r.family = "torque_sensor_drift";
+  r.joint = 3;
+  r.magnitude_key = "drift_Nm_per_s";
+  r.magnitude = -2;
+  r.miss_reason = "no alarm; closest on joint 3: sensor_drift deviated 0.2, 0.3";
+  EXPECT_THAT(ResultsCsvRow(r),
+              ::testing::EndsWith(",N m/s,\"no alarm; closest on joint 3: sensor_drift deviated 0.2, 0.3\"\n"));
 }
 
 TEST(ResultsCsv, TextASpreadsheetWouldTakeForAFormulaOpensAsText) {

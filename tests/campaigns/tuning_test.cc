@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "campaigns/campaign.h"
+#include "campaigns/campaign_summary.h"
 #include "campaigns/run_record.h"
 #include "campaigns/runner.h"
 #include "campaigns/tuning.h"
@@ -268,6 +269,41 @@ TEST(Tune, RocAucCoversTheMeasuredPointsOnlyAndUnsweptCurvesHaveNone) {
   }
   // This campaign's swept K_T limit does move its rates.
   EXPECT_TRUE(roc["kt_degradation"]["swept"].get<bool>()) << roc["kt_degradation"].dump();
+}
+
+// One denominator: at the thresholds it ran with, tune's rates are run's (summary.json), with
+// the runs whose fault could not act left out of both (or, when the campaign includes them,
+// in both).
+TEST(Tune, AsRunRatesAreTheSummarysWithTheSameRunsLeftOut) {
+  for (const bool include : {false, true}) {
+    ScratchDir dir(include ? "tune_denominator_in" : "tune_denominator");
+    json file = KtCampaign(json::object());
+    file["duration_s"] = 4;
+    // Joint 2 holds still: a K_T loss there cannot act, so its runs are not excited.
+    file["faults"].push_back({{"family", "kt_degradation"}, {"joint", 2}, {"kt_factor", 0.9}, {"onset_s", 1.5}});
+    if (include) file["include_not_excited"] = true;
+    const Campaign campaign = CampaignFromJson(file, "kt.json", dir.path().string());
+    RunnerOptions o;
+    o.output_dir = (dir.path() / "out").string();
+    RunCampaign(campaign, o);
+    SummaryBuilder summary(include);
+    for (const RunRecord& r : ReadRecords(dir.path() / "out" / "results.jsonl")) summary.Add(r);
+    const json overall = summary.Build(Floors{}, nullptr, "v")["overall"];
+    ASSERT_EQ(summary.not_excited_runs(), 2);  // kt_factor 0.9 on joint 2, two repetitions
+    TuneOptions options;
+    options.sweep = "kt_factor.worn=0.9:0.99:4";
+    const TuningResult t = TuneCampaignDir(o.output_dir, options);
+    const json& as_run = t.report["default_point"];
+    for (const auto& [tuned, run] : {std::pair{"detection_rate", "detection"}, std::pair{"false_alarm_rate", "false_alarm"},
+                                     std::pair{"isolation_accuracy", "isolation"}}) {
+      EXPECT_EQ(as_run[tuned]["count"], overall[run]["successes"]) << tuned << " include " << include;
+      EXPECT_EQ(as_run[tuned]["runs"], overall[run]["trials"]) << tuned << " include " << include;
+    }
+    EXPECT_EQ(t.report["runs"]["faulty"], overall["faulty_runs"]);
+    EXPECT_EQ(t.report["runs"]["not_excited"], 2);
+    EXPECT_EQ(t.report["runs"]["not_excited_included"], include);
+    EXPECT_EQ(t.not_excited, include ? 0 : 2);
+  }
 }
 
 TEST(Tune, ARunDirectoryWhoseCsvTrajectoryIsNotBesideItIsTuned) {

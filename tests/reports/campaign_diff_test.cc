@@ -328,6 +328,57 @@ TEST(CampaignDiffTest, CountsFollowTheSummaryDefinitions) {
   EXPECT_EQ(before->a.trials, summary["per_family"][kKt]["alarm_before_onset_rate"]["trials"].get<long>());
 }
 
+// One denominator: runs whose fault could not act are out of diff's rates as out of
+// summary.json's, and the header says how many each side left out.
+TEST(CampaignDiffTest, NotExcitedRunsAreLeftOutAndCounted) {
+  CampaignResults a = Baseline();
+  for (int i = 0; i < 3; ++i) {
+    RunRecord r = Faulty("still/r" + std::to_string(i), kKt07, false);
+    r.not_excited_reason = "joint 3 was asked to move 0 rad after the onset";
+    a.records.Add(r);
+  }
+  const DiffResult d = DiffCampaigns(a, Baseline(), DiffOptions{});
+  EXPECT_EQ(d.a.not_excited, 3);
+  EXPECT_EQ(d.b.not_excited, 0);
+  EXPECT_EQ(Find(d, "overall", "", "detection")->a.trials, 100);  // 40 + 40 + 20, the 3 left out
+  EXPECT_EQ(Find(d, "group", kKt07, "detection")->verdict, "same");
+  EXPECT_THAT(DiffToText(d), HasSubstr("(campaign \"ci\", 143 runs, 0 failed, 3 not excited, left out)"));
+  EXPECT_EQ(DiffToJson(d)["a"]["not_excited"], 3);
+}
+
+// "same" is a claim the samples must be able to back: 2/2 -> 0/2 (p = 0.33, and no outcome of
+// 2 runs a side could reach p < 0.05) is inconclusive, as is a material change the runs cannot
+// confirm (4/4 -> 2/4); identical groups large enough to show a change stay "same".
+TEST(CampaignDiffTest, SamplesThatCannotShowAChangeAreInconclusive) {
+  EXPECT_NEAR(SmallestFisherP(2, 2), 1.0 / 3, 1e-12);
+  EXPECT_NEAR(SmallestFisherP(4, 4), 2.0 / 70, 1e-12);
+  EXPECT_NEAR(SmallestMannWhitneyP(3, 3), 0.1, 1e-12);
+  EXPECT_NEAR(SmallestMannWhitneyP(4, 4), 2.0 / 70, 1e-12);
+  CampaignResults a, b;
+  a.campaign = b.campaign = {{"name", "ci"}};
+  AddGroup(&a, kKt07, 2, 2);
+  AddGroup(&b, kKt07, 2, 0);
+  AddGroup(&a, kKt05, 4, 4);
+  AddGroup(&b, kKt05, 4, 2);
+  AddGroup(&a, kBrake, 4, 4, 0.2);
+  AddGroup(&b, kBrake, 4, 4, 0.2);
+  const DiffResult d = DiffCampaigns(a, b, DiffOptions{});
+  const Comparison* two = Find(d, "group", kKt07, "detection");
+  EXPECT_NEAR(*two->p, 1.0 / 3, 1e-9);
+  EXPECT_EQ(two->verdict, "inconclusive");
+  EXPECT_EQ(Find(d, "group", kKt05, "detection")->verdict, "inconclusive");  // -0.5, p = 0.43
+  EXPECT_EQ(Find(d, "group", kBrake, "detection")->verdict, "same");        // 4/4 both; 4 a side can show a change
+  EXPECT_EQ(Find(d, "group", kBrake, "latency")->verdict, "same");
+  EXPECT_EQ(Find(d, "group", kKt05, "latency")->verdict, "inconclusive");  // 4 against 2 latencies: p >= 0.133
+  EXPECT_FALSE(d.AnyWorse());  // inconclusive never fails the gate
+  EXPECT_THAT(DiffToText(d), HasSubstr(" inconclusive, "));
+  EXPECT_EQ(DiffToJson(d)["counts"]["inconclusive"], d.Count("inconclusive"));
+  // A larger tolerance is the material change when it exceeds 0.1.
+  DiffOptions wide;
+  wide.rate_tolerance = 0.6;
+  EXPECT_EQ(Find(DiffCampaigns(a, b, wide), "group", kKt05, "detection")->verdict, "same");
+}
+
 TEST(CampaignDiffTest, AWorseCandidateIsWorseAndNamed) {
   const CampaignResults a = Baseline();
   CampaignResults b;
