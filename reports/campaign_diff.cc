@@ -332,7 +332,8 @@ double SmallestFisherP(long n_a, long n_b) {
 double SmallestMannWhitneyP(long n_a, long n_b) {
   if (n_a <= 0 || n_b <= 0) return 1;
   // Every B above every A (or below): probability 1 / C(n_a + n_b, n_a) each, two-sided.
-  return std::min(1.0, 2 * std::exp(-LogChoose(n_a + n_b, n_a)));
+  const double log_choose = std::lgamma(n_a + n_b + 1.0) - std::lgamma(n_a + 1.0) - std::lgamma(n_b + 1.0);
+  return std::min(1.0, 2 * std::exp(-log_choose));
 }
 
 double MaterialRateChange(const DiffOptions& o) { return std::max(o.rate_tolerance, kMaterialRateChange); }
