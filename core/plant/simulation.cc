@@ -30,11 +30,6 @@ Eigen::Vector3d Vec(const std::array<double, 3>& a) { return Eigen::Vector3d(a[0
 
 Eigen::Vector3d ToEigen(const dReal* v) { return Eigen::Vector3d(v[0], v[1], v[2]); }
 
-// Rotor body geometry (see core/plant/simulation.h): the planet's axis is this far from the joint
-// axis; only the ratio of the wheel radii matters to the dynamics, the offset just has to
-// keep the gear row well scaled. The token mass (ODE needs one) and the offset move the
-// link's inertia by m e^2 = 2.5e-6 kg m^2 and its gravity moment by 5e-4 N m: negligible.
-
 void SetBodyPose(dBodyID b, const Eigen::Vector3d& pos, const Eigen::Matrix3d& rot) {
   dBodySetPosition(b, pos.x(), pos.y(), pos.z());
   dMatrix3 R;
@@ -280,10 +275,7 @@ std::string FormatFailure(double t, int joint, const std::string& what, double v
   return s.str();
 }
 
-// One joint at a controller tick: reads the sensors (the torque sensor as its lead condition
-// allows), runs the controller, and writes the tick record: the signals beside the truth and
-// the mean powers of the period just ended (`first_tick`: none yet). Draws the joint's noise
-// in a fixed order.
+// The joint's reference at `t`: its trajectory's, or holding the initial angle.
 TrajectoryPoint ReferenceAt(const JointRunOptions& o, const JointRuntime& r, double t) {
   TrajectoryPoint ref;
   if (o.trajectory) ref = o.trajectory->At(t);
@@ -305,6 +297,10 @@ void ReferenceTorques(const ArmModel& model, const std::vector<JointRunOptions>&
   TransmittedTorques(model.rigid_bodies(), q.data(), qd.data(), qdd.data(), tau_Nm->data());
 }
 
+// One joint at a controller tick: reads the sensors (the torque sensor as its lead condition
+// allows), runs the controller, and writes the tick record: the signals beside the truth and
+// the mean powers of the period just ended (`first_tick`: none yet). Draws the joint's noise
+// in a fixed order.
 // `model_torque_Nm`: the feedforward when the joint has no torque sensor (ReferenceTorques).
 void ControllerTick(const JointModel& jm, const JointRunOptions& o, const HardwareCondition& cond, double t,
                     bool first_tick, int steps, double model_torque_Nm, JointRuntime* runtime, JointTick* tick_out) {

@@ -862,8 +862,8 @@ printf '{"robot": {"urdf": "ur-class.urdf", "drives": {"shoulder_pan": "industri
 run no_sensor_trace "$armfault" trace "$tmp/no_sensor_run.json" -o "$tmp/no_sensor_trace.csv"
 expect_status 0
 current=no_sensor_reads_nan
-if [[ $(awk -F, 'NR==1 { for (i = 1; i <= NF; i++) if ($i == "tau_sensor_2") c = i } NR == 3 { print $c }' "$tmp/no_sensor_trace.csv") == nan ]]; then pass; else
-  fail "tau_sensor_2 of a joint without a sensor: $(sed -n 3p "$tmp/no_sensor_trace.csv" | head -c 300)"
+if [[ $(awk -F, 'NR==1 { for (i = 1; i <= NF; i++) if ($i == "tau_sensor_Nm_j2") c = i } NR == 3 { print $c }' "$tmp/no_sensor_trace.csv") == nan ]]; then pass; else
+  fail "tau_sensor_Nm_j2 of a joint without a sensor: $(sed -n 3p "$tmp/no_sensor_trace.csv" | head -c 300)"
 fi
 
 

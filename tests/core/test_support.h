@@ -96,4 +96,17 @@ struct Recording {
   }
 };
 
+// A run of the ur-class arm on campaigns/files/ur-class.json's "sweep" motion (every joint moving).
+inline nlohmann::json UrClassSweepRun(double duration_s) {
+  return {{"robot", "ur-class"},
+          {"duration_s", duration_s},
+          {"joints",
+           {{"1", {{"type", "sine_pair"}, {"amplitude_deg", 30}, {"omega_rad_s", 1.1}}},
+            {"2", {{"type", "cosine_ramp"}, {"amplitude_deg", 25}, {"period_s", 4}}},
+            {"3", {{"type", "sine_pair"}, {"amplitude_deg", 25}, {"omega_rad_s", 1.2732}}},
+            {"4", {{"type", "sine_pair"}, {"amplitude_deg", 35}, {"omega_rad_s", 1.5}}},
+            {"5", {{"type", "cosine_ramp"}, {"amplitude_deg", 30}, {"period_s", 3}}},
+            {"6", {{"type", "sine_pair"}, {"amplitude_deg", 45}, {"omega_rad_s", 2.0}}}}}};
+}
+
 }  // namespace armfault::testing_support

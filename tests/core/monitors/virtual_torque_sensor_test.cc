@@ -16,16 +16,7 @@ namespace armfault {
 namespace {
 
 TEST(VirtualTorqueSensorTest, SensorlessArmTracksAndTheModelReadsItsTorques) {
-  const nlohmann::json run_json = {
-      {"robot", "ur-class"},
-      {"duration_s", 8},
-      {"joints",
-       {{"1", {{"type", "sine_pair"}, {"amplitude_deg", 30}, {"omega_rad_s", 1.1}}},
-        {"2", {{"type", "cosine_ramp"}, {"amplitude_deg", 25}, {"period_s", 4}}},
-        {"3", {{"type", "sine_pair"}, {"amplitude_deg", 25}, {"omega_rad_s", 1.2732}}},
-        {"4", {{"type", "sine_pair"}, {"amplitude_deg", 35}, {"omega_rad_s", 1.5}}},
-        {"5", {{"type", "cosine_ramp"}, {"amplitude_deg", 30}, {"period_s", 3}}},
-        {"6", {{"type", "sine_pair"}, {"amplitude_deg", 45}, {"omega_rad_s", 2.0}}}}}};
+  const nlohmann::json run_json = testing_support::UrClassSweepRun(8);
   RunConfig run = RunConfigFromJson(run_json, "", InputContext{});
   for (ModuleParams& m : run.robot.modules) m.torque_sensor.present = false;
   run.robot.payload_kg = 1.0;

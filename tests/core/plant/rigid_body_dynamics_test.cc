@@ -90,16 +90,7 @@ TEST(RigidBodyDynamicsTest, MatchesOdesTransmittedTorques) {
       EXPECT_NEAR(tau[j], model_tau[j], 1e-6 * std::fabs(model_tau[j]) + kRotorMass_kg * 9.81 * kRotorOffset_m) << "joint " << j + 1;
     }
   }
-  const nlohmann::json run_json = {
-      {"robot", "ur-class"},
-      {"duration_s", 4},
-      {"joints",
-       {{"1", {{"type", "sine_pair"}, {"amplitude_deg", 30}, {"omega_rad_s", 1.1}}},
-        {"2", {{"type", "cosine_ramp"}, {"amplitude_deg", 25}, {"period_s", 4}}},
-        {"3", {{"type", "sine_pair"}, {"amplitude_deg", 25}, {"omega_rad_s", 1.2732}}},
-        {"4", {{"type", "sine_pair"}, {"amplitude_deg", 35}, {"omega_rad_s", 1.5}}},
-        {"5", {{"type", "cosine_ramp"}, {"amplitude_deg", 30}, {"period_s", 3}}},
-        {"6", {{"type", "sine_pair"}, {"amplitude_deg", 45}, {"omega_rad_s", 2.0}}}}}};
+  const nlohmann::json run_json = testing_support::UrClassSweepRun(4);
   RunConfig run = RunConfigFromJson(run_json, "", InputContext{});
   // One physics step per tick: the torque a tick reports was computed at the previous tick's
   // state for the step's mean acceleration (semi-implicit Euler: v_k = v_{k-1} + h a).

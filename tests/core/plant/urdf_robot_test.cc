@@ -318,16 +318,7 @@ TEST(UrdfRobotTest, BrakedArmHoldsTheIndependentGravityTorques) {
 // energy balance closes as on mrr-config1 (core/plant/simulation_test.cc), and every joint
 // tracks within 0.2 deg with the drive-only gain rule (docs/assumptions.md).
 TEST(UrdfRobotTest, SixJointArmClosesItsEnergyBalanceAndTracks) {
-  const nlohmann::json run_json = {
-      {"robot", "ur-class"},
-      {"duration_s", 8},
-      {"joints",
-       {{"1", {{"type", "sine_pair"}, {"amplitude_deg", 30}, {"omega_rad_s", 1.1}}},
-        {"2", {{"type", "cosine_ramp"}, {"amplitude_deg", 25}, {"period_s", 4}}},
-        {"3", {{"type", "sine_pair"}, {"amplitude_deg", 25}, {"omega_rad_s", 1.2732}}},
-        {"4", {{"type", "sine_pair"}, {"amplitude_deg", 35}, {"omega_rad_s", 1.5}}},
-        {"5", {{"type", "cosine_ramp"}, {"amplitude_deg", 30}, {"period_s", 3}}},
-        {"6", {{"type", "sine_pair"}, {"amplitude_deg", 45}, {"omega_rad_s", 2.0}}}}}};
+  const nlohmann::json run_json = testing_support::UrClassSweepRun(8);
   const RunConfig run = RunConfigFromJson(run_json, "", InputContext{});
   const ArmModel model(run.robot);
   testing_support::Recording rec;
