@@ -54,6 +54,10 @@ packages=("${build_packages[@]}")
 [ "$tests" -eq 0 ] || packages+=("${test_packages[@]}")
 missing=()
 for p in "${packages[@]}"; do
+  # Node.js from elsewhere (NodeSource's nodejs carries its own npm and conflicts with Debian's
+  # npm package): a working `node` and `npm` are what the build needs, not Debian's packages.
+  if [ "$p" = nodejs ] && command -v node >/dev/null 2>&1; then continue; fi
+  if [ "$p" = npm ] && command -v npm >/dev/null 2>&1; then continue; fi
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
 if [ "${#missing[@]}" -gt 0 ]; then
