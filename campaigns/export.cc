@@ -24,6 +24,7 @@
 #include "core/plant/simulation.h"
 #include "campaigns/channels.h"
 #include "campaigns/provenance.h"
+#include "campaigns/run_pipeline.h"
 #include "faults/fault.h"
 
 namespace armfault {
@@ -211,7 +212,6 @@ ExportResult ExportCampaign(const Campaign& campaign, const ExportOptions& o) {
   long done = 0;
   if (o.progress) o.progress(0, mine);
 
-  UnitMonitors units(campaign);
   const int threads = o.threads > 0 ? o.threads : tbb::this_task_arena::max_concurrency();
   tbb::task_arena arena(threads);
   arena.execute([&] {
@@ -230,10 +230,11 @@ ExportResult ExportCampaign(const Campaign& campaign, const ExportOptions& o) {
                   const std::string file = CaseFileName(cs.index);
                   SignalsWriter writer(dir / file, joints);
                   double end_s = 0;
-                  const RunRecord r = RunCase(campaign, cs, [&](const Tick& tick) {
+                  // No monitor runs: the manifest holds nothing of one (RunCasePlant).
+                  const RunRecord r = RunCasePlant(campaign, cs, [&](const Tick& tick) {
                     writer.Write(tick);
                     end_s = tick.t_s;
-                  }, &units);
+                  });
                   writer.Close();
                   nlohmann::json m = ToJson(r);
                   for (const char* key : kMonitorKeys) m.erase(key);
