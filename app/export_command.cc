@@ -23,6 +23,8 @@ int ExportCommand(const ExportCommandOptions& o) {
   eo.threads = o.threads;
   eo.shard = ResolveShard(shard);
   eo.split = ParseSplit(o.split);
+  CheckGzipLevel(o.gzip_level);
+  eo.gzip_level = o.gzip_level;
   Progress progress(!o.quiet);  // the same line as `armfault run`'s
   eo.progress = [&](long done, long total) { progress.Update(done, total); };
   const OutputLock lock(o.output_dir, "armfault export " + o.campaign_file);

@@ -47,11 +47,19 @@ struct SplitSpec {
 SplitSpec ParseSplit(const std::string& text);
 std::string SplitOf(const SplitSpec& split, unsigned long long seed);
 
+constexpr int kDefaultGzipLevel = 6;
+// Throws InputError("--gzip-level", ...) naming a level outside 1..9.
+void CheckGzipLevel(int level);
+
 struct ExportOptions {
   std::string output_dir = "export";
   int threads = 0;
   ShardSpec shard;
   SplitSpec split;
+  // zlib's level for runs/*.csv.gz, 1 (fastest) to 9 (smallest). 6, the default, is what export
+  // has always written (byte for byte); 1 costs about a quarter of its CPU time for files about
+  // a fifth larger (docs/monitor-api.md, "Export and score"). The text inside is the same.
+  int gzip_level = kDefaultGzipLevel;
   std::function<void(long done, long total)> progress;
 };
 struct ExportResult {

@@ -251,6 +251,17 @@ std::vector<std::shared_ptr<const Fault>> PrepareFaults(const Campaign& campaign
 
 }  // namespace
 
+namespace {
+// The plant of a case (its drawn robot, faults and run spec) into `p`, whose record holds the
+// case's identity.
+void PreparePlant(const Campaign& campaign, const CaseSpec& cs, PreparedRun* p) {
+  p->model = DrawnModel(CaseRobot(campaign, cs), "with this run's tolerance draws and payload");
+  p->faults = PrepareFaults(campaign, cs, *p->model, &p->record);
+  p->spec = CaseRunSpec(campaign, cs, *p->model);
+  if (!p->faults.empty()) p->spec.hardware = std::make_shared<FaultSchedule>(p->faults);
+}
+}  // namespace
+
 PreparedRun PrepareCase(const Campaign& campaign, const CaseSpec& cs, UnitMonitors* units) {
   PreparedRun p;
   p.record = CaseRecord(campaign, cs);
@@ -265,10 +276,7 @@ PreparedRun PrepareCase(const Campaign& campaign, const CaseSpec& cs, UnitMonito
     return p;
   }
   p.monitor = unit.model;
-  p.model = DrawnModel(CaseRobot(campaign, cs), "with this run's tolerance draws and payload");
-  p.faults = PrepareFaults(campaign, cs, *p.model, &p.record);
-  p.spec = CaseRunSpec(campaign, cs, *p.model);
-  if (!p.faults.empty()) p.spec.hardware = std::make_shared<FaultSchedule>(p.faults);
+  PreparePlant(campaign, cs, &p);
   return p;
 }
 
@@ -276,16 +284,21 @@ PreparedRun PrepareCase(const Campaign& campaign, const CaseSpec& cs, UnitMonito
 // monitor's default rail_time_s, the time after which it would have read a rail as a stuck lead.
 constexpr double kMinSaturation_s = 0.05;
 
-ExecutedRun Execute(const ArmModel& model, const RunSpec& spec, const std::vector<std::shared_ptr<const Fault>>& faults,
-                    const MonitorModel& monitor_model, double onset_s, const TickObserver& also, bool keep_windows,
-                    StatisticsObserver* statistics) {
+namespace {
+// Execute, with `monitor_model` null: no monitor (x.monitor, x.tap null, x.cost null), the
+// plant, the sensor-saturation meter and the faults' effect meters only.
+ExecutedRun ExecuteWith(const ArmModel& model, const RunSpec& spec, const std::vector<std::shared_ptr<const Fault>>& faults,
+                        const MonitorModel* monitor_model, double onset_s, const TickObserver& also, bool keep_windows,
+                        StatisticsObserver* statistics) {
   ExecutedRun x;
   // The monitor knows the nominal robot (payload and friction as designed) and what it learnt
   // on this unit while commissioning, not this run's truth. The tap beside it (scoring's)
   // knows the onset.
-  x.monitor = monitor_model.NewMonitor();
-  x.monitor->KeepWindows(keep_windows);
-  x.tap = x.monitor->NewDecisionTap(onset_s);
+  if (monitor_model) {
+    x.monitor = monitor_model->NewMonitor();
+    x.monitor->KeepWindows(keep_windows);
+    x.tap = x.monitor->NewDecisionTap(onset_s);
+  }
   if (statistics) {
     if (x.tap) {
       x.tap->ShowStatistics(statistics);
@@ -321,18 +334,22 @@ ExecutedRun Execute(const ArmModel& model, const RunSpec& spec, const std::vecto
         ticks = saturated ? ticks + 1 : 0;
         if (ticks >= min_ticks) x.sensor_saturated_s[static_cast<int>(j) + 1] += (ticks == min_ticks ? ticks : 1) * tick_s;
       }
-      clock.Start();
-      x.monitor->Observe(tick.t_s, signals);
-      clock.StopTick();
-      if (x.tap) x.tap->AfterObserve(tick.t_s);
+      if (x.monitor) {
+        clock.Start();
+        x.monitor->Observe(tick.t_s, signals);
+        clock.StopTick();
+        if (x.tap) x.tap->AfterObserve(tick.t_s);
+      }
       if (x.first_tick_s < 0 && tick.t_s >= onset_s) x.first_tick_s = tick.t_s;
       effects.Observe(tick);
       if (also) also(tick);
     });
-    clock.Start();
-    x.monitor->Finish(x.result.end_time_s);
-    clock.StopFinish();
-    x.cost = clock.ToJson();
+    if (x.monitor) {
+      clock.Start();
+      x.monitor->Finish(x.result.end_time_s);
+      clock.StopFinish();
+      x.cost = clock.ToJson();
+    }
   } catch (const MonitorFailure& e) {
     x.monitor_failure = e.what();
     return x;
@@ -340,15 +357,18 @@ ExecutedRun Execute(const ArmModel& model, const RunSpec& spec, const std::vecto
   x.effects = effects.Results();
   return x;
 }
+}  // namespace
 
-RunRecord ScoreRun(const PreparedRun& p, const ExecutedRun& x) {
+ExecutedRun Execute(const ArmModel& model, const RunSpec& spec, const std::vector<std::shared_ptr<const Fault>>& faults,
+                    const MonitorModel& monitor_model, double onset_s, const TickObserver& also, bool keep_windows,
+                    StatisticsObserver* statistics) {
+  return ExecuteWith(model, spec, faults, &monitor_model, onset_s, also, keep_windows, statistics);
+}
+
+namespace {
+// The record's plant outcome: status, sensor saturation, each fault's effect and excitation.
+RunRecord PlantRecord(const PreparedRun& p, const ExecutedRun& x) {
   RunRecord r = p.record;
-  if (!x.monitor_failure.empty()) {
-    r.ok = false;
-    r.failure_reason = "monitor " + p.monitor->type() + " failed: " + x.monitor_failure;
-    return r;
-  }
-  r.cost = x.cost;
   r.sensor_saturated_s = x.sensor_saturated_s;
   r.ok = x.result.ok;
   r.failure_reason = x.result.failure_reason;
@@ -376,6 +396,20 @@ RunRecord ScoreRun(const PreparedRun& p, const ExecutedRun& x) {
     }
     if (compound) r.not_excited_reason = any_excited || !r.injected() ? "" : reasons;
   }
+  return r;
+}
+}  // namespace
+
+RunRecord ScoreRun(const PreparedRun& p, const ExecutedRun& x) {
+  if (!x.monitor_failure.empty()) {
+    RunRecord r = p.record;
+    r.ok = false;
+    r.failure_reason = "monitor " + p.monitor->type() + " failed: " + x.monitor_failure;
+    return r;
+  }
+  RunRecord r = PlantRecord(p, x);
+  const bool compound = r.is_compound();
+  r.cost = x.cost;
   if (x.tap) r.decision = x.tap->Statistics();
   // A monitor that breaks the contract (a joint that does not exist, a NaN, time running
   // backwards) fails the run: its verdicts cannot be scored.
@@ -419,6 +453,24 @@ RunRecord RunCase(const Campaign& campaign, const CaseSpec& cs, const TickObserv
                 output != nullptr, statistics);
     if (output && executed.monitor_failure.empty()) *output = executed.monitor->output();
     return ScoreRun(prepared, executed);
+  } catch (const std::exception& e) {
+    if (r.run_id.empty()) r = CaseRecord(campaign, cs);
+    r.ok = false;
+    r.failure_reason = std::string("run could not be set up: ") + e.what();
+  }
+  return r;
+}
+
+RunRecord RunCasePlant(const Campaign& campaign, const CaseSpec& cs, const TickObserver& also) {
+  RunRecord r;
+  try {
+    PreparedRun prepared;
+    prepared.record = CaseRecord(campaign, cs);
+    PreparePlant(campaign, cs, &prepared);
+    r = prepared.record;
+    const ExecutedRun executed = ExecuteWith(*prepared.model, prepared.spec, prepared.faults, nullptr,
+                                             prepared.record.onset_s, also, false, nullptr);
+    return PlantRecord(prepared, executed);
   } catch (const std::exception& e) {
     if (r.run_id.empty()) r = CaseRecord(campaign, cs);
     r.ok = false;

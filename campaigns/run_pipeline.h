@@ -109,4 +109,11 @@ RunRecord RunCase(const Campaign& campaign, const CaseSpec& spec, const TickObse
                   UnitMonitors* units = nullptr, MonitorOutput* output = nullptr,
                   StatisticsObserver* statistics = nullptr);
 
+// One case without a monitor: PrepareCase (no commissioning) and the plant with its
+// sensor-saturation and effect meters, `also` seeing every tick. The record holds the case's
+// identity, its truth and what the plant did (status, effect, excitation, sensor saturation);
+// no diagnosis (nothing was watching), no cost. What `armfault export` writes, whose manifest
+// holds nothing of a monitor: running one there would only cost time. Never throws, as RunCase.
+RunRecord RunCasePlant(const Campaign& campaign, const CaseSpec& spec, const TickObserver& also = nullptr);
+
 }  // namespace armfault

@@ -8,6 +8,7 @@
 
 #include <fstream>
 #include <map>
+#include <set>
 #include <sstream>
 
 #include "campaigns/campaign.h"
@@ -178,6 +179,61 @@ TEST(Export, ShardsPartitionTheRunsAndTheSplitFollowsTheSeed) {
   EXPECT_EQ(seen, by_id.size());
   EXPECT_THAT(ErrorOf([] { ParseSplit("0.6/0.2"); }).message(), HasSubstr("got \"0.6/0.2\""));
   EXPECT_THAT(ErrorOf([] { ParseSplit("0.6/0.3/0.2"); }).message(), HasSubstr("summing to 1"));
+}
+
+// Export runs no monitor (RunCasePlant); its manifest is still the live run's record, key for
+// key, less the monitor's outcome and plus the export's own keys.
+TEST(Export, ManifestIsTheLiveRecordsTruthWithoutRunningAMonitor) {
+  const Campaign c = Small();
+  ScratchDir dir("export_truth");
+  ExportOptions o;
+  o.output_dir = (dir.path() / "x").string();
+  ExportCampaign(c, o);
+  const std::vector<json> manifest = ReadLines(dir.path() / "x" / "manifest.jsonl");
+  const std::vector<CaseSpec> cases = ExpandCases(c);
+  ASSERT_EQ(manifest.size(), cases.size());
+  const std::set<std::string> monitor_keys = {"detected",       "detection_time_s", "latency_s",  "isolated_family",
+                                              "isolated_joint", "magnitude_name",   "magnitude_estimate",
+                                              "confidence",     "alarm_before_onset", "miss_reason", "decision"};
+  const std::set<std::string> export_keys = {"split", "signals", "ticks", "end_s", "profile"};
+  int excited = 0;
+  for (size_t k = 0; k < cases.size(); ++k) {
+    const json live = ToJson(RunCase(c, cases[k]));
+    for (const auto& [key, value] : live.items()) {
+      if (monitor_keys.count(key)) {
+        EXPECT_FALSE(manifest[k].contains(key)) << key;
+      } else {
+        EXPECT_EQ(manifest[k][key], value) << key << " of " << live["run_id"];
+      }
+    }
+    for (const auto& [key, value] : manifest[k].items()) {
+      EXPECT_TRUE(live.contains(key) || export_keys.count(key)) << key;
+    }
+    excited += manifest[k]["excited"] == true;
+  }
+  EXPECT_GE(excited, 2);  // effects were measured, not left empty
+}
+
+// --gzip-level: other bytes, the same text; outside 1..9 an error naming the option.
+TEST(Export, GzipLevelChangesTheBytesNotTheText) {
+  const Campaign c = Small();
+  ScratchDir dir("export_level");
+  ExportOptions o;
+  o.output_dir = (dir.path() / "six").string();
+  ExportCampaign(c, o);
+  o.output_dir = (dir.path() / "one").string();
+  o.gzip_level = 1;
+  ExportCampaign(c, o);
+  const std::string file = "runs/000000.csv.gz";
+  const auto size = [&](const char* d) { return std::filesystem::file_size(dir.path() / d / file); };
+  EXPECT_GT(size("one"), size("six"));
+  EXPECT_EQ(Gunzip((dir.path() / "one" / file).string()), Gunzip((dir.path() / "six" / file).string()));
+  for (int bad : {0, 10}) {
+    o.gzip_level = bad;
+    const InputError e = ErrorOf([&] { ExportCampaign(c, o); });
+    EXPECT_EQ(e.source(), "--gzip-level");
+    EXPECT_THAT(e.message(), HasSubstr("got " + std::to_string(bad)));
+  }
 }
 
 TEST(Score, BadVerdictLinesNameTheLine) {
