@@ -98,7 +98,7 @@ struct ExportCommandOptions {
   std::string shard;
   int shard_count = 0;
   std::string split;  // "TRAIN/VALIDATION/TEST" fractions; empty: no split
-  int gzip_level = 6;  // kDefaultGzipLevel; zlib level of runs/*.csv.gz (ExportOptions::gzip_level)
+  int gzip_level = 1;  // kDefaultGzipLevel; zlib level of runs/*.csv.gz (ExportOptions::gzip_level)
   bool quiet = false;
 };
 // Writes DIR/{campaign.json, manifest.jsonl, manifest.csv, runs/*.csv.gz}; 0, or 3 if runs failed.

@@ -47,7 +47,7 @@ struct SplitSpec {
 SplitSpec ParseSplit(const std::string& text);
 std::string SplitOf(const SplitSpec& split, unsigned long long seed);
 
-constexpr int kDefaultGzipLevel = 6;
+constexpr int kDefaultGzipLevel = 1;  // fastest: export costs about what run does (docs/monitor-api.md)
 // Throws InputError("--gzip-level", ...) naming a level outside 1..9.
 void CheckGzipLevel(int level);
 
