@@ -145,6 +145,12 @@ void PowerMonitorCommissioning::Tick(const std::vector<JointSignals>& joints) {
   ++ticks_;
 }
 
+long PowerMonitorCommissioning::kept_rows() const {
+  long rows = 0;
+  for (const Joint& acc : joints_) rows += static_cast<long>(acc.usable.size());
+  return rows;
+}
+
 PowerMonitorModel PowerMonitorCommissioning::End() const {
   PowerMonitorModel model = nominal_;
   const int n = static_cast<int>(nominal_.joints.size());

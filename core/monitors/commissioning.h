@@ -37,6 +37,10 @@ class PowerMonitorCommissioning {
   void Tick(const std::vector<JointSignals>& joints);
   // The unit's model after the ticks given so far.
   PowerMonitorModel End() const;
+  // Ticks given so far, and the (joint, usable tick) pairs kept for the torque balance (7
+  // doubles each): what the fit holds that grows with the commissioning's length.
+  long ticks() const { return ticks_; }
+  long kept_rows() const;
 
  private:
   struct Joint;
