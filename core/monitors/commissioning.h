@@ -1,6 +1,6 @@
 // The built-in power-efficiency monitor's commissioning (core/monitors/commissioning.cc): fits
-// one robot unit's calibration from the healthy signals streamed to it, tick by tick, keeping
-// only sufficient statistics, so its memory does not grow with the commissioning's length.
+// one robot unit's calibration from the healthy signals streamed to it, tick by tick, without
+// keeping them.
 //
 // Inputs: the nominal monitor model (datasheet calibration), the control period [s] (<= 0: the
 // model's), then every controller tick's JointSignals of every joint, in time order.

@@ -196,7 +196,7 @@ PowerEfficiencyModel::PowerEfficiencyModel(const MonitorConfig& as_given, PowerM
 
 namespace {
 
-// The built-in monitor's fit keeps only its sufficient statistics (core/monitors/commissioning.h).
+// The built-in monitor fits the unit as the ticks come (core/monitors/commissioning.h).
 class PowerEfficiencySink : public CommissioningSink {
  public:
   PowerEfficiencySink(const PowerEfficiencyModel& model, double control_dt_s)

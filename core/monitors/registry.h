@@ -117,8 +117,8 @@ class PowerEfficiencyModel : public MonitorModel {
  public:
   PowerEfficiencyModel(const MonitorConfig& as_given, PowerMonitorModel model);
   std::string type() const override { return "power_efficiency"; }
-  // Fits the unit as the ticks come, keeping only sufficient statistics
-  // (PowerMonitorCommissioning, core/monitors/commissioning.h); End gives the unit's model.
+  // Fits the unit as the ticks come, keeping no recording (PowerMonitorCommissioning,
+  // core/monitors/commissioning.h says what it keeps); End gives the unit's model.
   std::unique_ptr<CommissioningSink> BeginCommissioning(double control_dt_s) const override;
   bool LearnsFromCommissioning() const override { return true; }
   std::unique_ptr<HealthMonitor> NewMonitor() const override;
