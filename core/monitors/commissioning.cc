@@ -1,6 +1,6 @@
 // Commissioning: what the power-efficiency monitor learns about one robot unit from signals the
 // unit gave while healthy, the way a drive is commissioned on the real machine. The monitor
-// never sees the simulator's truth: only the recorded JointSignals.
+// never sees the simulator's truth: only the JointSignals streamed to it tick by tick.
 //
 // Per joint, two least-squares fits, each pulled to the datasheet value of every coefficient
 // with the weight of that value's plausible spread (ridge), so that a coefficient the motion
@@ -15,106 +15,159 @@
 //                                         − γb F[q̇] − γF_c F[sgn q̇] − γF_s F[exp(−F_t q̇²) sgn q̇] + d
 //    (F_t stays the datasheet's: the fit is linear in the rest).
 // The healthy scatter of the torque balance's residual becomes the unit's residual floor.
+//
+// Streamed: the signals come tick by tick and are not kept. The electrical fit keeps its normal
+// equations, the temperature its sum, the torque balance its filters and its XᵀX. The balance's
+// target y = u − a p (u = F[τ_s] + coupling, p = F[γ K_T i]) needs the gain a, which the
+// electrical fit gives only at the end; so per usable tick and joint seven numbers are kept —
+// the five filtered regressors, u and p — and Xᵀy and yᵀy are summed at the end, tick by tick
+// in time order, exactly as a second pass over the recording would. Summing Σ x u − a Σ x p
+// instead (linear in a, nothing per tick) is the same fit in exact arithmetic, but u ≈ a p
+// makes it a difference of large sums: it moved the fitted calibration by ~1e-11 relative and
+// so the last digits of a commissioned campaign's results, which must stay what they were.
+#include "core/monitors/commissioning.h"
+
 #include <Eigen/Dense>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
-
-#include "core/monitors/power_monitor.h"
+#include <deque>
 
 namespace armfault {
 
 namespace {
-
-// Ridge least squares: minimises |X θ − y|² / σ² + Σ ((θ − θ0) / sd)².
-template <int N>
-struct Ridge {
-  Eigen::Matrix<double, N, N> a = Eigen::Matrix<double, N, N>::Zero();
-  Eigen::Matrix<double, N, 1> b = Eigen::Matrix<double, N, 1>::Zero();
-  double yy = 0;
-  long rows = 0;
-  void Add(const Eigen::Matrix<double, N, 1>& x, double y) {
-    a.noalias() += x * x.transpose();
-    b.noalias() += x * y;
-    yy += y * y;
-    ++rows;
-  }
-  // Returns θ; `rms` gets the data residual's root mean square.
-  Eigen::Matrix<double, N, 1> Solve(double sigma, const Eigen::Matrix<double, N, 1>& theta0,
-                                    const Eigen::Matrix<double, N, 1>& sd, double* rms) const {
-    Eigen::Matrix<double, N, N> m = a / (sigma * sigma);
-    Eigen::Matrix<double, N, 1> r = b / (sigma * sigma);
-    for (int k = 0; k < N; ++k) {
-      m(k, k) += 1.0 / (sd(k) * sd(k));
-      r(k) += theta0(k) / (sd(k) * sd(k));
-    }
-    const Eigen::Matrix<double, N, 1> theta = m.ldlt().solve(r);
-    const double sse = yy - 2 * theta.dot(b) + theta.dot(a * theta);
-    *rms = rows > 0 ? std::sqrt(std::max(0.0, sse) / rows) : 0.0;
-    return theta;
-  }
-};
 
 // Plausible spread of the rotor inertia about its datasheet value (a machined part).
 constexpr double kRotorInertiaSpread = 0.05;
 // Usable ticks (moving one way) a joint needs before its torque balance is fitted.
 constexpr long kMinBalanceTicks = 500;
 
-bool AllFinite(const Eigen::VectorXd& v) { return v.allFinite(); }
+// Ridge least squares from its normal equations: minimises |X θ − y|² / σ² + Σ ((θ − θ0) / sd)²
+// given a = XᵀX, b = Xᵀy, yy = yᵀy over `rows` rows. Returns θ; `rms` gets the data residual's
+// root mean square.
+template <int N>
+Eigen::Matrix<double, N, 1> SolveRidge(const Eigen::Matrix<double, N, N>& a, const Eigen::Matrix<double, N, 1>& b,
+                                       double yy, long rows, double sigma, const Eigen::Matrix<double, N, 1>& theta0,
+                                       const Eigen::Matrix<double, N, 1>& sd, double* rms) {
+  Eigen::Matrix<double, N, N> m = a / (sigma * sigma);
+  Eigen::Matrix<double, N, 1> r = b / (sigma * sigma);
+  for (int k = 0; k < N; ++k) {
+    m(k, k) += 1.0 / (sd(k) * sd(k));
+    r(k) += theta0(k) / (sd(k) * sd(k));
+  }
+  const Eigen::Matrix<double, N, 1> theta = m.ldlt().solve(r);
+  const double sse = yy - 2 * theta.dot(b) + theta.dot(a * theta);
+  *rms = rows > 0 ? std::sqrt(std::max(0.0, sse) / rows) : 0.0;
+  return theta;
+}
 
 }  // namespace
 
-PowerMonitorModel CommissionMonitorModel(const PowerMonitorModel& nominal, const CommissioningData& recorded) {
-  // Joints without a torque sensor read the model's torque, as in the monitor's runs.
-  CommissioningData filled;
-  if (nominal.virtual_sensor.any() && recorded.ok) {
-    filled = recorded;
-    const double period = recorded.control_dt_s > 0 ? recorded.control_dt_s : nominal.control_dt_s;
-    for (size_t t = 0; t < filled.signals.size(); ++t) {
-      nominal.virtual_sensor.Fill(filled.signals[t > 0 ? t - 1 : 0], t > 0 ? period : 0.0, &filled.signals[t]);
+struct PowerMonitorCommissioning::Joint {
+  // Electrical balance: rows (1, P_r, i², |i|), target U_d I_d.
+  Eigen::Matrix4d e_a = Eigen::Matrix4d::Zero();
+  Eigen::Vector4d e_b = Eigen::Vector4d::Zero();
+  double e_yy = 0;
+  long e_rows = 0;
+  // Winding temperature seen (finite readings).
+  double temp_sum_C = 0;
+  long temp_count = 0;
+  // Torque balance: XᵀX of the rows x, and per usable tick the row's five regressors (its
+  // sixth is 1), u and p (see the top of this file), in time order.
+  Eigen::Matrix<double, 6, 6> m_a = Eigen::Matrix<double, 6, 6>::Zero();
+  std::deque<std::array<double, 7>> usable;
+};
+
+PowerMonitorCommissioning::PowerMonitorCommissioning(const PowerMonitorModel& nominal, double control_dt_s)
+    : nominal_(nominal), dt_s_(control_dt_s > 0 ? control_dt_s : nominal.control_dt_s), joints_(nominal.joints.size()) {
+  const MonitorConfig& c = nominal.config;
+  for (const JointKnowledge& k : nominal.joints) {
+    filters_.emplace_back(c.balance_filter_s, dt_s_, c.rest_velocity_rad_s, k.mechanical.stribeck_s2);
+  }
+}
+
+PowerMonitorCommissioning::~PowerMonitorCommissioning() = default;
+
+void PowerMonitorCommissioning::Tick(const std::vector<JointSignals>& joints) {
+  const size_t n = nominal_.joints.size();
+  if (!valid_) return;
+  if (joints.size() != n) {  // not this robot's signals: the unit keeps the datasheet
+    valid_ = false;
+    return;
+  }
+  now_ = joints;
+  // Joints without a torque sensor read the model's torque, as in the monitor's runs (it needs
+  // only the previous tick's velocity estimates).
+  if (nominal_.virtual_sensor.any()) {
+    if (ticks_ == 0) {
+      nominal_.virtual_sensor.Fill(now_, 0.0, &now_);
+    } else {
+      nominal_.virtual_sensor.Fill(prev_, dt_s_, &now_);
     }
   }
-  const CommissioningData& data = nominal.virtual_sensor.any() && recorded.ok ? filled : recorded;
-  PowerMonitorModel model = nominal;
-  const int n = static_cast<int>(nominal.joints.size());
-  if (!data.ok || data.signals.size() < 3 || data.signals[0].size() != static_cast<size_t>(n)) return model;
-  const MonitorConfig& c = nominal.config;
-  const double dt = data.control_dt_s > 0 ? data.control_dt_s : nominal.control_dt_s;
-  const size_t ticks = data.signals.size();
+  for (size_t j = 0; j < n; ++j) {
+    const double temp = now_[j].winding_temp_C;
+    if (std::isfinite(temp)) joints_[j].temp_sum_C += temp, ++joints_[j].temp_count;
+  }
+  if (ticks_ > 0) {
+    // Per-tick quantities as the monitor forms them (PowerEfficiencyMonitor::Observe).
+    for (size_t j = 0; j < n; ++j) {
+      const JointSignals& now = now_[j];
+      const JointSignals& prev = prev_[j];
+      const JointKnowledge& k = nominal_.joints[j];
+      Joint& acc = joints_[j];
+      const double i = prev.i_cmd_A;  // held over the period
+      const double dq = now.q_meas_rad - prev.q_meas_rad;
+      const double tau_mean = 0.5 * (now.tau_sensor_Nm + prev.tau_sensor_Nm);
+      const double perceived = k.ratio * k.kt_Nm_per_A * i;
+      // Electrical balance.
+      const Eigen::Vector4d x(1.0, perceived * dq / dt_s_, i * i, std::fabs(i));
+      const double y = now.v_bus_meas_V * now.i_supply_meas_A;
+      acc.e_a.noalias() += x * x.transpose();
+      acc.e_b.noalias() += x * y;
+      acc.e_yy += y * y;
+      ++acc.e_rows;
+      // Torque balance: the lower joints' filters have already taken this tick.
+      const FilteredTerms& f = filters_[j].Push(perceived, dq / dt_s_, tau_mean);
+      double coupling = 0;
+      for (size_t l = 0; l < j; ++l) {
+        if (k.coupling[l] != 0) coupling += k.coupling[l] * k.mechanical.rotor_coupling_kg_m2 * filters_[l].terms().accel_rad_s2;
+      }
+      if (!f.usable) continue;
+      Eigen::Matrix<double, 6, 1> row;
+      row << -f.accel_rad_s2, -f.mesh_Nm, -f.viscous_rad_s, -f.coulomb, -f.stribeck, 1.0;
+      acc.m_a.noalias() += row * row.transpose();
+      acc.usable.push_back({row(0), row(1), row(2), row(3), row(4), f.sensor_Nm + coupling, f.perceived_Nm});
+    }
+  }
+  prev_.swap(now_);
+  ++ticks_;
+}
 
-  // Per-tick quantities as the monitor forms them (PowerEfficiencyMonitor::Observe).
-  struct Tick {
-    double i, dq, tau_mean, perceived;
-  };
-  auto tick_of = [&](size_t t, int j) {
-    const JointSignals& now = data.signals[t][j];
-    const JointSignals& prev = data.signals[t - 1][j];
-    const JointKnowledge& k = nominal.joints[j];
-    Tick x;
-    x.i = prev.i_cmd_A;  // held over the period
-    x.dq = now.q_meas_rad - prev.q_meas_rad;
-    x.tau_mean = 0.5 * (now.tau_sensor_Nm + prev.tau_sensor_Nm);
-    x.perceived = k.ratio * k.kt_Nm_per_A * x.i;
-    return x;
-  };
+long PowerMonitorCommissioning::kept_rows() const {
+  long rows = 0;
+  for (const Joint& acc : joints_) rows += static_cast<long>(acc.usable.size());
+  return rows;
+}
+
+PowerMonitorModel PowerMonitorCommissioning::End() const {
+  PowerMonitorModel model = nominal_;
+  const int n = static_cast<int>(nominal_.joints.size());
+  if (!valid_ || ticks_ < 3) return model;
 
   // 1. Electrical balance.
   for (int j = 0; j < n; ++j) {
-    Ridge<4> fit;
-    for (size_t t = 1; t < ticks; ++t) {
-      const Tick x = tick_of(t, j);
-      const JointSignals& now = data.signals[t][j];
-      fit.Add(Eigen::Vector4d(1.0, x.perceived * x.dq / dt, x.i * x.i, std::fabs(x.i)), now.v_bus_meas_V * now.i_supply_meas_A);
-    }
-    const ElectricalCalibration& e0 = nominal.joints[j].electrical;
+    const Joint& acc = joints_[j];
+    const ElectricalCalibration& e0 = nominal_.joints[j].electrical;
     const Eigen::Vector4d theta0(e0.quiescent_W, e0.rotor_gain, e0.copper_W_per_A2 + e0.conduction_W_per_A2,
                                  e0.switching_W_per_A);
     const Eigen::Vector4d sd(std::max(0.5, 0.5 * e0.quiescent_W), 0.2, 0.5 * theta0(2),
                              std::max(0.1, 0.5 * e0.switching_W_per_A));
     double rms = 0;
     // Supply-sensor noise and period averaging make ~0.5 W per tick.
-    const Eigen::Vector4d te = fit.Solve(0.5, theta0, sd, &rms);
-    if (!AllFinite(te) || te(1) < 0.5 || te(1) > 1.5) continue;
+    const Eigen::Vector4d te = SolveRidge<4>(acc.e_a, acc.e_b, acc.e_yy, acc.e_rows, 0.5, theta0, sd, &rms);
+    if (!te.allFinite() || te(1) < 0.5 || te(1) > 1.5) continue;
     ElectricalCalibration& e = model.joints[j].electrical;
     e.quiescent_W = te(0);
     e.rotor_gain = te(1);
@@ -128,40 +181,25 @@ PowerMonitorModel CommissionMonitorModel(const PowerMonitorModel& nominal, const
   }
   // With a winding-temperature sensor, the calibration holds at the mean temperature seen.
   for (int j = 0; j < n; ++j) {
-    double sum = 0;
-    long count = 0;
-    for (size_t t = 0; t < ticks; ++t) {
-      const double temp = data.signals[t][j].winding_temp_C;
-      if (std::isfinite(temp)) sum += temp, ++count;
-    }
-    if (count > 0) model.joints[j].electrical.reference_temp_C = sum / count;
+    if (joints_[j].temp_count > 0) model.joints[j].electrical.reference_temp_C = joints_[j].temp_sum_C / joints_[j].temp_count;
   }
 
   // 2. Torque balance with that gain: rotor inertia, mesh loss, friction curve, offset.
-  std::vector<BalanceFilter> filters;
-  for (const JointKnowledge& k : nominal.joints) {
-    filters.emplace_back(c.balance_filter_s, dt, c.rest_velocity_rad_s, k.mechanical.stribeck_s2);
-  }
-  std::vector<Ridge<6>> fits(n);
-  for (size_t t = 1; t < ticks; ++t) {
-    for (int j = 0; j < n; ++j) {
-      const JointKnowledge& k = model.joints[j];
-      const Tick x = tick_of(t, j);
-      const FilteredTerms& f = filters[j].Push(x.perceived, x.dq / dt, x.tau_mean);
-      double coupling = 0;
-      for (int l = 0; l < j; ++l) {
-        if (k.coupling[l] != 0) coupling += k.coupling[l] * k.mechanical.rotor_coupling_kg_m2 * filters[l].terms().accel_rad_s2;
-      }
-      if (!f.usable) continue;
-      Eigen::Matrix<double, 6, 1> row;
-      row << -f.accel_rad_s2, -f.mesh_Nm, -f.viscous_rad_s, -f.coulomb, -f.stribeck, 1.0;
-      fits[j].Add(row, f.sensor_Nm + coupling - k.mechanical.torque_gain * f.perceived_Nm);
-    }
-  }
   for (int j = 0; j < n; ++j) {
-    if (fits[j].rows < kMinBalanceTicks) continue;  // the joint hardly moved: keep the datasheet
+    const Joint& acc = joints_[j];
+    const long rows = static_cast<long>(acc.usable.size());
+    if (rows < kMinBalanceTicks) continue;  // the joint hardly moved: keep the datasheet
     JointKnowledge& k = model.joints[j];
-    const MechanicalCalibration& m0 = nominal.joints[j].mechanical;
+    Eigen::Matrix<double, 6, 1> b = Eigen::Matrix<double, 6, 1>::Zero();
+    double yy = 0;
+    for (const std::array<double, 7>& r : acc.usable) {
+      Eigen::Matrix<double, 6, 1> row;
+      row << r[0], r[1], r[2], r[3], r[4], 1.0;
+      const double y = r[5] - k.mechanical.torque_gain * r[6];
+      b.noalias() += row * y;
+      yy += y * y;
+    }
+    const MechanicalCalibration& m0 = nominal_.joints[j].mechanical;
     Eigen::Matrix<double, 6, 1> theta0, sd;
     theta0 << m0.rotor_inertia_kg_m2, m0.mesh_loss_fraction, m0.viscous_Nm_s, m0.coulomb_Nm, m0.stribeck_Nm,
         m0.sensor_offset_Nm;
@@ -169,8 +207,8 @@ PowerMonitorModel CommissionMonitorModel(const PowerMonitorModel& nominal, const
         0.5 * m0.viscous_Nm_s + 1e-3, 0.5 * m0.coulomb_Nm + 0.01, 0.5 * m0.stribeck_Nm + 0.01, 1.0;
     double rms = 0;
     // The filtered balance scatters ~0.1 N m per tick on a healthy unit.
-    const Eigen::Matrix<double, 6, 1> tm = fits[j].Solve(0.1, theta0, sd, &rms);
-    if (!AllFinite(tm) || tm(0) <= 0) continue;
+    const Eigen::Matrix<double, 6, 1> tm = SolveRidge<6>(acc.m_a, b, yy, rows, 0.1, theta0, sd, &rms);
+    if (!tm.allFinite() || tm(0) <= 0) continue;
     MechanicalCalibration& mc = k.mechanical;
     mc.rotor_inertia_kg_m2 = tm(0);
     mc.mesh_loss_fraction = std::max(0.0, tm(1));
@@ -178,7 +216,7 @@ PowerMonitorModel CommissionMonitorModel(const PowerMonitorModel& nominal, const
     mc.coulomb_Nm = std::max(0.0, tm(3));
     mc.stribeck_Nm = std::max(0.0, tm(4));
     mc.sensor_offset_Nm = tm(5);
-    k.balance_sigma_Nm = std::max(nominal.joints[j].balance_sigma_Nm, rms);
+    k.balance_sigma_Nm = std::max(nominal_.joints[j].balance_sigma_Nm, rms);
     k.commissioned = true;
   }
   return model;

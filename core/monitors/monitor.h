@@ -16,16 +16,6 @@
 
 namespace armfault {
 
-// What a monitor recorded on one robot unit during a healthy commissioning run: the signals
-// of every joint at every controller tick, nothing else. See core/monitors/commissioning.cc.
-struct CommissioningData {
-  bool ok = true;
-  std::string failure_reason;  // set when !ok
-  double control_dt_s = 0;
-  std::vector<double> t_s;                         // tick times
-  std::vector<std::vector<JointSignals>> signals;  // [tick][joint]
-};
-
 enum class HealthState { kHealthy, kWorn, kDefective };
 const char* HealthStateName(HealthState s);
 

@@ -148,10 +148,8 @@ struct PowerMonitorModel {
 };
 PowerMonitorModel MakePowerMonitorModel(const RobotConfig& robot, const MonitorConfig& config);
 
-// The monitor model of one unit after commissioning: each joint's electrical and mechanical
-// calibration fitted (least squares, pulled to the datasheet) on signals the unit gave while
-// healthy (core/monitors/commissioning.cc). A failed or empty recording leaves the nominal model.
-PowerMonitorModel CommissionMonitorModel(const PowerMonitorModel& nominal, const CommissioningData& data);
+// The monitor model of one unit after commissioning: PowerMonitorCommissioning
+// (core/monitors/commissioning.h), streamed tick by tick.
 
 class PowerEfficiencyMonitor : public HealthMonitor {
  public:

@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "core/base/suggest.h"
+#include "core/monitors/commissioning.h"
 #include "core/monitors/plugin_monitor.h"
 
 namespace armfault {
@@ -195,32 +196,29 @@ PowerEfficiencyModel::PowerEfficiencyModel(const MonitorConfig& as_given, PowerM
 
 namespace {
 
-// The built-in monitor's fit needs the whole run (core/monitors/commissioning.cc): it is kept.
-class RecordingSink : public CommissioningSink {
+// The built-in monitor fits the unit as the ticks come (core/monitors/commissioning.h).
+class PowerEfficiencySink : public CommissioningSink {
  public:
-  RecordingSink(const MonitorModel& model, double control_dt_s) : model_(model) { data_.control_dt_s = control_dt_s; }
+  PowerEfficiencySink(const PowerEfficiencyModel& model, double control_dt_s)
+      : model_(model), fit_(model.model(), control_dt_s) {}
   void Tick(double t_s, const std::vector<JointSignals>& joints) override {
-    data_.t_s.push_back(t_s);
-    data_.signals.push_back(joints);
+    (void)t_s;
+    fit_.Tick(joints);
   }
   std::shared_ptr<const MonitorModel> End(double t_end_s) override {
     (void)t_end_s;
-    return model_.Commissioned(data_);
+    return std::make_shared<PowerEfficiencyModel>(model_.as_given(), fit_.End());
   }
 
  private:
-  const MonitorModel& model_;
-  CommissioningData data_;
+  const PowerEfficiencyModel& model_;  // outlives the sink
+  PowerMonitorCommissioning fit_;
 };
 
 }  // namespace
 
 std::unique_ptr<CommissioningSink> PowerEfficiencyModel::BeginCommissioning(double control_dt_s) const {
-  return std::make_unique<RecordingSink>(*this, control_dt_s);
-}
-
-std::shared_ptr<const MonitorModel> PowerEfficiencyModel::Commissioned(const CommissioningData& data) const {
-  return std::make_shared<PowerEfficiencyModel>(as_given_, CommissionMonitorModel(model_, data));
+  return std::make_unique<PowerEfficiencySink>(*this, control_dt_s);
 }
 
 std::unique_ptr<HealthMonitor> PowerEfficiencyModel::NewMonitor() const {

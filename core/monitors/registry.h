@@ -34,7 +34,7 @@ struct MonitorContext {
 class MonitorModel;
 
 // One robot unit's healthy commissioning run, streamed to a monitor tick by tick (never the
-// whole recording at once, unless the monitor keeps it): made by MonitorModel::BeginCommissioning,
+// whole recording at once): made by MonitorModel::BeginCommissioning,
 // given every controller tick in time order, then End once. Used by one thread. What the
 // monitor learned becomes the unit's model, which the framework keeps once per unit and shares
 // read-only by every run of that unit on any thread (campaigns/run_pipeline.h, UnitMonitors).
@@ -66,13 +66,6 @@ class MonitorModel {
   // Whether BeginCommissioning gives a sink (without running anything): false for a monitor
   // that learns nothing from commissioning, whose campaign then says so (CampaignWarnings).
   virtual bool LearnsFromCommissioning() const { return false; }
-  // The model of one robot unit after the monitor watched that unit's whole healthy
-  // commissioning run at once (a monitor whose sink keeps the recording, as the built-in one).
-  // nullptr: this monitor learns nothing from commissioning.
-  virtual std::shared_ptr<const MonitorModel> Commissioned(const CommissioningData& data) const {
-    (void)data;
-    return nullptr;
-  }
   // A fresh monitor for one run, used by one thread.
   virtual std::unique_ptr<HealthMonitor> NewMonitor() const = 0;
 };
@@ -124,10 +117,10 @@ class PowerEfficiencyModel : public MonitorModel {
  public:
   PowerEfficiencyModel(const MonitorConfig& as_given, PowerMonitorModel model);
   std::string type() const override { return "power_efficiency"; }
-  // Keeps every tick (CommissioningData), then fits the unit (CommissionMonitorModel) at End.
+  // Fits the unit as the ticks come, keeping no recording (PowerMonitorCommissioning,
+  // core/monitors/commissioning.h says what it keeps); End gives the unit's model.
   std::unique_ptr<CommissioningSink> BeginCommissioning(double control_dt_s) const override;
   bool LearnsFromCommissioning() const override { return true; }
-  std::shared_ptr<const MonitorModel> Commissioned(const CommissioningData& data) const override;
   std::unique_ptr<HealthMonitor> NewMonitor() const override;
   const MonitorConfig& as_given() const { return as_given_; }  // the settings before widening
   const PowerMonitorModel& model() const { return model_; }

@@ -6,6 +6,7 @@
 
 #include <cmath>
 
+#include "core/monitors/commissioning.h"
 #include "core/monitors/power_monitor.h"
 #include "core/observe.h"
 #include "core/run_config.h"
@@ -377,38 +378,44 @@ json MovingAllJoints(double duration_s) {
             {"3", {{"type", "sine_pair"}, {"amplitude_deg", 25}, {"omega_rad_s", 1.2732}}}}}};
 }
 
-// Simulates `run_json` on `robot` and records what a monitor may read.
-CommissioningData Record(const RobotConfig& robot, const json& run_json, uint64_t seed) {
+// Simulates `run_json` on `robot`, giving `on_tick` what a monitor may read at every tick.
+template <typename OnTick>
+void Simulated(const RobotConfig& robot, const json& run_json, uint64_t seed, OnTick on_tick) {
   InputContext context;
   context.source = "<test>";
   RunConfig run = RunConfigFromJson(run_json, "", context);
   run.robot = robot;
   run.seed = seed;
   const ArmModel model(robot);
-  CommissioningData data;
-  data.control_dt_s = model.control_dt_s();
+  std::vector<JointSignals> s;
   const RunResult r = Simulate(model, MakeRunSpec(run), [&](const Tick& tick) {
-    data.t_s.push_back(tick.t_s);
-    std::vector<JointSignals> s;
+    s.clear();
     for (const JointTick& jt : *tick.joints) s.push_back(jt.signals);
-    data.signals.push_back(std::move(s));
+    on_tick(tick.t_s, s);
   });
-  data.ok = r.ok;
-  return data;
+  ASSERT_TRUE(r.ok) << r.failure_reason;
+}
+
+// `nominal` commissioned on `robot` running `run_json`, streamed tick by tick as a campaign does.
+PowerMonitorModel Commissioned(const PowerMonitorModel& nominal, const RobotConfig& robot, const json& run_json,
+                               uint64_t seed) {
+  PowerMonitorCommissioning fit(nominal, nominal.control_dt_s);
+  Simulated(robot, run_json, seed, [&](double, const std::vector<JointSignals>& s) { fit.Tick(s); });
+  return fit.End();
 }
 
 // The friction factor the fast balance fit holds at the end of a healthy run of `robot`.
 double HealthyFrictionFactor(const RobotConfig& robot, const PowerMonitorModel& monitor_model, int joint, uint64_t seed) {
-  const CommissioningData run = Record(robot, MovingAllJoints(8), seed);
   PowerEfficiencyMonitor monitor(monitor_model);
-  for (size_t t = 0; t < run.t_s.size(); ++t) monitor.Observe(run.t_s[t], run.signals[t]);
+  Simulated(robot, MovingAllJoints(8), seed,
+            [&](double t_s, const std::vector<JointSignals>& s) { monitor.Observe(t_s, s); });
   return monitor.estimates(joint).friction_factor;
 }
 
 TEST(Commissioning, LearnsTheUnitFromItsHealthySignals) {
   const RobotConfig unit = OffDatasheetUnit();
   const PowerMonitorModel nominal = MakePowerMonitorModel(RobotPreset("mrr-config1"), MonitorConfig());
-  const PowerMonitorModel learned = CommissionMonitorModel(nominal, Record(unit, MovingAllJoints(16), 99));
+  const PowerMonitorModel learned = Commissioned(nominal, unit, MovingAllJoints(16), 99);
   for (int j = 0; j < 3; ++j) {
     const JointKnowledge& k = learned.joints[j];
     EXPECT_TRUE(k.commissioned) << "joint " << j + 1;
@@ -429,7 +436,7 @@ TEST(Commissioning, LearnsTheUnitFromItsHealthySignals) {
 TEST(Commissioning, HealthyUnitReadsHealthyOnlyAfterCommissioning) {
   const RobotConfig unit = OffDatasheetUnit();
   const PowerMonitorModel nominal = MakePowerMonitorModel(RobotPreset("mrr-config1"), MonitorConfig());
-  const PowerMonitorModel learned = CommissionMonitorModel(nominal, Record(unit, MovingAllJoints(16), 99));
+  const PowerMonitorModel learned = Commissioned(nominal, unit, MovingAllJoints(16), 99);
   for (int j = 0; j < 3; ++j) {
     const double before = HealthyFrictionFactor(unit, nominal, j, 5);
     const double after = HealthyFrictionFactor(unit, learned, j, 5);
@@ -466,12 +473,44 @@ TEST(WidenedForTolerances, NoToleranceNoChangeAndEachToleranceWidensItsDetectors
   Validate(q, "", "<test>");  // still a valid config
 }
 
-TEST(Commissioning, AFailedRecordingLeavesTheDatasheet) {
+TEST(Commissioning, TooFewTicksOrAnotherRobotsSignalsLeaveTheDatasheet) {
   const PowerMonitorModel nominal = MakePowerMonitorModel(RobotPreset("mrr-config1"), MonitorConfig());
-  CommissioningData failed;
-  failed.ok = false;
-  const PowerMonitorModel m = CommissionMonitorModel(nominal, failed);
-  for (const JointKnowledge& k : m.joints) EXPECT_FALSE(k.commissioned);
+  PowerMonitorCommissioning empty(nominal, nominal.control_dt_s);
+  for (const JointKnowledge& k : empty.End().joints) EXPECT_FALSE(k.commissioned);
+  // Two joints' signals for a three-joint robot, however many ticks.
+  PowerMonitorCommissioning foreign(nominal, nominal.control_dt_s);
+  long ticks = 0;
+  Simulated(RobotPreset("mrr-config1"), MovingAllJoints(2), 7, [&](double, const std::vector<JointSignals>& s) {
+    foreign.Tick(std::vector<JointSignals>(s.begin(), s.begin() + 2));
+    ++ticks;
+  });
+  EXPECT_GT(ticks, 1000);
+  for (const JointKnowledge& k : foreign.End().joints) EXPECT_FALSE(k.commissioned);
+}
+
+// The fit is streamed: End gives the model of the ticks so far, and a unit commissioned on the
+// first half of a motion is fitted, just on less.
+TEST(Commissioning, EndGivesTheFitOfTheTicksSoFar) {
+  const RobotConfig unit = OffDatasheetUnit();
+  const PowerMonitorModel nominal = MakePowerMonitorModel(RobotPreset("mrr-config1"), MonitorConfig());
+  PowerMonitorCommissioning fit(nominal, nominal.control_dt_s);
+  PowerMonitorModel half;
+  Simulated(unit, MovingAllJoints(16), 99, [&](double t_s, const std::vector<JointSignals>& s) {
+    fit.Tick(s);
+    if (half.joints.empty() && t_s >= 8.0) half = fit.End();
+  });
+  const PowerMonitorModel whole = fit.End();
+  // It kept 7 doubles per joint and usable tick, fewer than a recording's 9 per joint and tick.
+  RecordProperty("ticks", std::to_string(fit.ticks()));
+  RecordProperty("kept_rows", std::to_string(fit.kept_rows()));
+  EXPECT_GT(fit.ticks(), 7000);  // 16 s at 2 ms
+  EXPECT_LT(7 * fit.kept_rows(), 9 * 3 * fit.ticks());
+  ASSERT_EQ(half.joints.size(), 3u);
+  for (int j = 0; j < 3; ++j) {
+    EXPECT_TRUE(half.joints[j].commissioned) << "joint " << j + 1;
+    EXPECT_NE(half.joints[j].electrical.quiescent_W, whole.joints[j].electrical.quiescent_W) << "joint " << j + 1;
+    EXPECT_NEAR(half.joints[j].electrical.rotor_gain, 1.05, 0.03) << "joint " << j + 1;
+  }
 }
 
 }  // namespace
