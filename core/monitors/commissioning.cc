@@ -19,12 +19,9 @@
 // Streamed: the signals come tick by tick and are not kept. The electrical fit keeps its normal
 // equations, the temperature its sum, the torque balance its filters and its XᵀX. The balance's
 // target y = u − a p (u = F[τ_s] + coupling, p = F[γ K_T i]) needs the gain a, which the
-// electrical fit gives only at the end; so per usable tick and joint seven numbers are kept —
-// the five filtered regressors, u and p — and Xᵀy and yᵀy are summed at the end, tick by tick
-// in time order, exactly as a second pass over the recording would. Summing Σ x u − a Σ x p
-// instead (linear in a, nothing per tick) is the same fit in exact arithmetic, but u ≈ a p
-// makes it a difference of large sums: it moved the fitted calibration by ~1e-11 relative and
-// so the last digits of a commissioned campaign's results, which must stay what they were.
+// electrical fit gives only at the end; y is linear in a, so Xᵀu, Xᵀp, uᵀu, uᵀp and pᵀp are
+// summed and combined at the end: nothing grows with the commissioning's length. (Forming y per
+// tick in a second pass gave the same fit to ~1e-11 relative.)
 #include "core/monitors/commissioning.h"
 
 #include <Eigen/Dense>
@@ -32,7 +29,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <deque>
 
 namespace armfault {
 
@@ -73,10 +69,13 @@ struct PowerMonitorCommissioning::Joint {
   // Winding temperature seen (finite readings).
   double temp_sum_C = 0;
   long temp_count = 0;
-  // Torque balance: XᵀX of the rows x, and per usable tick the row's five regressors (its
-  // sixth is 1), u and p (see the top of this file), in time order.
+  // Torque balance: XᵀX of the rows x and, since y = u − a p is linear in the gain a that only
+  // the electrical fit gives at the end, Xᵀu, Xᵀp, uᵀu, uᵀp and pᵀp (see the top of this file):
+  // a fixed size whatever the commissioning's length.
   Eigen::Matrix<double, 6, 6> m_a = Eigen::Matrix<double, 6, 6>::Zero();
-  std::deque<std::array<double, 7>> usable;
+  Eigen::Matrix<double, 6, 1> m_u = Eigen::Matrix<double, 6, 1>::Zero(), m_p = Eigen::Matrix<double, 6, 1>::Zero();
+  double uu = 0, up = 0, pp = 0;
+  long m_rows = 0;
 };
 
 PowerMonitorCommissioning::PowerMonitorCommissioning(const PowerMonitorModel& nominal, double control_dt_s)
@@ -137,17 +136,21 @@ void PowerMonitorCommissioning::Tick(const std::vector<JointSignals>& joints) {
       if (!f.usable) continue;
       Eigen::Matrix<double, 6, 1> row;
       row << -f.accel_rad_s2, -f.mesh_Nm, -f.viscous_rad_s, -f.coulomb, -f.stribeck, 1.0;
+      const double u = f.sensor_Nm + coupling, p = f.perceived_Nm;
       acc.m_a.noalias() += row * row.transpose();
-      acc.usable.push_back({row(0), row(1), row(2), row(3), row(4), f.sensor_Nm + coupling, f.perceived_Nm});
+      acc.m_u.noalias() += row * u;
+      acc.m_p.noalias() += row * p;
+      acc.uu += u * u, acc.up += u * p, acc.pp += p * p;
+      ++acc.m_rows;
     }
   }
   prev_.swap(now_);
   ++ticks_;
 }
 
-long PowerMonitorCommissioning::kept_rows() const {
+long PowerMonitorCommissioning::balance_rows() const {
   long rows = 0;
-  for (const Joint& acc : joints_) rows += static_cast<long>(acc.usable.size());
+  for (const Joint& acc : joints_) rows += acc.m_rows;
   return rows;
 }
 
@@ -187,18 +190,12 @@ PowerMonitorModel PowerMonitorCommissioning::End() const {
   // 2. Torque balance with that gain: rotor inertia, mesh loss, friction curve, offset.
   for (int j = 0; j < n; ++j) {
     const Joint& acc = joints_[j];
-    const long rows = static_cast<long>(acc.usable.size());
+    const long rows = acc.m_rows;
     if (rows < kMinBalanceTicks) continue;  // the joint hardly moved: keep the datasheet
     JointKnowledge& k = model.joints[j];
-    Eigen::Matrix<double, 6, 1> b = Eigen::Matrix<double, 6, 1>::Zero();
-    double yy = 0;
-    for (const std::array<double, 7>& r : acc.usable) {
-      Eigen::Matrix<double, 6, 1> row;
-      row << r[0], r[1], r[2], r[3], r[4], 1.0;
-      const double y = r[5] - k.mechanical.torque_gain * r[6];
-      b.noalias() += row * y;
-      yy += y * y;
-    }
+    const double a = k.mechanical.torque_gain;
+    const Eigen::Matrix<double, 6, 1> b = acc.m_u - a * acc.m_p;
+    const double yy = acc.uu - 2 * a * acc.up + a * a * acc.pp;
     const MechanicalCalibration& m0 = nominal_.joints[j].mechanical;
     Eigen::Matrix<double, 6, 1> theta0, sd;
     theta0 << m0.rotor_inertia_kg_m2, m0.mesh_loss_fraction, m0.viscous_Nm_s, m0.coulomb_Nm, m0.stribeck_Nm,

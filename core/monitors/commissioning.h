@@ -10,12 +10,12 @@
 // torque balance.
 //
 // Holds per joint the electrical fit's normal equations (4×4), the torque balance's filter
-// state and XᵀX (6×6), the winding-temperature sum, and the previous tick's signals (the
-// virtual torque sensor's accelerations and the per-period quantities need them): none of it
-// grows. What grows: 7 doubles per joint per usable tick (moving one way), the torque
-// balance's regressors and target terms, since its target needs the electrical fit's gain,
-// known only at End (commissioning.cc says why it is not summed linearly in the gain). The
-// recording it replaces kept 9 doubles per joint per tick, moving or not, and a vector per tick.
+// state, its XᵀX (6×6) and, since its target y = u − a p is linear in the gain a that the
+// electrical fit gives only at End, Xᵀu, Xᵀp, uᵀu, uᵀp and pᵀp; the winding-temperature sum;
+// and the previous tick's signals (the virtual torque sensor's accelerations and the
+// per-period quantities need them). None of it grows with the commissioning's length. Summing
+// y's terms apart moves the fit by about 1e-11 relative against forming y per tick (the
+// outputs' last digits, 2026-11-25).
 #pragma once
 
 #include <memory>
@@ -37,10 +37,9 @@ class PowerMonitorCommissioning {
   void Tick(const std::vector<JointSignals>& joints);
   // The unit's model after the ticks given so far.
   PowerMonitorModel End() const;
-  // Ticks given so far, and the (joint, usable tick) pairs kept for the torque balance (7
-  // doubles each): what the fit holds that grows with the commissioning's length.
+  // Ticks given so far, and the (joint, usable tick) rows in the torque balance's sums.
   long ticks() const { return ticks_; }
-  long kept_rows() const;
+  long balance_rows() const;
 
  private:
   struct Joint;
