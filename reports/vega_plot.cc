@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "reports/report_common.h"
+
 namespace armfault::vega {
 
 namespace {
@@ -119,20 +121,6 @@ std::string SafeDump(const json& spec) {
       out += "\\u003c";
     } else {
       out += c;
-    }
-  }
-  return out;
-}
-
-std::string AttrEscape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
     }
   }
   return out;
@@ -435,9 +423,9 @@ std::string Plot::Spec() const {
 
 std::string Plot::Render() const {
   // Spec() is already safe text: wrap it without parsing it again.
-  return "<div class=\"plot\" id=\"" + AttrEscape(id_) + "\" style=\"width:" + std::to_string(width_) +
+  return "<div class=\"plot\" id=\"" + report::Escape(id_) + "\" style=\"width:" + std::to_string(width_) +
          "px;min-height:" + std::to_string(height_) +
-         "px\"></div><script type=\"application/json\" class=\"vega-spec\" data-plot=\"" + AttrEscape(id_) + "\">" +
+         "px\"></div><script type=\"application/json\" class=\"vega-spec\" data-plot=\"" + report::Escape(id_) + "\">" +
          Spec() + "</script>";
 }
 
@@ -493,9 +481,9 @@ std::string HeatMap::Spec() const {
 std::string HeatMap::Render() const {
   const int width = 190 + 92 * static_cast<int>(cols.size());
   const int height = 130 + 36 * static_cast<int>(rows.size());
-  return "<div class=\"plot\" id=\"" + AttrEscape(id) + "\" style=\"width:" + std::to_string(width) +
+  return "<div class=\"plot\" id=\"" + report::Escape(id) + "\" style=\"width:" + std::to_string(width) +
          "px;min-height:" + std::to_string(height) +
-         "px\"></div><script type=\"application/json\" class=\"vega-spec\" data-plot=\"" + AttrEscape(id) + "\">" +
+         "px\"></div><script type=\"application/json\" class=\"vega-spec\" data-plot=\"" + report::Escape(id) + "\">" +
          Spec() + "</script>";
 }
 
