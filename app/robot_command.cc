@@ -66,7 +66,8 @@ int RobotCommand(const RobotCommandOptions& o) {
                          {"payload_kg", robot.payload_kg},
                          {"gravity_m_s2", robot.gravity_m_s2},
                          {"physics_rate_Hz", robot.physics_rate_Hz},
-                         {"electrical_substeps", robot.electrical_substeps}};
+                         {"electrical_substeps", robot.electrical_substeps},
+                         {"constraint_force_mixing", robot.constraint_force_mixing}};
   WriteAtomically(dir / urdf_name, UrdfText(robot));
   WriteAtomically(dir / (stem + ".robot.json"), file.dump(2) + "\n");
   std::printf("wrote %s and %s (use it as \"robot\": the file's contents, or read it with `armfault robot %s`)\n",

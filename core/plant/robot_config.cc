@@ -572,10 +572,10 @@ RobotConfig RobotFromJson(const nlohmann::json& value, const std::string& pointe
   errors.Try([&] {
     if (general) {
       reader.AllowOnly({"name", "modules", "bodies", "payload_point_m", "base_position_m", "payload_kg", "gravity_m_s2",
-                        "physics_rate_Hz", "electrical_substeps"});
+                        "physics_rate_Hz", "electrical_substeps", "constraint_force_mixing"});
     } else {
       reader.AllowOnly({"name", "modules", "links", "base_position_m", "payload_kg", "gravity_m_s2", "physics_rate_Hz",
-                        "electrical_substeps"});
+                        "electrical_substeps", "constraint_force_mixing"});
     }
   });
   RobotConfig r;
@@ -629,6 +629,7 @@ RobotConfig RobotFromJson(const nlohmann::json& value, const std::string& pointe
   top_level_read &= errors.Try([&] { reader.OptionalNumber("gravity_m_s2", &r.gravity_m_s2); });
   top_level_read &= errors.Try([&] { reader.OptionalNumber("physics_rate_Hz", &r.physics_rate_Hz); });
   top_level_read &= errors.Try([&] { reader.OptionalInt("electrical_substeps", &r.electrical_substeps); });
+  top_level_read &= errors.Try([&] { reader.OptionalNumber("constraint_force_mixing", &r.constraint_force_mixing); });
   // The cross-field checks need the robot's own counts and rates; bad values inside a module
   // or link left their defaults, which these checks accept.
   if (top_level_read) errors.Try([&] { Validate(r, pointer); });
@@ -663,6 +664,9 @@ void Validate(const RobotConfig& r, const std::string& pointer) {
   errors.Try([&] { RequireInRange(r.gravity_m_s2, 0, 100, PointerJoin(pointer, "gravity_m_s2")); });
   const bool rate_ok = errors.Try([&] { RequireInRange(r.physics_rate_Hz, 100, 1e5, PointerJoin(pointer, "physics_rate_Hz")); });
   errors.Try([&] { RequireInRange(r.electrical_substeps, 1, 1000, PointerJoin(pointer, "electrical_substeps")); });
+  // Above 1e-6 the gear rows go soft enough to move accelerations by tens of percent (2.6x of the
+  // largest at 1e-5 on ur-class); 0 is exact and solvable since no constraint is redundant.
+  errors.Try([&] { RequireInRange(r.constraint_force_mixing, 0, 1e-6, PointerJoin(pointer, "constraint_force_mixing")); });
   for (size_t i = 0; i < r.modules.size(); ++i) {
     const ModuleParams& m = r.modules[i];
     const std::string mp = PointerJoin(PointerJoin(pointer, "modules"), i);
@@ -797,6 +801,7 @@ nlohmann::json RobotToJson(const RobotConfig& r) {
   out["gravity_m_s2"] = r.gravity_m_s2;
   out["physics_rate_Hz"] = r.physics_rate_Hz;
   out["electrical_substeps"] = r.electrical_substeps;
+  out["constraint_force_mixing"] = r.constraint_force_mixing;
   return out;
 }
 

@@ -176,6 +176,10 @@ struct RobotConfig {
   double gravity_m_s2 = 9.81;
   double physics_rate_Hz = 1000;
   int electrical_substeps = 20;        // per physics step; 20 at 1 kHz = 50 us << L/R
+  // ODE's constraint force mixing (dWorldSetCFM): the joints' and gears' regularisation. 1e-10 is
+  // ODE's own default in double precision; the accelerations' error against exact rigid-body
+  // dynamics is proportional to it (4e-5 of the largest on ur-class at 1e-10: docs/robot-format.md).
+  double constraint_force_mixing = 1e-10;
 };
 
 // Tolerances a datasheet states for a unit (relative half-widths unless named otherwise): what

@@ -88,6 +88,7 @@ class OdeWorld {
   OdeWorld(const ArmModel& model, const std::vector<double>& q0, const std::vector<double>& qd0) {
     const double g = model.config().gravity_m_s2;
     dWorldSetGravity(world_, 0, 0, -g);
+    dWorldSetCFM(world_, model.config().constraint_force_mixing);
     // Joint 1's stator and sun wheel: the world, as a body the transmission can attach to.
     ground_ = dBodyCreate(world_);
     dBodySetKinematic(ground_);

@@ -425,7 +425,7 @@ RobotConfig RobotFromUrdfJson(const nlohmann::json& value, const std::string& po
   ErrorList errors;
   errors.Try([&] {
     reader.AllowOnly({"name", "urdf", "drives", "base_position_m", "payload_kg", "gravity_m_s2", "physics_rate_Hz",
-                      "electrical_substeps"});
+                      "electrical_substeps", "constraint_force_mixing"});
   });
   std::string path;
   reader.OptionalString("urdf", &path);
@@ -447,6 +447,7 @@ RobotConfig RobotFromUrdfJson(const nlohmann::json& value, const std::string& po
   errors.Try([&] { reader.OptionalNumber("gravity_m_s2", &r.gravity_m_s2); });
   errors.Try([&] { reader.OptionalNumber("physics_rate_Hz", &r.physics_rate_Hz); });
   errors.Try([&] { reader.OptionalInt("electrical_substeps", &r.electrical_substeps); });
+  errors.Try([&] { reader.OptionalNumber("constraint_force_mixing", &r.constraint_force_mixing); });
   errors.ThrowIfAny();
   // The base offset moves every body (the file's root frame sits at base_position_m).
   auto shift = [&](std::array<double, 3>* p) {
