@@ -400,6 +400,13 @@ TEST(RobotConfigErrors, TopLevelValues) {
   EXPECT_EQ(RobotError(j).message(), "expected a whole number, got 2.5");
 
   j = TwoJoints();
+  j["constraint_force_mixing"] = 1e-5;  // soft enough to move accelerations by 2.6x
+  EXPECT_EQ(RobotError(j).pointer(), "/constraint_force_mixing");
+  EXPECT_EQ(RobotError(j).message(), "1e-05 is outside [0, 1e-06]");
+  j["constraint_force_mixing"] = -1e-12;
+  EXPECT_EQ(RobotError(j).pointer(), "/constraint_force_mixing");
+
+  j = TwoJoints();
   j["payload_kg"] = -1;
   EXPECT_EQ(RobotError(j).pointer(), "/payload_kg");
   j = TwoJoints();
