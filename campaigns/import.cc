@@ -654,6 +654,12 @@ class LogImporter {
     }
     role_.assign(header_.size(), kSkip);
     ErrorList errors;
+    std::set<std::string> named = {map_.time.column, map_.run_column};
+    for (const auto& joint : map_.joints) {
+      for (const std::optional<ImportColumn>& c : joint) {
+        if (c) named.insert(c->column);
+      }
+    }
     auto find = [&](const std::string& name, const std::string& pointer) -> int {
       int found = -1;
       for (size_t i = 0; i < header_.size(); ++i) {
@@ -665,7 +671,12 @@ class LogImporter {
         found = static_cast<int>(i);
       }
       if (found < 0) {
-        const std::string near = NearestWord(name, header_);
+        // The nearest among the columns the map does not name (a renamed column is one of them).
+        std::vector<std::string> free;
+        for (const std::string& h : header_) {
+          if (!named.count(h)) free.push_back(h);
+        }
+        const std::string near = NearestWord(name, free);
         errors.Add(InputError(path_, "", "line 1: no column " + Quoted(name) + " (the map's " + map_.source + ": " + pointer + ")",
                               near.empty() ? "" : "did you mean \"" + near + "\"?"));
       }
