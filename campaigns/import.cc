@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <map>
 #include <set>
 #include <string_view>
 #include <condition_variable>
@@ -370,26 +371,23 @@ ImportMap ReadImportMap(const std::string& path) {
 namespace {
 
 // A gzip CSV of a run's signals written into the temporary directory. Rows are formatted into
-// 1 MB buffers that a second thread deflates and writes while the next ones are parsed
-// (deflate is about half of an import's CPU time: the two halves run side by side). zlib's
-// Huffman-only strategy at level 1 ("wb1h"): about 3x faster than level 1's string matching on
-// these digits, files about the same size (docs/import.md, "Speed"). Any error of the writing
+// 1 MB blocks; each block is deflated on its own, as one gzip member, by one of kDeflaters
+// threads while the next blocks are parsed, and the members are written in order (a gzip file
+// of several members is one stream to zlib's gzread, Python's gzip and pandas). Deflate is
+// about half of an import's CPU time; so the parse and the deflates share the cores. zlib
+// level 1 with the Huffman-only strategy: about 3x faster than level 1's string matching on
+// these digits, files about the same size (docs/import.md, "Speed"). Any error of a deflating
 // thread is thrown by the next Submit() or by Close().
 class RunWriter {
  public:
   explicit RunWriter(const fs::path& path) : path_(path) {
-    const int fd = OpenDescriptorForWriting(path_);
-    file_ = gzdopen(fd, "wb1h");
-    if (!file_) {
-      ::close(fd);
-      throw InputError(path_.string(), "", "cannot write: out of memory for the gzip stream");
-    }
+    file_ = OpenForWriting(path_, "wb");
     buffer_.reserve(kFlush + 4096);
-    thread_ = std::thread([this] { Drain(); });
+    for (int i = 0; i < kDeflaters; ++i) threads_.emplace_back([this] { Deflate(); });
   }
   ~RunWriter() {
     Stop();
-    if (file_) gzclose(file_);
+    if (file_) std::fclose(file_);
   }
   std::string& buffer() { return buffer_; }
   void MaybeFlush() {
@@ -399,79 +397,96 @@ class RunWriter {
     Submit();
     Stop();
     if (error_) std::rethrow_exception(error_);
-    gzFile f = file_;
+    std::FILE* f = file_;
     file_ = nullptr;
-    errno = 0;
-    if (gzclose(f) != Z_OK) throw InputError(path_.string(), "", std::string("cannot write: ") + std::strerror(errno ? errno : EIO));
+    CloseChecked(f, path_);
   }
 
  private:
   static constexpr size_t kFlush = 1 << 20;
-  static constexpr size_t kQueued = 4;  // buffers waiting at most: bounded memory
+  static constexpr int kDeflaters = 2;
+  static constexpr size_t kQueued = 6;  // blocks queued or deflated, not yet written: bounded memory
   void Submit() {
     if (buffer_.empty()) return;
     std::unique_lock<std::mutex> lock(mutex_);
-    space_.wait(lock, [&] { return queue_.size() < kQueued || error_; });
+    space_.wait(lock, [&] { return in_flight_ < kQueued || error_; });
     if (error_) std::rethrow_exception(error_);
-    std::string next;
-    if (!spare_.empty()) {
-      next = std::move(spare_.back());
-      spare_.pop_back();
-    }
-    queue_.push_back(std::move(buffer_));
-    buffer_ = std::move(next);
-    buffer_.clear();
+    queue_.emplace_back(submitted_++, std::move(buffer_));
+    ++in_flight_;
+    buffer_ = std::string();
+    buffer_.reserve(kFlush + 4096);
     ready_.notify_one();
   }
   void Stop() {
     {
       std::lock_guard<std::mutex> lock(mutex_);
-      if (!thread_.joinable()) return;
       done_ = true;
     }
-    ready_.notify_one();
-    thread_.join();
+    ready_.notify_all();
+    for (std::thread& t : threads_) t.join();
+    threads_.clear();
   }
-  void Drain() {
+  // One block as a gzip member.
+  static std::string Member(const std::string& text) {
+    z_stream z{};
+    if (deflateInit2(&z, 1, Z_DEFLATED, 15 + 16, 8, Z_HUFFMAN_ONLY) != Z_OK) throw std::bad_alloc();
+    std::string out(deflateBound(&z, text.size()), '\0');
+    z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(text.data()));
+    z.avail_in = static_cast<uInt>(text.size());
+    z.next_out = reinterpret_cast<Bytef*>(out.data());
+    z.avail_out = static_cast<uInt>(out.size());
+    const int rc = deflate(&z, Z_FINISH);
+    out.resize(z.total_out);
+    deflateEnd(&z);
+    if (rc != Z_STREAM_END) throw std::bad_alloc();
+    return out;
+  }
+  void Deflate() {
     for (;;) {
-      std::string text;
+      std::pair<long, std::string> job;
       {
         std::unique_lock<std::mutex> lock(mutex_);
         ready_.wait(lock, [&] { return !queue_.empty() || done_; });
         if (queue_.empty()) return;
-        text = std::move(queue_.front());
+        job = std::move(queue_.front());
         queue_.pop_front();
       }
-      bool ok = true;
-      std::string why;
-      if (gzwrite(file_, text.data(), static_cast<unsigned>(text.size())) != static_cast<int>(text.size())) {
-        int code = 0;
-        const char* z = gzerror(file_, &code);
-        why = code == Z_ERRNO ? std::strerror(errno ? errno : EIO) : z;
-        ok = false;
+      std::string member;
+      std::exception_ptr error;
+      try {
+        member = Member(job.second);
+      } catch (...) {
+        error = std::make_exception_ptr(InputError(path_.string(), "", "cannot write: out of memory for deflate"));
       }
       std::lock_guard<std::mutex> lock(mutex_);
-      if (!ok) {
-        error_ = std::make_exception_ptr(InputError(path_.string(), "", "cannot write: " + why));
-        queue_.clear();
-        space_.notify_all();
-        return;
+      if (error && !error_) error_ = error;
+      deflated_.emplace(job.first, std::move(member));
+      // Whoever holds the next member in order writes it (and any that follow, ready).
+      try {
+        for (auto it = deflated_.find(written_); it != deflated_.end(); it = deflated_.find(written_)) {
+          if (!error_) WriteChecked(file_, it->second, path_);
+          deflated_.erase(it);
+          ++written_;
+          --in_flight_;
+        }
+      } catch (...) {
+        if (!error_) error_ = std::current_exception();
       }
-      text.clear();
-      spare_.push_back(std::move(text));
-      space_.notify_one();
+      space_.notify_all();
     }
   }
   fs::path path_;
-  gzFile file_ = nullptr;
+  std::FILE* file_ = nullptr;
   std::string buffer_;
   std::mutex mutex_;
   std::condition_variable ready_, space_;
-  std::deque<std::string> queue_;
-  std::vector<std::string> spare_;
+  std::deque<std::pair<long, std::string>> queue_;
+  std::map<long, std::string> deflated_;
+  long submitted_ = 0, written_ = 0;
+  size_t in_flight_ = 0;
   bool done_ = false;
   std::exception_ptr error_;
-  std::thread thread_;
+  std::vector<std::thread> threads_;
 };
 
 // One mapped column of a log: where its value goes.
