@@ -822,6 +822,7 @@ class LogImporter {
       double x;
       if (k == 0) x = prev_[i];
       else if (hold_[i]) x = w >= 1 ? cur_[i] : prev_[i];
+      else if (w >= 1) x = cur_[i];  // on a sample: its value as it is
       else x = prev_[i] + (cur_[i] - prev_[i]) * w;
       AppendCsvExact(&row, x);
     }
