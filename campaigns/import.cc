@@ -632,8 +632,10 @@ class LogImporter {
       if (runs_open_ == 0 || run_value != current_value_) {
         if (runs_open_ > 0) FinishRun();
         const std::string value(run_value);
-        if (!seen_values_.insert(value).second) {
-          Bad(map_.run_column, "run \"" + value + "\" starts again after another run: a run's lines must be together");
+        if (const auto [it, fresh] = seen_values_.emplace(value, line_); !fresh) {
+          // The value is the log's: named by where it was first, not repeated.
+          Bad(map_.run_column, "the run first seen on line " + std::to_string(it->second) +
+                                   " starts again after another run: a run's lines must be together");
         }
         StartRun(value);
       }
@@ -761,9 +763,9 @@ class LogImporter {
   void FinishRun() {
     RunOut& r = runs_->back();
     if (samples_ < 2 || t_prev_ < dt_s_) {
-      throw InputError(path_, "", "line " + std::to_string(line_) + ": run \"" + r.run_id + "\" (lines " +
+      throw InputError(path_, "", "line " + std::to_string(r.last_line) + ": the run on lines " +
                                       std::to_string(r.first_line) + "-" + std::to_string(r.last_line) +
-                                      ") spans less than one control period (" + FormatNumber(dt_s_) + " s)");
+                                      " spans less than one control period (" + FormatNumber(dt_s_) + " s)");
     }
     writer_->Close();
     writer_.reset();
@@ -850,7 +852,7 @@ class LogImporter {
   long line_ = 0, rows_ = 0;
   int runs_open_ = 0;
   std::string current_value_;
-  std::set<std::string> seen_values_;
+  std::map<std::string, long> seen_values_;  // a run column value -> its first line
   std::optional<RunWriter> writer_;
   long samples_ = 0, tick_ = 0;
   double raw_t0_ = 0, t_prev_ = 0;
@@ -925,7 +927,9 @@ struct TempDir {
 
 ImportResult ImportLogs(const std::vector<std::string>& logs, const ImportMap& map, const ImportOptions& o) {
   if (logs.empty()) throw InputError("LOG", "", "give at least one log file");
-  const fs::path dir(o.output_dir);
+  fs::path dir = fs::path(o.output_dir).lexically_normal();
+  if (dir.filename().empty()) dir = dir.parent_path();  // "out/" is "out"
+  if (dir.empty() || dir == "." || dir == "..") throw InputError("-o", "", "expected a new directory's name, got \"" + o.output_dir + "\"");
   std::error_code ec;
   if (fs::exists(fs::symlink_status(dir, ec)) && !(fs::is_directory(fs::symlink_status(dir, ec)) && fs::is_empty(dir, ec))) {
     throw InputError(dir.string(), "", "already exists and is not an empty directory: choose another output directory");

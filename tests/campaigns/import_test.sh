@@ -86,7 +86,7 @@ expect_error column 'logs/bad_column.csv: line 1: no column "Achse3_Moment_mNm"'
   'did you mean "Achse3_Moment_Nm"?' -- logs/bad_column.csv --map $M
 # a good log after a bad one: still nothing written
 expect_error second_log 'logs/bad_nan.csv: line 101' -- logs/rig_00.csv logs/bad_nan.csv --map $M
-expect_error rerun_run "logs/bad_shift.csv: line $shift_line, column \"Versuch\": run \"V0\" starts again" \
+expect_error rerun_run "logs/bad_shift.csv: line $shift_line, column \"Versuch\": the run first seen on line 2 starts again" \
   -- logs/bad_shift.csv --map logs/map_shift.json
 expect_error missing_log 'logs/none.csv' -- logs/none.csv --map $M
 
@@ -122,6 +122,11 @@ expect_error label_run 'logs/m_run.json: /labels/rig_9: no run "rig_9" in the lo
 edit_map logs/m_magnitude.json 'm["labels"]["rig_00"]["magnitude"] = 7'
 expect_error magnitude 'logs/m_magnitude.json: /labels/rig_00/magnitude: 7 is outside kt_degradation' \
   -- logs/rig_00.csv --map logs/m_magnitude.json
+# "DIR/" is DIR; an existing empty directory is taken.
+mkdir -p imp_slash
+"$ARMFAULT" import logs/rig_00.csv --map logs/m_run.json -o imp_slash/ -q >/dev/null 2>&1 && fail "m_run.json was accepted"
+"$ARMFAULT" import logs/rig_0*.csv --map $M -o imp_slash/ -q >/dev/null 2>err.txt || fail "-o DIR/: $(cat err.txt)"
+[ -f imp_slash/manifest.jsonl ] && [ "$(ls -d imp_slash* | wc -l)" -eq 1 ] || fail "-o DIR/ did not write DIR alone"
 # An existing non-empty output directory is refused before anything is read.
 mkdir -p out_full && touch out_full/x
 "$ARMFAULT" import logs/rig_00.csv --map $M -o out_full -q >/dev/null 2>err.txt
