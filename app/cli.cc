@@ -94,6 +94,19 @@ Command AddExportCommand(CLI::App& app) {
   return {cmd, [o] { return armfault::ExportCommand(*o); }};
 }
 
+Command AddImportCommand(CLI::App& app) {
+  auto o = std::make_shared<armfault::ImportCommandOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "import", "recorded logs (CSV in any column names and units) into an export's layout, resampled to the control "
+                "rate by a map (docs/import.md), so that score and report take them");
+  cmd->add_option("logs", o->logs, "CSV logs (plain or gzip): one per run, or split into runs by the map's run_column")
+      ->required();
+  cmd->add_option("--map", o->map_file, "MAP.json: columns, units, time, robot, labels")->required();
+  cmd->add_option("-o,--output-dir", o->output_dir, "output directory (must not exist, or be empty)")->required();
+  cmd->add_flag("-q,--quiet", o->quiet, "no summary of the runs");
+  return {cmd, [o] { return armfault::ImportCommand(*o); }};
+}
+
 Command AddScoreCommand(CLI::App& app) {
   auto o = std::make_shared<armfault::ScoreCommandOptions>();
   CLI::App* cmd = app.add_subcommand(
@@ -259,6 +272,7 @@ int armfault::CliMain(int argc, char** argv) {
       AddTraceCommand(app),
       AddRunCommand(app),
       AddExportCommand(app),
+      AddImportCommand(app),
       AddScoreCommand(app),
       AddValidateCommand(app),
       AddMergeCommand(app),

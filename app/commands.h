@@ -104,6 +104,16 @@ struct ExportCommandOptions {
 // Writes DIR/{campaign.json, manifest.jsonl, manifest.csv, runs/*.csv.gz}; 0, or 3 if runs failed.
 int ExportCommand(const ExportCommandOptions& options);
 
+struct ImportCommandOptions {
+  std::vector<std::string> logs;  // CSV logs (plain or gzip)
+  std::string map_file;           // MAP.json (campaigns/import.h)
+  std::string output_dir;         // must not exist, or be empty
+  bool quiet = false;
+};
+// Writes DIR/{campaign.json, manifest.jsonl, manifest.csv, channels.json, import.json,
+// runs/*.csv.gz} as `export` does, or nothing (status 2) when a log or the map is bad.
+int ImportCommand(const ImportCommandOptions& options);
+
 struct ScoreCommandOptions {
   std::string dir;            // an export (manifest.jsonl) or run (results.jsonl) output directory
   std::string verdicts_file;  // JSON Lines: run_id, t_s, joint, family, alarm, magnitude

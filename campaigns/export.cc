@@ -133,6 +133,8 @@ std::string Num(const nlohmann::json& v) {
   return out;
 }
 
+}  // namespace
+
 std::string ManifestCsvHeader() {
   return "case,run_id,split,signals,ticks,trajectory,group,family,joint,onset_s,magnitude_key,magnitude,profile,seed,"
          "repetition,unit,ambient_C,status,reason,took_effect,excited,not_excited_reason\n";
@@ -157,8 +159,6 @@ std::string ManifestCsvRow(const nlohmann::json& m) {
   }
   return row + "\n";
 }
-
-}  // namespace
 
 const std::vector<std::string>& SignalColumnNames() {
   static const std::vector<std::string> names = [] {

@@ -37,6 +37,11 @@ const std::vector<std::string>& SignalColumnNames();
 // The CSV header of a run's signals: "t_s,q_ref_rad_j1,...".
 std::string SignalsCsvHeader(int joints);
 
+// manifest.csv's header line and the row of one manifest.jsonl line (its scalar columns), as
+// `export` and `import` (campaigns/import.h) write them.
+std::string ManifestCsvHeader();
+std::string ManifestCsvRow(const nlohmann::json& manifest_line);
+
 // Train / validation / test fractions; a run's split is a function of its seed alone, so
 // every run of a seed lands in the same split whatever the shard.
 struct SplitSpec {
