@@ -13,6 +13,7 @@
 #include "core/base/rng.h"
 #include "core/monitors/power_monitor.h"
 #include "core/monitors/torque_balance.h"
+#include "core/plant/rigid_body_dynamics.h"
 #include "core/plant/simulation.h"
 #include "core/plant/trajectory.h"
 #include "core/run_config.h"
@@ -189,9 +190,23 @@ struct JointFit {
   long electrical_rows = 0, balance_rows = 0;
   double power_rms_W = 0, current_rms_A = 0, torque_rms_Nm = 0, winding_temp_C = 0;
 };
+struct LogFit {
+  std::vector<JointFit> joints;
+  double payload_kg = std::numeric_limits<double>::quiet_NaN(), payload_sd_kg = std::numeric_limits<double>::quiet_NaN();
+};
 
-std::vector<JointFit> FitLog(const PowerMonitorModel& model, double dt, const std::vector<std::vector<JointSignals>>& ticks,
-                             const CalibrationOptions& options, long block_ticks) {
+// Per joint with a torque sensor and block: the payload regression's sums, with x the torque a
+// kilogram of payload adds (rigid-body model at the reference's q, q̇, q̈) and τ0 the model's
+// torque without payload: Σx², Σx τ_s, Σx, Σx τ0.
+struct PayloadSums {
+  double xx = 0, xs = 0, x = 0, x0 = 0;
+  void Add(const PayloadSums& o) { xx += o.xx, xs += o.xs, x += o.x, x0 += o.x0; }
+};
+
+LogFit FitLog(const RobotConfig& nominal, const PowerMonitorModel& model, double dt,
+              const std::vector<std::vector<JointSignals>>& ticks, const CalibrationOptions& options, long block_ticks) {
+  const RigidBodyModel without_payload = MakeRigidBodyModel(nominal, 0.0);
+  const RigidBodyModel with_kg = MakeRigidBodyModel(nominal, 1.0);
   const size_t n = model.joints.size();
   const long total = static_cast<long>(ticks.size());
   const MonitorConfig& mc = model.config;
@@ -200,6 +215,8 @@ std::vector<JointFit> FitLog(const PowerMonitorModel& model, double dt, const st
 
   const long nblocks = (total - 1) / block_ticks;
   std::vector<std::vector<BlockSums>> blocks(n, std::vector<BlockSums>(nblocks));
+  std::vector<std::vector<PayloadSums>> payload(n, std::vector<PayloadSums>(nblocks));
+  std::vector<double> q(n), qd(n), qdd(n), tau0(n), tau1(n);
   std::vector<double> temp_sum(n, 0.0);
   std::vector<long> temp_count(n, 0);
   std::vector<JointSignals> prev = ticks[0], now;
@@ -208,6 +225,21 @@ std::vector<JointFit> FitLog(const PowerMonitorModel& model, double dt, const st
     now = ticks[t];
     if (model.virtual_sensor.any()) model.virtual_sensor.Fill(prev, dt, &now);
     const long b = (t - 1) / block_ticks;
+    // The payload's torques along the reference (the arm tracks it within a fraction of a
+    // degree; the encoder's second difference would be noise).
+    for (size_t j = 0; j < n; ++j) {
+      q[j] = now[j].q_ref_rad, qd[j] = now[j].qd_ref_rad_s;
+      const long next = std::min(t + 1, total - 1);
+      qdd[j] = (ticks[next][j].qd_ref_rad_s - prev[j].qd_ref_rad_s) / (static_cast<double>(next - t + 1) * dt);
+    }
+    TransmittedTorques(without_payload, q.data(), qd.data(), qdd.data(), tau0.data());
+    TransmittedTorques(with_kg, q.data(), qd.data(), qdd.data(), tau1.data());
+    for (size_t j = 0; j < n; ++j) {
+      if (!model.joints[j].torque_sensor) continue;
+      const double x = tau1[j] - tau0[j];
+      PayloadSums& ps = payload[j][b];
+      ps.xx += x * x, ps.xs += x * now[j].tau_sensor_Nm, ps.x += x, ps.x0 += x * tau0[j];
+    }
     for (size_t j = 0; j < n; ++j) {
       const JointKnowledge& k = model.joints[j];
       const JointSignals& a = prev[j];
@@ -247,7 +279,9 @@ std::vector<JointFit> FitLog(const PowerMonitorModel& model, double dt, const st
   for (auto& d : draws) {
     for (long& b : d) b = static_cast<long>(rng.Uniform() * static_cast<double>(nblocks));
   }
-  std::vector<JointFit> fits(n);
+  LogFit out;
+  std::vector<JointFit>& fits = out.joints;
+  fits.resize(n);
   for (size_t j = 0; j < n; ++j) {
     const JointKnowledge& k = model.joints[j];
     BlockSums all;
@@ -276,7 +310,31 @@ std::vector<JointFit> FitLog(const PowerMonitorModel& model, double dt, const st
       fit.sd.push_back(StandardDeviation(boot[p]));
     }
   }
-  return fits;
+  // Payload: τ_s = s (τ0 + m x) + d on every joint with a sensor, with each joint's s and d as
+  // just fitted (1 and 0 where the torque balance had too few rows).
+  auto payload_of = [&](const std::vector<long>* draw) {
+    double num = 0, den = 0;
+    for (size_t j = 0; j < n; ++j) {
+      if (!model.joints[j].torque_sensor) continue;
+      double s = 1.0 + fits[j].estimate[8], d = fits[j].estimate[9];
+      if (!std::isfinite(s) || !(s > 0.5)) s = 1.0;
+      if (!std::isfinite(d)) d = 0.0;
+      PayloadSums sum;
+      if (draw) {
+        for (long b : *draw) sum.Add(payload[j][b]);
+      } else {
+        for (const PayloadSums& ps : payload[j]) sum.Add(ps);
+      }
+      num += (sum.xs - d * sum.x) / s - sum.x0;
+      den += sum.xx;
+    }
+    return den > 0 ? num / den : std::numeric_limits<double>::quiet_NaN();
+  };
+  out.payload_kg = payload_of(nullptr);
+  std::vector<double> boot;
+  for (const std::vector<long>& d : draws) boot.push_back(payload_of(&d));
+  out.payload_sd_kg = StandardDeviation(boot);
+  return out;
 }
 
 // The log's reference, as the controller sampled it: exact at every tick, linear between.
@@ -360,7 +418,8 @@ UnitCalibration CalibrateUnit(const RobotConfig& nominal, double control_dt_s,
                                             " joints; the robot has " + std::to_string(n));
     }
   }
-  const std::vector<JointFit> fits = FitLog(model, dt, ticks, options, block_ticks);
+  const LogFit log_fit = FitLog(nominal, model, dt, ticks, options, block_ticks);
+  const std::vector<JointFit>& fits = log_fit.joints;
   // The fit's own bias, measured on the model: the twin so far runs the log's motion, is fitted
   // the same way, and what the fit gets wrong about a unit it knows exactly is taken off.
   // Indirect inference: find the twin θ whose fit on its own run of the log's motion, g(θ),
@@ -370,19 +429,33 @@ UnitCalibration CalibrateUnit(const RobotConfig& nominal, double control_dt_s,
   std::vector<std::vector<double>> theta(n), prev_theta, prev_g;
   for (size_t j = 0; j < n; ++j) theta[j] = fits[j].estimate;
   std::vector<JointFit> on_twin;
+  double payload = log_fit.payload_kg, prev_payload = 0, prev_payload_g = 0, payload_twin_sd = 0;
+  auto secant = [](int iteration, double theta, double prev_theta, double g, double prev_g) {
+    double slope = 1.0;
+    if (iteration > 0) {
+      const double dtheta = theta - prev_theta;
+      if (std::fabs(dtheta) > 1e-9 * (std::fabs(theta) + 1e-12)) slope = std::clamp((g - prev_g) / dtheta, 0.2, 5.0);
+      if (!std::isfinite(slope)) slope = 1.0;
+    }
+    return slope;
+  };
   for (int iteration = 0; iteration < options.bias_iterations; ++iteration) {
-    on_twin = FitLog(model, dt, SimulateTwin(WithValues(nominal, theta), dt, ticks, options.seed + 1), options, block_ticks);
+    RobotConfig twin = WithValues(nominal, theta);
+    if (std::isfinite(payload) && payload >= 0) twin.payload_kg = payload;
+    const LogFit twin_fit = FitLog(nominal, model, dt, SimulateTwin(twin, dt, ticks, options.seed + 1), options, block_ticks);
+    on_twin = twin_fit.joints;
+    if (std::isfinite(payload) && std::isfinite(twin_fit.payload_kg)) {
+      const double slope = secant(iteration, payload, prev_payload, twin_fit.payload_kg, prev_payload_g);
+      prev_payload = payload, prev_payload_g = twin_fit.payload_kg;
+      payload += (log_fit.payload_kg - twin_fit.payload_kg) / slope;
+      payload_twin_sd = twin_fit.payload_sd_kg;
+    }
     std::vector<std::vector<double>> next = theta, g(n);
     for (size_t j = 0; j < n; ++j) {
       g[j] = on_twin[j].estimate;
       for (size_t p = 0; p < Specs().size(); ++p) {
-        double slope = 1.0;
-        if (iteration > 0) {
-          const double dtheta = theta[j][p] - prev_theta[j][p];
-          const double dg = g[j][p] - prev_g[j][p];
-          if (std::fabs(dtheta) > 1e-9 * (std::fabs(theta[j][p]) + 1e-12)) slope = std::clamp(dg / dtheta, 0.2, 5.0);
-          if (!std::isfinite(slope)) slope = 1.0;
-        }
+        const double slope =
+            iteration > 0 ? secant(iteration, theta[j][p], prev_theta[j][p], g[j][p], prev_g[j][p]) : 1.0;
         next[j][p] = theta[j][p] + (fits[j].estimate[p] - g[j][p]) / slope;
       }
     }
@@ -441,6 +514,19 @@ UnitCalibration CalibrateUnit(const RobotConfig& nominal, double control_dt_s,
     }
     out.joints.push_back(std::move(jc));
   }
+  // Payload: a point mass at the tool, from every sensor joint's torques.
+  out.payload.key = "payload_kg";
+  out.payload.unit = "kg";
+  out.payload.nominal = nominal.payload_kg;
+  out.payload.estimate = payload;
+  const double payload_half =
+      t95 * std::hypot(log_fit.payload_sd_kg, payload_twin_sd) * std::sqrt(blocks_n / (blocks_n - 1)) +
+      std::fabs(payload - prev_payload) * (options.bias_iterations > 1 ? 1.0 : 0.0);
+  out.payload.low = payload - payload_half;
+  out.payload.high = payload + payload_half;
+  out.payload.identifiable = std::isfinite(payload) && payload >= 0 && std::isfinite(payload_half) &&
+                             payload_half <= options.identifiable_spread * std::max(std::fabs(nominal.payload_kg), 1.0);
+  if (out.payload.identifiable) out.twin.payload_kg = payload;
   return out;
 }
 

@@ -62,6 +62,9 @@ struct JointCalibration {
 
 struct UnitCalibration {
   std::vector<JointCalibration> joints;
+  // The payload at the tool [kg], from the torques of every joint with a sensor (rigid-body
+  // model along the log's reference); not identifiable if the motion hardly loads it.
+  CalibratedParameter payload;
   int blocks = 0;                // bootstrap blocks in the log
   RobotConfig twin;
 };

@@ -19,6 +19,7 @@ namespace {
 
 struct Drawn {
   RobotConfig robot;
+  double payload_kg = 0;
   std::vector<std::map<std::string, double>> truth;  // per joint, by parameter key
 };
 
@@ -28,6 +29,7 @@ Drawn DrawUnit(uint64_t seed) {
   d.robot = RobotPreset("mrr-config1");
   Rng rng(seed);
   auto spread = [&](double half) { return 1.0 + half * (2.0 * rng.Uniform() - 1.0); };
+  d.robot.payload_kg = d.payload_kg = 2.0 * rng.Uniform();
   for (ModuleParams& m : d.robot.modules) {
     m.motor.kt_Nm_per_A *= spread(0.08);
     m.motor.phase_resistance_ohm *= spread(0.15);
@@ -80,6 +82,7 @@ std::vector<std::vector<JointSignals>> HealthyLog(const RobotConfig& robot, doub
 TEST(Calibrate, IntervalsCoverTheDrawnUnitsAndTheTwinTakesThem) {
   constexpr int kUnits = 20;
   std::map<std::string, int> covered, identified;
+  int payload_covered = 0, payload_identified = 0;
   int first_unit_printed = 0;
   for (int u = 0; u < kUnits; ++u) {
     const Drawn unit = DrawUnit(1000 + u);
@@ -87,6 +90,15 @@ TEST(Calibrate, IntervalsCoverTheDrawnUnitsAndTheTwinTakesThem) {
     const auto log = HealthyLog(unit.robot, 40, 77 + u, &dt);
     const UnitCalibration cal = CalibrateUnit(RobotPreset("mrr-config1"), dt, log, CalibrationOptions{});
     ASSERT_EQ(cal.joints.size(), 3u);
+    if (cal.payload.identifiable) {
+      ++payload_identified;
+      if (unit.payload_kg >= cal.payload.low && unit.payload_kg <= cal.payload.high) ++payload_covered;
+      if (cal.payload.identifiable) EXPECT_EQ(cal.twin.payload_kg, cal.payload.estimate);
+    }
+    if (u == first_unit_printed) {
+      std::printf("payload truth %.6g estimate %.6g [%.6g, %.6g]\n", unit.payload_kg, cal.payload.estimate, cal.payload.low,
+                  cal.payload.high);
+    }
     for (const JointCalibration& jc : cal.joints) {
       for (const CalibratedParameter& p : jc.parameters) {
         const double truth = unit.truth[jc.joint - 1].at(p.key);
@@ -109,15 +121,21 @@ TEST(Calibrate, IntervalsCoverTheDrawnUnitsAndTheTwinTakesThem) {
     std::printf("coverage %-36s %d/%d\n", key.c_str(), c, n);
     EXPECT_GE(c, 0.9 * n) << key;
   }
+  std::printf("coverage payload_kg %d/%d\n", payload_covered, payload_identified);
+  EXPECT_GE(payload_identified, kUnits * 9 / 10);
+  EXPECT_GE(payload_covered, 0.9 * payload_identified);
   // The parameters the motion excites must be identified on most units.
   for (const char* key : {"motor/kt_Nm_per_A", "friction/coulomb_Nm", "torque_sensor/offset_error_Nm",
-                          "inverter/quiescent_power_W", "drive/mesh_loss_fraction"}) {
+                          "inverter/quiescent_power_W"}) {
     for (int j = 1; j <= 3; ++j) {
       const std::string k = "j" + std::to_string(j) + " " + key;
       EXPECT_GE(identified[k], kUnits / 2) << k;
     }
   }
-  for (int j = 2; j <= 3; ++j) EXPECT_GE(identified["j" + std::to_string(j) + " torque_sensor/gain_error"], kUnits / 2);
+  for (int j = 2; j <= 3; ++j) {
+    EXPECT_GE(identified["j" + std::to_string(j) + " torque_sensor/gain_error"], kUnits / 2);
+    EXPECT_GE(identified["j" + std::to_string(j) + " drive/mesh_loss_fraction"], kUnits / 2);
+  }
   // Joint 1 turns about the vertical and carries only inertia: its sensor's gain cannot be told
   // from the rotor's inertia (both scale with the acceleration), and calibration says so.
   EXPECT_LE(identified["j1 torque_sensor/gain_error"], 2);
