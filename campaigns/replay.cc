@@ -301,7 +301,16 @@ ReplayResult ReplayDirectory(const ReplayOptions& o) {
     throw InputError(campaign_path.string(), "", "missing: the campaign (robot, monitor, floors) the runs were recorded with");
   }
   const nlohmann::json campaign_file = ReadCampaignFileJson(dir);
-  Campaign campaign = CampaignFromJson(campaign_file["campaign"], campaign_path.string(), dir.string());
+  // The spec alone (trajectories unread: nothing is simulated but a unit's commissioning motion,
+  // and a trajectory's CSV file stays where the campaign was) and its monitor, built as
+  // CampaignFromJson builds it.
+  Campaign campaign;
+  static_cast<CampaignSpec&>(campaign) = CampaignSpecFromJson(campaign_file["campaign"], campaign_path.string(), dir.string());
+  try {
+    campaign.monitor_model = MakeMonitorModel(campaign.monitor, MonitorContextOf(campaign), "/monitor");
+  } catch (const InputError& e) {
+    throw e.WithSource(campaign_path.string());
+  }
   ShardSpec shard;
   if (campaign_file.contains("shard") && campaign_file["shard"].is_object()) {
     shard.index = campaign_file["shard"].value("index", 0);
