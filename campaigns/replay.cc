@@ -311,6 +311,9 @@ ReplayResult ReplayDirectory(const ReplayOptions& o) {
   } catch (const InputError& e) {
     throw e.WithSource(campaign_path.string());
   }
+  // campaign.json's campaign as DIR holds it (re-parsing it resolves a campaign without a
+  // "monitor" key, written {}, to the full settings: another hash), its monitor replaced below.
+  campaign.resolved = campaign_file["campaign"];
   ShardSpec shard;
   if (campaign_file.contains("shard") && campaign_file["shard"].is_object()) {
     shard.index = campaign_file["shard"].value("index", 0);
