@@ -118,6 +118,22 @@ Command AddScoreCommand(CLI::App& app) {
   return {cmd, [o] { return armfault::ScoreCommand(*o); }};
 }
 
+Command AddReplayCommand(CLI::App& app) {
+  auto o = std::make_shared<armfault::ReplayCommandOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "replay", "run a monitor over recorded signals (an export or an import) tick by tick and score it as `run` does; "
+                "gives the false alarms per hour of operation of healthy and unlabelled runs");
+  cmd->add_option("dir", o->dir, "output directory of `armfault export` or `armfault import`")->required();
+  cmd->add_option("--monitor", o->monitor_file,
+                  "a JSON file holding a monitor as a campaign's \"monitor\" key (default: the campaign's)");
+  cmd->add_option("-o,--output-dir", o->output_dir, "output directory (default: DIR/replayed)");
+  cmd->add_option("--commission", o->commission_run,
+                  "commission the monitor from this healthy run of DIR (a run_id) instead of as the campaign did");
+  cmd->add_option("-j,--jobs", o->threads, "worker threads (default: all cores); never changes a result");
+  cmd->add_flag("-q,--quiet", o->quiet, "no progress output");
+  return {cmd, [o] { return armfault::ReplayCommand(*o); }};
+}
+
 Command AddValidateCommand(CLI::App& app) {
   auto o = std::make_shared<armfault::ValidateOptions>();
   CLI::App* cmd = app.add_subcommand("validate", "check a campaign file and print its run count");
@@ -274,6 +290,7 @@ int armfault::CliMain(int argc, char** argv) {
       AddExportCommand(app),
       AddImportCommand(app),
       AddScoreCommand(app),
+      AddReplayCommand(app),
       AddValidateCommand(app),
       AddMergeCommand(app),
       AddBenchCommand(app),

@@ -123,6 +123,19 @@ struct ScoreCommandOptions {
 // does, with the same floors and exit status.
 int ScoreCommand(const ScoreCommandOptions& options);
 
+struct ReplayCommandOptions {
+  std::string dir;             // an export or an import (manifest.jsonl, runs/*.csv.gz, campaign.json)
+  std::string monitor_file;    // a campaign's "monitor" value as a JSON file; empty: the campaign's
+  std::string output_dir;      // default: DIR/replayed
+  std::string commission_run;  // a healthy run of DIR the monitor commissions from
+  int threads = 0;             // 0: all cores
+  bool quiet = false;
+};
+// Replays DIR's signals through the monitor (campaigns/replay.h) and writes results.jsonl,
+// decisions.jsonl, results.csv, summary.json (with alarms_per_hour), junit.xml as `run` does,
+// with the same floors and exit status; prints the alarms per hour of operation.
+int ReplayCommand(const ReplayCommandOptions& options);
+
 // Writes the outputs of DIR/results.jsonl (campaigns/run_dir.h, WriteRecordOutputs: results.csv,
 // summary.json, junit.xml; with `summary_only` the ones --summary-only keeps); prints the floors;
 // exit status.

@@ -269,10 +269,6 @@ ExportResult ExportCampaign(const Campaign& campaign, const ExportOptions& o) {
   return out;
 }
 
-namespace {
-
-// A truth record from a manifest line (monitor keys absent) or a results.jsonl line (its
-// monitor's outcome dropped).
 RunRecord TruthOf(nlohmann::json line) {
   if (!line.is_object()) throw std::runtime_error("expected a JSON object");
   for (const char* key : kMonitorKeys) {
@@ -292,6 +288,8 @@ RunRecord TruthOf(nlohmann::json line) {
   r.decision = nullptr;
   return r;
 }
+
+namespace {
 
 Verdict VerdictFromJson(const nlohmann::json& j, std::string* run_id) {
   if (!j.is_object()) throw std::runtime_error("expected a JSON object, got " + Describe(j));

@@ -104,6 +104,11 @@ void ReadVerdicts(std::istream& in, const std::string& path, const VerdictLimits
                   const std::function<std::string(const std::string& run_id, std::string* hint)>& run_known,
                   const std::function<void(const std::string& run_id, const Verdict& verdict)>& each);
 
+// A truth record from a manifest line (the monitor's keys absent) or a results.jsonl line (its
+// monitor's outcome dropped): what `score` and `replay` score against. Throws
+// std::runtime_error naming a missing or mistyped key.
+RunRecord TruthOf(nlohmann::json line);
+
 // `campaign` is DIR's campaign; the scored directory's campaign (ScoredCampaign, returned in
 // ScoreResult::campaign) records the verdicts file as its monitor: campaign.json holds it, and
 // the summary must be made of it (FinishCampaignOutputs).

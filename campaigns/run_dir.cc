@@ -21,7 +21,7 @@ const std::vector<RunDirFile>& RunDirFiles() {
       {run_dir::kDecisions, false},         {run_dir::kResultsCsv, false},
       {run_dir::kSummary, true},            {run_dir::kJunit, true},
       {run_dir::kMonitorCost, false},       {run_dir::kMonitorCostSummary, true},
-      {run_dir::kEarlyStop, true},
+      {run_dir::kEarlyStop, true},          {run_dir::kAlarmsPerHour, true},
   };
   return files;
 }
@@ -68,7 +68,8 @@ class ResultsCsvOutput : public RecordOutput {
   AtomicOutputFile csv_;  // not finished (an error): no half file left behind
 };
 
-// summary.json, with an early-stopped run's decisions (early_stop.json) beside the rates.
+// summary.json, with an early-stopped run's decisions (early_stop.json) and a replay's alarms per
+// hour (alarms_per_hour.json) beside the rates.
 class SummaryJsonOutput : public RecordOutput {
  public:
   SummaryJsonOutput(const fs::path& dir, const CampaignSpec& campaign) : dir_(dir), campaign_(campaign) {}
@@ -76,6 +77,10 @@ class SummaryJsonOutput : public RecordOutput {
     nlohmann::json summary = all.Build(campaign_.floors, campaign_.resolved, ARMFAULT_VERSION);
     if (const fs::path early_path = dir_ / run_dir::kEarlyStop; fs::exists(early_path)) {
       summary["early_stop"] = ReadJsonFile(early_path.string());
+    }
+    // `replay`: the false alarms per hour of operation of its healthy and unlabelled runs.
+    if (const fs::path alarms_path = dir_ / run_dir::kAlarmsPerHour; fs::exists(alarms_path)) {
+      summary["alarms_per_hour"] = ReadJsonFile(alarms_path.string());
     }
     WriteAtomically(dir_ / run_dir::kSummary, summary.dump(2) + "\n");
   }

@@ -15,6 +15,7 @@
 //   junit.xml           the floors as test cases
 //   monitor_cost.jsonl  the monitor's cost per run; monitor_cost.json its campaign figures
 //   early_stop.json     `run --early-stop`: the floors' decisions
+//   alarms_per_hour.json `replay`: false alarms per hour of operation (campaigns/replay.h)
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -52,6 +53,7 @@ inline constexpr const char* kJunit = "junit.xml";
 inline constexpr const char* kMonitorCost = "monitor_cost.jsonl";
 inline constexpr const char* kMonitorCostSummary = "monitor_cost.json";
 inline constexpr const char* kEarlyStop = "early_stop.json";
+inline constexpr const char* kAlarmsPerHour = "alarms_per_hour.json";
 inline constexpr const char* kLock = ".armfault.lock";
 }  // namespace run_dir
 

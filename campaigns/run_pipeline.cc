@@ -270,9 +270,7 @@ PreparedRun PrepareCase(const Campaign& campaign, const CaseSpec& cs, UnitMonito
   const UnitMonitor unit = units->For(cs);
   if (!unit.model) {
     p.record.ok = false;
-    p.record.failure_reason = "the commissioning run of " +
-                              (cs.unit >= 0 ? "unit " + std::to_string(cs.unit) : std::string("this run's unit")) +
-                              " failed: " + unit.failure;
+    p.record.failure_reason = CommissioningFailureReason(cs, unit.failure);
     return p;
   }
   p.monitor = unit.model;
@@ -431,12 +429,28 @@ RunRecord ScoreRun(const PreparedRun& p, const ExecutedRun& x) {
   // Why a wrong one is wrong; a compound run against its earliest element (the one the first
   // alarm should have named; a condition that never fired has onset_s +infinity).
   if (!x.result.ok || !r.injected() || (compound && r.detected && IsolatedRight(r))) return r;
-  size_t first = 0;
-  for (size_t i = 1; i < p.faults.size(); ++i) {
-    if (p.faults[i]->timing().onset_s < p.faults[first]->timing().onset_s) first = i;
+  std::string family = r.family;
+  int joint = r.joint;
+  if (compound && !p.faults.empty()) {
+    size_t first = 0;
+    for (size_t i = 1; i < p.faults.size(); ++i) {
+      if (p.faults[i]->timing().onset_s < p.faults[first]->timing().onset_s) first = i;
+    }
+    family = p.faults[first]->family();
+    joint = p.faults[first]->joint_index() + 1;
+  } else if (compound) {
+    // A replayed run (campaigns/replay.h) has no fault objects, only the recorded elements: the
+    // earliest that acted (its onset_s a number), the first of equals as above.
+    const nlohmann::json* first = nullptr;
+    for (const nlohmann::json& e : r.compound) {
+      if (!e.contains("onset_s") || !e["onset_s"].is_number()) continue;
+      if (!first || e["onset_s"].get<double>() < (*first)["onset_s"].get<double>()) first = &e;
+    }
+    if (first) {
+      family = first->value("family", "");
+      joint = first->value("joint", 0);
+    }
   }
-  const std::string family = compound ? p.faults[first]->family() : r.family;
-  const int joint = compound ? p.faults[first]->joint_index() + 1 : r.joint;
   r.miss_reason = x.tap ? x.tap->Explain(score, family, joint) : ExplainFromVerdicts(score, family, joint);
   return r;
 }
@@ -459,6 +473,11 @@ RunRecord RunCase(const Campaign& campaign, const CaseSpec& cs, const TickObserv
     r.failure_reason = std::string("run could not be set up: ") + e.what();
   }
   return r;
+}
+
+std::string CommissioningFailureReason(const CaseSpec& cs, const std::string& failure) {
+  return "the commissioning run of " + (cs.unit >= 0 ? "unit " + std::to_string(cs.unit) : std::string("this run's unit")) +
+         " failed: " + failure;
 }
 
 RunRecord RunCasePlant(const Campaign& campaign, const CaseSpec& cs, const TickObserver& also) {

@@ -54,6 +54,9 @@ class UnitMonitors {
   std::vector<UnitMonitor> units_;
 };
 
+// A run's failure reason when its unit's commissioning run failed with `failure`.
+std::string CommissioningFailureReason(const CaseSpec& spec, const std::string& failure);
+
 // A case ready to run. `record` holds the case's identity and truth (family, joint, onset,
 // magnitude; for a compound run its elements); its diagnosis is empty.
 struct PreparedRun {

@@ -74,6 +74,7 @@ nlohmann::json ToJson(const RunRecord& r) {
     j["not_injected_reason"] = StrOrNull(r.not_injected_reason);
   }
   if (r.is_compound()) j["compound"] = r.compound;
+  if (r.unlabelled) j["label"] = "unlabelled";
   if (!r.sensor_saturated_s.empty()) {
     nlohmann::json sat = nlohmann::json::object();
     for (const auto& [joint, seconds] : r.sensor_saturated_s) sat[std::to_string(joint)] = seconds;
@@ -133,6 +134,10 @@ RunRecord RunRecordFromJson(const nlohmann::json& j) {
   if (const auto it = j.find("compound"); it != j.end() && !it->is_null()) {
     if (!it->is_array()) throw std::runtime_error("key \"compound\" has the wrong type");
     r.compound = *it;
+  }
+  if (const auto it = j.find("label"); it != j.end()) {
+    if (*it != "unlabelled") throw std::runtime_error("key \"label\" is not \"unlabelled\"");
+    r.unlabelled = true;
   }
   // Written inline by older versions; now in decisions.jsonl.
   if (const auto it = j.find("decision"); it != j.end()) r.decision = *it;

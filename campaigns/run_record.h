@@ -76,6 +76,11 @@ struct RunRecord {
   // "detection_time_s"}. Null (not written) for every other run.
   nlohmann::json compound;
   bool is_compound() const { return compound.is_array(); }
+  // A recorded run with no fault label at all (an imported log: docs/monitor-api.md, "Replay"):
+  // not known to be healthy nor faulty, so scored for false alarms only, as a healthy run is
+  // (family ""). Written as "label": "unlabelled" only for such a run, so other records are
+  // unchanged.
+  bool unlabelled = false;
 };
 
 // Whether a detected run's first alarm named its fault: the family and joint of the fault, or

@@ -7,6 +7,7 @@
 // probability outside [0, 1] throws std::domain_error, 0 or 1 std::overflow_error.
 #pragma once
 
+#include <boost/math/distributions/chi_squared.hpp>
 #include <boost/math/distributions/normal.hpp>
 
 namespace armfault {
@@ -22,6 +23,15 @@ inline double StandardNormalUpperTail(double z) {
 // The z with Phi(z) = p, p in (0, 1) (p = 0.975: 1.959963984540054; p = 0.95: 1.6448536269514724).
 inline double StandardNormalQuantile(double p) {
   return boost::math::quantile(boost::math::normal_distribution<double>(), p);
+}
+
+// The one-sided upper confidence bound on the mean of a Poisson count of which `count` (>= 0)
+// were seen: the exact (Garwood) bound, half the chi-squared quantile at `confidence` with
+// 2 (count + 1) degrees of freedom (count 0 at 95 %: 2.995732273553991, "the rule of three").
+// Divided by the exposure (hours of operation), it bounds a rate of events per hour.
+inline double PoissonUpperBound(long count, double confidence) {
+  return 0.5 * boost::math::quantile(boost::math::chi_squared_distribution<double>(2.0 * (static_cast<double>(count) + 1)),
+                                     confidence);
 }
 
 }  // namespace armfault

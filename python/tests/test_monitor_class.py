@@ -171,3 +171,19 @@ def test_a_class_that_cannot_be_imported_by_name_is_recorded_as_a_factory(small,
     done = python_cli("trace", tmp_path / "campaign.json", "--run", "0", "-o", tmp_path / "t.csv")
     assert done.returncode == 2
     assert "/monitor/factory: a Python monitor passed to run_campaign" in done.stderr
+
+
+def test_replay_of_an_export_through_a_python_monitor_is_its_run(class_file, cli, tmp_path):
+    """`python3 -m armfault replay`: the export's signals through the Python class named in its
+    campaign.json give the campaign's run line for line; the binary says where it runs."""
+    assert python_cli("run", class_file, "-o", tmp_path / "run", "-q").returncode == 0
+    done = python_cli("export", class_file, "-o", tmp_path / "x", "-q")
+    assert done.returncode == 0, done.stderr
+    done = python_cli("replay", tmp_path / "x", "-o", tmp_path / "r", "-j", "2", "-q")
+    assert done.returncode == 0, done.stderr
+    assert "alarms per hour of operation" in done.stdout
+    for name in ("results.jsonl", "decisions.jsonl", "campaign.json"):
+        assert (tmp_path / "r" / name).read_bytes() == (tmp_path / "run" / name).read_bytes(), name
+    done = run_cli(cli, "replay", tmp_path / "x", "-o", tmp_path / "b")
+    assert done.returncode == 2
+    assert "/monitor/class" in done.stderr and "python3 -m armfault" in done.stderr

@@ -713,6 +713,30 @@ fi
 run export_rejects_a_bad_split "$armfault" export "$tmp/exp.json" -o "$tmp/exp2" --split 0.9/0.2/0.1 -q
 expect_input_error "armfault: error: --split: expected TRAIN/VALIDATION/TEST fractions summing to 1"
 
+# ------------------------------------------------------------------ replay
+# The export's signals through the campaign's own monitor: the run's results, line for line, the
+# floors and exit status of `run`, and the false alarms per hour of operation.
+run replay_is_the_run "$armfault" replay "$tmp/exp" -o "$tmp/replayed" -j 2 -q
+expect_status 0
+expect_stdout_contains "floor detection_rate"
+expect_stdout_contains "alarms per hour of operation: 0 (95 % upper bound 3595): 0 alarm onsets in 0.0008333 h of 1 healthy and 0 unlabelled runs"
+current=replay_results_are_the_runs
+if cmp -s "$tmp/replayed/results.jsonl" "$tmp/exprun/results.jsonl" && cmp -s "$tmp/replayed/decisions.jsonl" "$tmp/exprun/decisions.jsonl" &&
+  python3 -c 'import json,sys; a=json.load(open(sys.argv[1]))["alarms_per_hour"]; sys.exit(not (a["healthy_runs"]==1 and a["alarm_onsets"]==0))' "$tmp/replayed/summary.json"; then pass; else
+  fail "replayed results.jsonl differ from the run's: $(diff "$tmp/replayed/results.jsonl" "$tmp/exprun/results.jsonl" | head -c 400)"
+fi
+run replay_report_reads_it "$armfault" report "$tmp/replayed"
+expect_status 0
+run replay_of_no_directory "$armfault" replay "$tmp/nope" -o "$tmp/r2"
+expect_input_error "armfault: error: $tmp/nope: (document root): no such directory"
+run replay_of_a_run_directory "$armfault" replay "$tmp/exprun" -o "$tmp/r2"
+expect_input_error "armfault: error: $tmp/exprun/manifest.jsonl: (document root): missing: replay reads an export's or an import's manifest.jsonl"
+printf '{"type": "power_efficency"}\n' >"$tmp/m.json"
+run replay_names_a_bad_monitor_file "$armfault" replay "$tmp/exp" --monitor "$tmp/m.json" -o "$tmp/r2"
+expect_input_error "armfault: error: $tmp/m.json: /type: "
+run replay_commission_names_the_nearest_run "$armfault" replay "$tmp/exp" --commission exp1/helthy/0 -o "$tmp/r2"
+expect_input_error "armfault: error: --commission: unknown run \"exp1/helthy/0\"" "did you mean \"exp1/healthy/0\"?"
+
 # ------------------------------------------------------------------ habits of the command line
 run usage_names_the_program "$armfault" --help
 expect_status 0

@@ -14,6 +14,7 @@
 #include "campaigns/campaign.h"
 #include "campaigns/export.h"
 #include "campaigns/provenance.h"
+#include "campaigns/replay.h"
 #include "campaigns/run_dir.h"
 #include "campaigns/tuning.h"
 #include "campaigns/runner.h"
@@ -61,29 +62,6 @@ std::vector<json> ReadLines(const std::filesystem::path& path) {
   return out;
 }
 
-// Parses an exported run back into ticks of JointSignals.
-void ReadSignals(const std::string& csv, int joints, std::vector<double>* t_s, std::vector<std::vector<JointSignals>>* ticks) {
-  std::istringstream in(csv);
-  std::string line;
-  std::getline(in, line);
-  EXPECT_EQ(line + "\n", SignalsCsvHeader(joints));
-  while (std::getline(in, line)) {
-    std::vector<double> v;
-    std::stringstream cells(line);
-    std::string cell;
-    while (std::getline(cells, cell, ',')) v.push_back(cell.empty() ? std::nan("") : std::stod(cell));
-    if (line.back() == ',') v.push_back(std::nan(""));
-    ASSERT_EQ(v.size(), 1 + 9 * static_cast<size_t>(joints));
-    t_s->push_back(v[0]);
-    std::vector<JointSignals> s(joints);
-    for (int j = 0; j < joints; ++j) {
-      const double* x = &v[1 + 9 * j];
-      s[j] = {x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], x[8]};
-    }
-    ticks->push_back(s);
-  }
-}
-
 TEST(Export, SignalsReplayedOfflineScoreAsTheLiveRun) {
   const Campaign c = Small();
   ScratchDir dir("export");
@@ -121,7 +99,12 @@ TEST(Export, SignalsReplayedOfflineScoreAsTheLiveRun) {
   for (const json& m : manifest) {
     std::vector<double> t_s;
     std::vector<std::vector<JointSignals>> ticks;
-    ReadSignals(Gunzip((dir.path() / "x" / m["signals"].get<std::string>()).string()), joints, &t_s, &ticks);
+    // The library's reader (campaigns/replay.h), which `armfault replay` streams runs with.
+    ReadSignalsCsv((dir.path() / "x" / m["signals"].get<std::string>()).string(), joints,
+                   [&](double t, const std::vector<JointSignals>& s) {
+                     t_s.push_back(t);
+                     ticks.push_back(s);
+                   });
     ASSERT_EQ(t_s.size(), m["ticks"].get<size_t>());
     PowerEfficiencyMonitor monitor(power.model());
     for (size_t k = 0; k < t_s.size(); ++k) monitor.Observe(t_s[k], ticks[k]);

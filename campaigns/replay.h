@@ -1,0 +1,77 @@
+// `armfault replay DIR`: any monitor run over recorded signals (an export's, or an import's: the
+// same layout, campaigns/export.h) tick by tick, and its verdicts scored as a live run's are.
+//
+// DIR holds campaign.json (the robot, the monitor, the floors), manifest.jsonl (one run a line:
+// run_id, signals file, and the truth when known) and runs/*.csv.gz (t_s, then every joint's
+// JointSignals, SignalsCsvHeader). Each run's signals are fed to a fresh monitor of the chosen
+// model exactly as the plant's loop feeds it (Observe at every tick, Finish at the last), with
+// scoring's decision tap beside it, and the record is made by the run pipeline's ScoreRun: so a
+// replayed export gives the campaign's `armfault run` results.jsonl line for line (the onset
+// read back from the manifest is the recorded one: see docs/monitor-api.md, "Replay").
+//
+// A manifest row's label: a fault family (scored as today); "family" null, "" or "healthy" (a
+// healthy run, as export writes one); no "family" key at all, or "label": "unknown" or
+// "unlabelled" (a log nobody labelled): scored for false alarms only, as a healthy run, and its
+// record says "label": "unlabelled". Healthy and unlabelled runs give the alarms per hour of
+// operation (AlarmRate).
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "campaigns/campaign.h"
+#include "core/signals/joint_signals.h"
+
+namespace armfault {
+
+// Streams one run's signals file (gzip CSV as export writes it: header SignalsCsvHeader(joints),
+// then one row a tick, empty cell = NaN) to `each`, tick by tick, never holding the run. Errors
+// name the file and its line: a header that is not the expected one (names the first column
+// that differs), a row with another number of cells, a cell that is not a number, time not
+// increasing. Returns the number of ticks.
+long ReadSignalsCsv(const std::string& path, int joints,
+                    const std::function<void(double t_s, const std::vector<JointSignals>& joints)>& each);
+
+// The false alarms of healthy and unlabelled runs per hour of operation. An alarm is counted at
+// its onset: a verdict with alarm true whose joint's previous verdict was not an alarm (a joint
+// alarming for an hour is one alarm, two joints alarming at once two). Hours: each run's last
+// tick time less its first. Bound: the one-sided 95 % upper bound of a Poisson count
+// (PoissonUpperBound) over the same hours.
+struct AlarmRate {
+  long healthy_runs = 0;
+  long unlabelled_runs = 0;
+  long alarm_onsets = 0;
+  double hours = 0;
+  std::string excluded_run;  // the --commission run, left out (the monitor learned on it)
+  // {"healthy_runs", "unlabelled_runs", "hours", "alarm_onsets", "per_hour", "per_hour_upper_95",
+  //  "counted", ["excluded_run"]}; per_hour and the bound null when there are no hours.
+  nlohmann::json ToJson() const;
+};
+
+struct ReplayOptions {
+  std::string dir;                // an export or an import
+  std::string output_dir;         // default: DIR/replayed
+  std::string monitor_file;       // a JSON object as a campaign's "monitor" key; empty: the campaign's
+  std::string commission_run;     // a run_id of DIR: the built-in commissioning from its signals
+  int threads = 0;                // 0: all cores; never changes a result
+  std::function<void(long done, long total)> progress;
+};
+struct ReplayResult {
+  long runs = 0;
+  long failed = 0;
+  Campaign campaign;  // as replayed (its monitor the one run), as campaign.json holds it
+  AlarmRate alarms;
+};
+// Replays every run of DIR's manifest (case order kept; runs in parallel, the same bytes for any
+// thread count) and writes OUT/{campaign.json, decisions.jsonl, results.jsonl,
+// monitor_cost.jsonl, alarms_per_hour.json}; the caller writes the summary, results.csv and
+// junit.xml from results.jsonl (FinishCampaignOutputs, as `run` and `score` do), summary.json
+// embedding alarms_per_hour.json. InputErrors (exit 2) name the path: DIR that is not a
+// directory, a missing campaign.json or manifest.jsonl, a manifest line, a signals file, M.json
+// and its JSON pointer, --commission naming an unknown run (with the nearest) or a faulty one.
+ReplayResult ReplayDirectory(const ReplayOptions& options);
+
+}  // namespace armfault
