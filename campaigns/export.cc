@@ -271,6 +271,13 @@ ExportResult ExportCampaign(const Campaign& campaign, const ExportOptions& o) {
 
 RunRecord TruthOf(nlohmann::json line) {
   if (!line.is_object()) throw std::runtime_error("expected a JSON object");
+  // An import's label (docs/import.md): "unknown" is a run scored for false alarms only;
+  // "healthy" and "fault" say what its family already does.
+  bool unlabelled = false;
+  if (const auto it = line.find("label"); it != line.end()) {
+    unlabelled = *it == "unknown" || *it == "unlabelled";
+    line.erase(it);
+  }
   for (const char* key : kMonitorKeys) {
     if (!line.contains(key)) line[key] = nullptr;
   }
@@ -286,6 +293,7 @@ RunRecord TruthOf(nlohmann::json line) {
   r.magnitude_estimate.reset();
   r.miss_reason.clear();
   r.decision = nullptr;
+  r.unlabelled = unlabelled;
   return r;
 }
 

@@ -206,7 +206,7 @@ ManifestRun ManifestRunFromJson(nlohmann::json j, long line, long index) {
     const std::string l = label->is_string() ? label->get<std::string>() : "";
     if (l == "unknown" || l == "unlabelled") unlabelled = true;
     else if (l == "healthy") j["family"] = nullptr;
-    else if (l != "faulty") throw std::runtime_error("\"label\" " + label->dump() + ": expected \"healthy\", \"unknown\" or \"faulty\"");
+    else if (l != "fault") throw std::runtime_error("\"label\" " + label->dump() + ": expected \"healthy\", \"unknown\" or \"fault\" (docs/import.md)");
     j.erase("label");
   }
   if (j.contains("family") && j["family"] == "healthy") j["family"] = nullptr;
