@@ -122,6 +122,41 @@ const Fields<ControllerParams>& ControllerFields() {
   return f;
 }
 
+// The optional "ripple" group (core/plant/torque_ripple.h; ranges: docs/assumptions.md, "Torque
+// ripple"): kinematic errors up to 10 arcmin (catalogues state 0.5 to 2 arcmin in all), stiffness
+// up to 1e7 N m/rad (above the largest strain-wave gears' 1e6), cogging up to 10 N m on the motor
+// shaft, at most 1000 periods per revolution.
+const Fields<RippleParams>& RippleFields() {
+  static const Fields<RippleParams> f = {
+      {"kinematic_error_2x_arcmin", &RippleParams::kinematic_error_2x_arcmin, 0, 10, false, false},
+      {"kinematic_error_1x_arcmin", &RippleParams::kinematic_error_1x_arcmin, 0, 10, false, false},
+      {"phase_2x_deg", &RippleParams::phase_2x_deg, -360, 360, false, false},
+      {"phase_1x_deg", &RippleParams::phase_1x_deg, -360, 360, false, false},
+      {"drive_stiffness_Nm_per_rad", &RippleParams::drive_stiffness_Nm_per_rad, 0, 1e7, false, false},
+      {"cogging_Nm", &RippleParams::cogging_Nm, 0, 10, false, false},
+      {"cogging_periods_per_rev", &RippleParams::cogging_periods_per_rev, 1, 1000, false, true},
+      {"cogging_phase_deg", &RippleParams::cogging_phase_deg, -360, 360, false, false},
+  };
+  return f;
+}
+
+// The same ranges on values already in a struct (a robot built in code, or read and then
+// changed): what Validate checks. Throws InputError naming the first bad field's pointer.
+template <class T>
+void CheckFields(const Fields<T>& fields, const T& in, const std::string& pointer) {
+  ErrorList errors;
+  for (const Field<T>& field : fields) {
+    errors.Try([&] {
+      const double x = in.*field.member;
+      const std::string ptr = PointerJoin(pointer, field.key);
+      if (field.min_exclusive) RequireAbove(x, field.min, ptr);
+      RequireInRange(x, field.min, field.max, ptr);
+      if (field.integer && x != std::floor(x)) throw InputError("", ptr, "expected a whole number, got " + FormatNumber(x));
+    });
+  }
+  errors.ThrowIfAny();
+}
+
 // Each field is checked on its own, so one call reports every bad field and unknown key.
 template <class T>
 void ReadFields(ObjectReader& reader, const Fields<T>& fields, T* out) {
@@ -238,7 +273,7 @@ ModuleParams ModuleFromJson(const nlohmann::json& value, const std::string& poin
   ObjectReader reader(value, pointer);
   errors->Try([&] {
     reader.AllowOnly({"type", "min_angle_deg", "max_angle_deg", "motor", "inverter", "drive", "friction", "brake",
-                      "torque_sensor", "encoder", "controller", "winding_temperature_sensor"});
+                      "torque_sensor", "encoder", "controller", "winding_temperature_sensor", "ripple"});
   });
   std::string type = "MRR2";
   ModuleParams m;
@@ -268,6 +303,11 @@ ModuleParams ModuleFromJson(const nlohmann::json& value, const std::string& poin
   });
   errors->Try([&] { ReadGroup(reader, "encoder", EncoderFields(), &m.encoder); });
   errors->Try([&] { ReadGroup(reader, "controller", ControllerFields(), &m.controller); });
+  errors->Try([&] {
+    if (!reader.Find("ripple")) return;
+    m.ripple.enabled = true;  // given: on, with the defaults for the keys left out
+    ReadGroup(reader, "ripple", RippleFields(), &m.ripple);
+  });
   errors->Try([&] {
     if (const nlohmann::json* v = reader.Find("winding_temperature_sensor")) {
       if (!v->is_boolean()) {
@@ -688,6 +728,7 @@ void Validate(const RobotConfig& r, const std::string& pointer) {
       errors.Add(InputError("", PointerJoin(PointerJoin(mp, "motor"), "rotor_inertia_kg_m2"),
                             "the rotor body's " + rotor_problem));
     }
+    if (m.ripple.enabled) errors.Try([&] { CheckFields(RippleFields(), m.ripple, PointerJoin(mp, "ripple")); });
     // The controller runs every k physics steps: the rates must divide (needs a valid physics rate).
     double k = r.physics_rate_Hz / m.controller.rate_Hz;
     if (rate_ok && (std::fabs(k - std::round(k)) > 1e-9 || k < 1)) {
@@ -785,6 +826,7 @@ nlohmann::json RobotToJson(const RobotConfig& r) {
     jm["encoder"] = WriteFields(EncoderFields(), m.encoder);
     jm["controller"] = WriteFields(ControllerFields(), m.controller);
     jm["winding_temperature_sensor"] = m.winding_temperature_sensor;
+    if (m.ripple.enabled) jm["ripple"] = WriteFields(RippleFields(), m.ripple);  // absent: off, as before
     out["modules"].push_back(jm);
   }
   for (const JointBody& b : r.bodies) out["bodies"].push_back(BodyToJson(b));

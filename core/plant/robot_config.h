@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "core/plant/torque_ripple.h"  // RippleParams
+
 namespace armfault {
 
 class ErrorList;
@@ -127,6 +129,7 @@ struct ModuleParams {
   EncoderParams encoder;
   ControllerParams controller;
   bool winding_temperature_sensor = false;  // a sensor the monitor may read (JointSignals::winding_temp_C)
+  RippleParams ripple;  // optional "ripple" group: gear kinematic error and cogging (core/plant/torque_ripple.h)
 };
 
 // Link i follows joint i. It starts at the joint anchor and extends along `direction` by

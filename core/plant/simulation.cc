@@ -15,6 +15,7 @@
 #include "core/plant/ode_runtime.h"
 #include "core/base/rng.h"
 #include "core/plant/rigid_body_dynamics.h"
+#include "core/plant/torque_ripple.h"
 #include "core/plant/torque_sensor.h"
 
 namespace armfault {
@@ -253,6 +254,7 @@ struct JointRuntime {
   double rotor_rate = 0;       // rotor speed relative to the stator [rad/s], after the last step
   double tau_transmitted = 0;  // latest true transmitted torque (link side)
   double viscous_torque = 0;   // viscous friction torque of the current physics step (motor side)
+  double ripple_torque = 0;    // gear kinematic error and cogging in the current step (motor side; 0 if off)
   double i_cmd = 0;
   double winding_temp_C = 20;
   int last_adc_code = 0;
@@ -263,6 +265,7 @@ struct JointRuntime {
   double sum_supply = 0, sum_copper = 0, sum_inverter = 0, sum_quiescent = 0, sum_friction = 0;
   double sum_mech = 0, sum_emf = 0, sum_magnetic = 0, peak_current = 0;
   double sum_torque = 0, sum_current_sq = 0, sum_brake = 0;
+  double sum_ripple = 0;
   double brake_share = 0;  // brake's part of the dry-friction bound in the current step
   Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();  // joint axis (world) in the current step
   std::array<double, 3> phase_current{};
@@ -361,6 +364,7 @@ void ControllerTick(const JointModel& jm, const JointRunOptions& o, const Hardwa
   tick.p_mech_out_W = r.sum_mech * inv;
   tick.p_emf_W = r.sum_emf * inv;
   tick.p_magnetic_W = r.sum_magnetic * inv;
+  tick.p_ripple_W = r.sum_ripple * inv;
   tick.i_supply_A = tick.p_supply_W / jm.params.inverter.bus_voltage_V;
   const InverterParams& inv_p = jm.params.inverter;
   sig.i_supply_meas_A = (1.0 + inv_p.supply_current_gain_error) * tick.i_supply_A + inv_p.supply_current_offset_error_A +
@@ -388,9 +392,10 @@ void BookPeriod(double dt, JointRuntime* runtime, JointEnergy* energy) {
   e.mech_out_J += r.sum_mech * dt;
   e.emf_J += r.sum_emf * dt;
   e.magnetic_J += r.sum_magnetic * dt;
+  e.ripple_J += r.sum_ripple * dt;
   r.sum_supply = r.sum_copper = r.sum_inverter = r.sum_quiescent = r.sum_friction = 0;
   r.sum_mech = r.sum_emf = r.sum_magnetic = r.peak_current = 0;
-  r.sum_torque = r.sum_current_sq = r.sum_brake = 0;
+  r.sum_torque = r.sum_current_sq = r.sum_brake = r.sum_ripple = 0;
 }
 
 // Before a physics step: the drive's electrical sub-steps (the winding's temperature scaling
@@ -440,7 +445,13 @@ void DriveJoint(const JointModel& jm, const HardwareCondition& cond, int substep
   dVector3 axis;
   dJointGetHingeAxis(ode->joint(j), axis);
   r.axis = ToEigen(axis);
-  const Eigen::Vector3d couple = (dout.torque_Nm - r.viscous_torque) * r.axis;
+  double couple_Nm = dout.torque_Nm - r.viscous_torque;
+  if (jm.params.ripple.enabled) {
+    // Position-dependent ripple (core/plant/torque_ripple.h) at the step's mid-point angle.
+    r.ripple_torque = RippleTorqueNm(jm.params.ripple, jm.ratio, jm.ratio * r.q + 0.5 * dt * r.rotor_rate, r.rotor_rate, 1.0 / dt);
+    couple_Nm += r.ripple_torque;
+  }
+  const Eigen::Vector3d couple = couple_Nm * r.axis;
   dBodyAddTorque(ode->rotor(j), couple.x(), couple.y(), couple.z());
   if (dBodyID stator = ode->parent(j)) dBodyAddTorque(stator, -couple.x(), -couple.y(), -couple.z());
 }
@@ -468,6 +479,7 @@ void ReadBackJoint(const JointModel& jm, const OdeWorld& ode, int j, JointRuntim
   const double dry_torque = ToEigen(ode.drag_feedback(j).t1).dot(r.axis);
   r.sum_mech += r.tau_transmitted * qd_new;
   r.sum_friction += (r.viscous_torque - dry_torque) * r.rotor_rate;
+  r.sum_ripple += r.ripple_torque * r.rotor_rate;
   // The dry elements share the constraint torque in proportion to their bounds (exact
   // while slipping, when each is at its bound); the brake is reported link side.
   r.sum_brake += jm.ratio * std::fabs(dry_torque) * r.brake_share;

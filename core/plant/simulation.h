@@ -23,6 +23,8 @@
 // Joint 1's sun is a kinematic ground body. Torques (motor side, about z_i):
 //   - motor torque K_T-based tau_m on the rotor, reaction on the parent (stator);
 //   - viscous motor friction b(q_dot) on the rotor shaft, reaction on the parent;
+//   - with a "ripple" group: the gear's kinematic-error torque and the motor's cogging, functions
+//     of the rotor angle (core/plant/torque_ripple.h), on the rotor, reaction on the parent;
 //   - one bounded velocity row (an AMotor, rotor relative to parent, target 0) with limit
 //     Coulomb/Stribeck + brake + mesh loss mu |tau_link| / gamma: exact stiction. The brake
 //     and the mesh are before the torque sensor, so all dry friction sits on the rotor shaft.
@@ -133,6 +135,7 @@ struct JointTick {
   double p_mech_out_W = 0;      // tau_true x qd: power delivered to the link
   double p_emf_W = 0;           // electromagnetic power converted to rotor power (work on the rotor)
   double p_magnetic_W = 0;
+  double p_ripple_W = 0;        // work of the torque ripple on the rotor (0 without "ripple"): stored, not lost
   // plant-level truth for checking that a fault took effect (means over the period)
   double torque_motor_Nm = 0;   // electromagnetic torque on the rotor
   double current_sq_A2 = 0;     // i_a^2 + i_b^2 + i_c^2
@@ -148,6 +151,7 @@ using TickObserver = std::function<void(const Tick&)>;
 struct JointEnergy {
   double supply_J = 0, copper_J = 0, inverter_J = 0, quiescent_J = 0, friction_J = 0;
   double mech_out_J = 0, emf_J = 0, magnetic_J = 0;
+  double ripple_J = 0;  // work of the torque ripple on the rotors: its potential's drop (core/plant/torque_ripple.h)
 };
 
 struct RunResult {

@@ -102,6 +102,18 @@ printf '{"duration_s": 1, "robot": {"modules": [{}, {"motor": {"kt_Nm_per_A": -1
   >"$tmp/bad_robot.json"
 run bad_robot_value "$armfault" trace "$tmp/bad_robot.json" -q -o "$tmp/x.csv"
 expect_input_error "$tmp/bad_robot.json: /robot/modules/1/motor/kt_Nm_per_A: -1 must be greater than 0"
+# The optional ripple group (core/plant/torque_ripple.h): out of range, beyond a double, wrong type.
+printf '{"duration_s": 1, "robot": {"modules": [{}, {"ripple": {"phase_2x_deg": 400}}], "links": [{}, {}]}}\n' \
+  >"$tmp/bad_ripple.json"
+run bad_ripple_value "$armfault" trace "$tmp/bad_ripple.json" -q -o "$tmp/x.csv"
+expect_input_error "$tmp/bad_ripple.json: /robot/modules/1/ripple/phase_2x_deg: 400 is outside [-360, 360]"
+printf '{"duration_s": 1, "robot": {"modules": [{"ripple": {"cogging_Nm": 1e999}}], "links": [{}]}}\n' \
+  >"$tmp/huge_ripple.json"
+run huge_ripple_value "$armfault" trace "$tmp/huge_ripple.json" -q -o "$tmp/x.csv"
+expect_input_error "$tmp/huge_ripple.json: /robot/modules/0/ripple/cogging_Nm: the number 1e999 is beyond the range of a double"
+printf '{"duration_s": 1, "robot": {"modules": [{"ripple": true}], "links": [{}]}}\n' >"$tmp/ripple_type.json"
+run ripple_not_object "$armfault" trace "$tmp/ripple_type.json" -q -o "$tmp/x.csv"
+expect_input_error "$tmp/ripple_type.json: /robot/modules/0/ripple: expected an object"
 
 printf 'robot = mrr-config1\nduration = 1\n' >"$tmp/not_json.json"
 run not_json "$armfault" trace "$tmp/not_json.json" -q -o "$tmp/x.csv"

@@ -97,7 +97,7 @@ with tempfile.TemporaryDirectory(prefix="armfault_schema_test.") as tmp:
     # Every key of the robot and the monitor, as the loader writes them back (campaign.json).
     tiny = copy.deepcopy(BASE)
     tiny.update({"duration_s": 0.05, "faults": [], "healthy": 1,
-                 "robot": {"modules": [{"type": "MRR1", "winding_temperature_sensor": True}, {}, {}],
+                 "robot": {"modules": [{"type": "MRR1", "winding_temperature_sensor": True}, {"ripple": {}}, {}],
                            "links": [{}, {}, {"inertia_kg_m2": [0.01, 0.02, 0.02]}]},
                  "variation": {"tolerances": "datasheet", "ambient_C": {"uniform": [15, 40]}, "units": 2}})
     tiny_path = os.path.join(tmp, "tiny.json")
@@ -321,6 +321,11 @@ with tempfile.TemporaryDirectory(prefix="armfault_schema_test.") as tmp:
         ("min angle above 360", module(min_angle_deg=400)),
         ("max angle above 360", module(max_angle_deg=400)),
         ("winding sensor as text", module(winding_temperature_sensor="yes")),
+        ("ripple phase 400", module(ripple={"phase_2x_deg": 400})),
+        ("ripple negative cogging", module(ripple={"cogging_Nm": -0.01})),
+        ("ripple fractional period count", module(ripple={"cogging_periods_per_rev": 18.5})),
+        ("ripple unknown key", module(ripple={"cogging": 0.01})),
+        ("ripple not an object", module(ripple=True)),
         ("unknown group key", module(motor={"kt": 0.2})),
         ("link mass 0", link(mass_kg=0)),
         ("negative link length", link(length_m=-1)),

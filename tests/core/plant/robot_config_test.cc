@@ -8,6 +8,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -760,6 +762,80 @@ TEST(RunConfigErrors, PointerPrefixIsKept) {
     RunConfigFromJson({{"joints", {{"7", SinePair(10)}}}}, "/runs/2", RunContext());
   });
   EXPECT_EQ(e.pointer(), "/runs/2/joints/7");
+}
+
+// ---------------------------------------------------------------- ripple (optional group)
+
+TEST(RobotConfigRipple, AbsentIsOffAndNotWrittenGivenIsOnWithDefaults) {
+  json j = TwoJoints();
+  RobotConfig r = RobotFromJson(j, "");
+  EXPECT_FALSE(r.modules[0].ripple.enabled);
+  EXPECT_FALSE(RobotToJson(r)["modules"][0].contains("ripple"));  // campaign.json as before
+  j["modules"][1]["ripple"] = {{"cogging_Nm", 0.02}, {"phase_2x_deg", 45}};
+  r = RobotFromJson(j, "");
+  EXPECT_FALSE(r.modules[0].ripple.enabled);
+  ASSERT_TRUE(r.modules[1].ripple.enabled);
+  EXPECT_EQ(r.modules[1].ripple.cogging_Nm, 0.02);
+  EXPECT_EQ(r.modules[1].ripple.phase_2x_deg, 45);
+  EXPECT_EQ(r.modules[1].ripple.kinematic_error_2x_arcmin, RippleParams{}.kinematic_error_2x_arcmin);
+  const json written = RobotToJson(r);
+  EXPECT_EQ(written["modules"][1]["ripple"]["cogging_Nm"], 0.02);
+  EXPECT_EQ(written["modules"][1]["ripple"].size(), 8u);
+  EXPECT_EQ(RobotToJson(RobotFromJson(written, "")), written);  // and back
+  j["modules"][1]["ripple"] = json::object();  // empty: on, every default
+  EXPECT_TRUE(RobotFromJson(j, "").modules[1].ripple.enabled);
+}
+
+TEST(RobotConfigRipple, BadValuesNameTheirPointerAndValue) {
+  const struct {
+    json group;
+    const char* key;
+    const char* message;
+  } cases[] = {
+      {{{"kinematic_error_2x_arcmin", 11}}, "kinematic_error_2x_arcmin", "11 is outside [0, 10]"},
+      {{{"kinematic_error_1x_arcmin", -0.1}}, "kinematic_error_1x_arcmin", "-0.1 is outside [0, 10]"},
+      {{{"phase_2x_deg", 400}}, "phase_2x_deg", "400 is outside [-360, 360]"},
+      {{{"phase_1x_deg", "0"}}, "phase_1x_deg", "expected a number, got string \"0\""},
+      {{{"drive_stiffness_Nm_per_rad", -1}}, "drive_stiffness_Nm_per_rad", "-1 is outside [0, 10000000]"},
+      {{{"drive_stiffness_Nm_per_rad", 1e300}}, "drive_stiffness_Nm_per_rad", "1e+300 is outside [0, 10000000]"},
+      {{{"cogging_Nm", -0.01}}, "cogging_Nm", "-0.01 is outside [0, 10]"},
+      {{{"cogging_Nm", true}}, "cogging_Nm", "expected a number, got boolean true"},
+      {{{"cogging_periods_per_rev", 0}}, "cogging_periods_per_rev", "0 is outside [1, 1000]"},
+      {{{"cogging_periods_per_rev", 18.5}}, "cogging_periods_per_rev", "expected a whole number, got 18.5"},
+      {{{"cogging_phase_deg", -361}}, "cogging_phase_deg", "-361 is outside [-360, 360]"},
+  };
+  for (const auto& c : cases) {
+    json j = TwoJoints();
+    j["modules"][1]["ripple"] = c.group;
+    const InputError e = RobotError(j, "/robot");
+    EXPECT_EQ(e.pointer(), std::string("/robot/modules/1/ripple/") + c.key) << c.key;
+    EXPECT_EQ(e.message(), c.message) << c.key;
+  }
+  json j = TwoJoints();
+  j["modules"][0]["ripple"] = {{"coging_Nm", 0.01}};
+  EXPECT_EQ(RobotError(j).pointer(), "/modules/0/ripple/coging_Nm");
+  for (const json& not_object : {json(true), json(nullptr), json(0.3), json::array()}) {
+    j["modules"][0]["ripple"] = not_object;
+    EXPECT_EQ(RobotError(j).pointer(), "/modules/0/ripple") << not_object.dump();
+    EXPECT_THAT(RobotError(j).message(), HasSubstr("expected an object")) << not_object.dump();
+  }
+}
+
+// A robot built or changed in code: Validate checks the same ranges (NaN and infinity too).
+TEST(RobotConfigRipple, ValidateChecksRippleBuiltInCode) {
+  RobotConfig r = RobotPreset("mrr-config1");
+  r.modules[2].ripple.cogging_Nm = -1;  // off: not checked, not used
+  EXPECT_NO_THROW(Validate(r, ""));
+  r.modules[2].ripple.enabled = true;
+  EXPECT_EQ(ErrorOf([&] { Validate(r, "/robot"); }).pointer(), "/robot/modules/2/ripple/cogging_Nm");
+  r.modules[2].ripple.cogging_Nm = std::nan("");
+  EXPECT_THAT(ErrorOf([&] { Validate(r, ""); }).text(), HasSubstr("/modules/2/ripple/cogging_Nm"));
+  r.modules[2].ripple.cogging_Nm = 0.01;
+  r.modules[2].ripple.drive_stiffness_Nm_per_rad = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(ErrorOf([&] { Validate(r, ""); }).pointer(), "/modules/2/ripple/drive_stiffness_Nm_per_rad");
+  r.modules[2].ripple.drive_stiffness_Nm_per_rad = 13000;
+  r.modules[2].ripple.cogging_periods_per_rev = 2.5;
+  EXPECT_EQ(ErrorOf([&] { Validate(r, ""); }).message(), "expected a whole number, got 2.5");
 }
 
 }  // namespace

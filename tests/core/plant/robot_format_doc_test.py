@@ -25,6 +25,8 @@ SRC = os.path.abspath(sys.argv[2])
 
 passed = 0
 failed = 0
+# Module groups written back only when the robot gives them (absent: the feature is off).
+OPTIONAL_GROUPS = ["ripple"]
 
 
 def check(name, ok, detail=""):
@@ -48,6 +50,23 @@ with tempfile.TemporaryDirectory(prefix="armfault_robot_doc.") as tmp:
         sys.exit(1)
     with open(os.path.join(tmp, "out", "campaign.json")) as f:
         robot = json.load(f)["campaign"]["robot"]
+    # The optional groups (written only when given, so absent from mrr-config1): their defaults
+    # from an MRR1 and an MRR2 module that give them empty.
+    with open(path, "w") as f:
+        json.dump({"robot": {"modules": [{"type": "MRR1", **{g: {} for g in OPTIONAL_GROUPS}},
+                                         {g: {} for g in OPTIONAL_GROUPS}], "links": [{}, {}]},
+                   "duration_s": 0.02, "healthy": 1, "trajectories": [{"name": "still", "joints": {}}]}, f)
+    r = subprocess.run([ARMFAULT, "run", path, "-o", os.path.join(tmp, "opt"), "-q", "-j", "1"],
+                       capture_output=True, text=True, timeout=300)
+    if r.returncode not in (0, 1):
+        print("FAIL: campaign with the optional groups: status %d: %s" % (r.returncode, r.stderr[:300]))
+        sys.exit(1)
+    with open(os.path.join(tmp, "opt", "campaign.json")) as f:
+        optional = json.load(f)["campaign"]["robot"]["modules"]
+    for g in OPTIONAL_GROUPS:
+        check("optional group %s absent from mrr-config1" % g, g not in robot["modules"][1])
+        robot["modules"][0][g] = optional[0][g]
+        robot["modules"][1][g] = optional[1][g]
 
 with open(os.path.join(SRC, "docs", "robot-format.md")) as f:
     doc = f.read()
