@@ -134,6 +134,20 @@ Command AddReplayCommand(CLI::App& app) {
   return {cmd, [o] { return armfault::ReplayCommand(*o); }};
 }
 
+Command AddCalibrateCommand(CLI::App& app) {
+  auto o = std::make_shared<armfault::CalibrateCommandOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "calibrate", "fit one unit's drive parameters to a healthy log (an export or an import) and write its twin: "
+                   "a robot file, each value with a 95 % interval (docs/calibration.md)");
+  cmd->add_option("dir", o->dir, "output directory of `armfault export` or `armfault import`")->required();
+  cmd->add_option("--run", o->run, "the healthy run (run_id) to calibrate on")->required();
+  cmd->add_option("--robot", o->robot, "the datasheet robot: a preset or a robot file (default: DIR's campaign.json)");
+  cmd->add_option("-o,--output", o->output_file, "the twin's robot file to write (and NAME.calibration.json beside it)")->required();
+  cmd->add_option("--block-s", o->block_s, "bootstrap block length [s] (default 2)");
+  cmd->add_option("--resamples", o->resamples, "bootstrap resamples (default 400)");
+  return {cmd, [o] { return armfault::CalibrateCommand(*o); }};
+}
+
 Command AddValidateCommand(CLI::App& app) {
   auto o = std::make_shared<armfault::ValidateOptions>();
   CLI::App* cmd = app.add_subcommand("validate", "check a campaign file and print its run count");
@@ -291,6 +305,7 @@ int armfault::CliMain(int argc, char** argv) {
       AddImportCommand(app),
       AddScoreCommand(app),
       AddReplayCommand(app),
+      AddCalibrateCommand(app),
       AddValidateCommand(app),
       AddMergeCommand(app),
       AddBenchCommand(app),

@@ -136,6 +136,18 @@ struct ReplayCommandOptions {
 // with the same floors and exit status; prints the alarms per hour of operation.
 int ReplayCommand(const ReplayCommandOptions& options);
 
+struct CalibrateCommandOptions {
+  std::string dir;          // an export or an import
+  std::string run;          // the healthy run_id to calibrate on
+  std::string robot;        // the datasheet (preset or file); empty: DIR's campaign.json robot
+  std::string output_file;  // the twin's robot file; its .calibration.json beside it
+  double block_s = 2.0;
+  int resamples = 400;
+};
+// Fits the unit of RUN (campaigns/calibrate.h), prints each value with its 95 % interval and the
+// residuals, writes the twin and the estimates (docs/calibration.md).
+int CalibrateCommand(const CalibrateCommandOptions& options);
+
 // Writes the outputs of DIR/results.jsonl (campaigns/run_dir.h, WriteRecordOutputs: results.csv,
 // summary.json, junit.xml; with `summary_only` the ones --summary-only keeps); prints the floors;
 // exit status.
