@@ -75,9 +75,16 @@ int CalibrateCommand(const CalibrateCommandOptions& o) {
   } else {
     const fs::path campaign = dir / "campaign.json";
     if (!fs::exists(campaign)) throw InputError(o.dir, "", "no campaign.json here: name the robot with --robot");
-    const nlohmann::json spec = ParseJsonText(ReadTextFile(campaign.string()), campaign.string());
-    if (!spec.is_object() || !spec.contains("robot")) throw InputError(campaign.string(), "/robot", "missing");
-    nominal = RobotFromJson(spec["robot"], "/robot", dir.string());
+    const nlohmann::json file = ParseJsonText(ReadTextFile(campaign.string()), campaign.string());
+    // As `run`, `export` and `import` write it: {"campaign": {..., "robot": ...}, ...}.
+    if (!file.is_object() || !file.contains("campaign") || !file["campaign"].is_object() || !file["campaign"].contains("robot")) {
+      throw InputError(campaign.string(), "/campaign/robot", "missing: name the robot with --robot");
+    }
+    try {
+      nominal = RobotFromJson(file["campaign"]["robot"], "/campaign/robot", dir.string());
+    } catch (const InputError& e) {
+      throw e.WithSource(campaign.string());
+    }
   }
   const nlohmann::json line = ManifestLine(dir, o.run);
   if (line.contains("family") && line["family"].is_string() && !line["family"].get<std::string>().empty()) {
