@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "core/plant/gear_thermal.h"
+
 namespace armfault {
 
 class ErrorList;
@@ -127,6 +129,10 @@ struct ModuleParams {
   EncoderParams encoder;
   ControllerParams controller;
   bool winding_temperature_sensor = false;  // a sensor the monitor may read (JointSignals::winding_temp_C)
+  // Optional "gearbox" group (core/plant/gear_thermal.h, issue 28): the gearbox thermal node,
+  // friction against lubricant temperature, load-dependent friction, torque sensor drift.
+  // Absent (present = false): today's plant.
+  GearboxParams gearbox;
 };
 
 // Link i follows joint i. It starts at the joint anchor and extends along `direction` by
@@ -191,7 +197,8 @@ struct StatedTolerances {
 };
 
 // Module (drive) defaults by type: the drive catalogue ("MRR1", "MRR2" of the thesis;
-// "industrial-small", "industrial-large"); throws InputError for an unknown type.
+// "industrial-small", "industrial-large"; "industrial-small-thermal", "industrial-large-thermal":
+// the same with their "gearbox" group on, docs/assumptions.md); throws InputError for an unknown type.
 ModuleParams ModuleDefaults(const std::string& type, const std::string& pointer);
 std::vector<std::string> ModuleTypeNames();
 
