@@ -104,6 +104,9 @@ constexpr double kColdestC = -40, kHottestC = 120, kMaxLubricantFactor = 100;
 // Explicit Euler on the thermal nodes: each node's fastest time constant at least this many
 // physics steps (the step's error then below 1 %).
 constexpr double kMinThermalSteps = 100;
+// A warm start's nodes at most this far above ambient: a winding's insulation class H allows
+// 180 C, and the lubricant's law is bounded only up to 120 C of ambient plus this rise.
+constexpr double kMaxWarmRise_K = 150;
 
 // The gearbox group's values (a robot built in code, or a file's: the field table's ranges
 // again) and their cross-field limits; each error names its pointer and value.
@@ -132,6 +135,15 @@ void CheckGearbox(const ModuleParams& m, double physics_rate_Hz, const std::stri
                              std::string(key) + " " + FormatNumber(mu) + " with the drive's mesh_loss_fraction " +
                                  FormatNumber(m.drive.mesh_loss_fraction) + " reaches 1: the gear would lock under its own load"));
     }
+  }
+  const ThermalNodes warm = SteadyThermalNodes(m.motor.thermal_resistance_K_per_W, g, 0.0, g.warm_copper_loss_W,
+                                              g.warm_friction_loss_W);
+  if (!(warm.winding_C <= kMaxWarmRise_K && warm.gear_C <= kMaxWarmRise_K)) {
+    errors->Add(InputError("", PointerJoin(pointer, warm.winding_C > kMaxWarmRise_K ? "warm_copper_loss_W" : "warm_friction_loss_W"),
+                           "the warm duty (" + FormatNumber(g.warm_copper_loss_W) + " W copper, " +
+                               FormatNumber(g.warm_friction_loss_W) + " W friction) holds the winding " +
+                               FormatNumber(warm.winding_C) + " K and the gearbox " + FormatNumber(warm.gear_C) +
+                               " K above ambient: at most 150 K"));
   }
   if (!(physics_rate_Hz > 0)) return;
   const double min_tau_s = kMinThermalSteps / physics_rate_Hz;

@@ -818,6 +818,11 @@ TEST(RobotConfigGearbox, ValidateChecksARobotBuiltInCodeAndTheCrossFieldLimits) 
   e = ErrorOf([&] { Validate(r, "/robot"); });
   EXPECT_EQ(e.pointer(), "/robot/modules/2/gearbox/thermal_time_constant_s");
   r.modules[2].gearbox.thermal_time_constant_s = 100;
+  r.modules[2].gearbox.warm_friction_loss_W = 100;  // 2 K/W: 200 K above ambient
+  e = ErrorOf([&] { Validate(r, "/robot"); });
+  EXPECT_EQ(e.pointer(), "/robot/modules/2/gearbox/warm_friction_loss_W");
+  EXPECT_THAT(e.message(), HasSubstr("holds the winding 0 K and the gearbox 200 K above ambient: at most 150 K"));
+  r.modules[2].gearbox.warm_friction_loss_W = 0;
   r.modules[2].gearbox.winding_coupling_W_per_K = 100;  // R_w 11 K/W: 900 s / 1101
   EXPECT_NO_THROW(Validate(r, "/robot"));
   r.modules[2].motor.thermal_time_constant_s = 10;
