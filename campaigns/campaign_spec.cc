@@ -179,7 +179,8 @@ void ParseTrajectories(ObjectReader& reader, bool robot_ok, bool duration_ok, co
 // The "variation" object.
 void ParseVariation(const nlohmann::json& v, const std::string& pointer, Variation* out, ErrorList* errors) {
   ObjectReader vr(v, pointer);
-  errors->Try([&] { vr.AllowOnly({"payload_kg", "torque_noise_Nm", "friction_spread", "tolerances", "ambient_C", "units"}); });
+  errors->Try([&] { vr.AllowOnly({"payload_kg", "torque_noise_Nm", "friction_spread", "tolerances", "ambient_C", "units",
+                                       "warm_start_fraction"}); });
   errors->Try([&] { out->payload_kg = VariationSweep(vr, "payload_kg", 0, 100); });
   errors->Try([&] { out->torque_noise_Nm = VariationSweep(vr, "torque_noise_Nm", 0, 100); });
   errors->Try([&] {
@@ -193,6 +194,12 @@ void ParseVariation(const nlohmann::json& v, const std::string& pointer, Variati
     }
   });
   errors->Try([&] { out->ambient_C = VariationSweep(vr, "ambient_C", -40, 120); });
+  errors->Try([&] {
+    if (vr.Has("warm_start_fraction")) {
+      vr.OptionalNumber("warm_start_fraction", &out->warm_start_fraction);
+      RequireInRange(out->warm_start_fraction, 0, 1, vr.PointerTo("warm_start_fraction"));
+    }
+  });
   errors->Try([&] {
     if (vr.Has("units")) {
       vr.OptionalInt("units", &out->units);

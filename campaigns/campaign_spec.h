@@ -76,6 +76,9 @@ struct Variation {
   bool has_tolerances = false;
   StatedTolerances tolerances;  // half-widths a unit draws in (and its datasheet states)
   Sweep ambient_C;         // per run; empty: 20 °C
+  // Each run starts warm (RunSpec::start) with this probability, drawn from its seed after the
+  // other draws; negative (absent): every run starts cold and nothing is drawn (issue 28).
+  double warm_start_fraction = -1;
   int units = 0;           // a fleet of this many robot units; 0: every run is its own unit
 };
 

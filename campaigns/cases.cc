@@ -48,6 +48,7 @@ nlohmann::json CaseSpec::VariationJson() const {
   // Only campaigns that use them carry the newer keys, so older results stay byte-identical.
   if (unit >= 0) j["unit"] = unit;
   if (ambient_C != 20) j["ambient_C"] = ambient_C;
+  if (warm_start) j["start"] = "warm";
   if (!tolerance_draws.empty()) {
     nlohmann::json drawn = nlohmann::json::object();
     for (size_t k = 0; k < ToleranceKeys().size(); ++k) {
@@ -156,6 +157,8 @@ void DrawVariation(const CampaignSpec& c, Rng* rng, CaseSpec* cs) {
     }
   }
   cs->ambient_C = draw(c.variation.ambient_C, 20.0);
+  cs->warm_start = false;
+  if (c.variation.warm_start_fraction >= 0) cs->warm_start = rng->Uniform() < c.variation.warm_start_fraction;
 }
 
 // Runs of one fault entry: its value combinations x joints x repetitions.

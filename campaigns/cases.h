@@ -31,6 +31,7 @@ struct CaseSpec {
   std::vector<double> friction_factors;    // per joint, true friction scale
   int unit = -1;                           // the robot unit (-1: this run is its own unit)
   double ambient_C = 20;
+  bool warm_start = false;                 // the run's thermal nodes start warm (RunSpec::start)
   std::vector<std::vector<double>> tolerance_draws;  // [joint][ToleranceKeys() order]; empty: none
   nlohmann::json VariationJson() const;
 };

@@ -147,6 +147,7 @@ RunSpec CaseRunSpec(const Campaign& campaign, const CaseSpec& cs, const ArmModel
   spec.duration_s = campaign.duration_s;
   spec.seed = cs.seed;
   spec.ambient_C = cs.ambient_C;
+  spec.start = cs.warm_start ? ThermalStart::kWarm : ThermalStart::kCold;
   spec.joints.resize(static_cast<size_t>(model.joint_count()));
   for (const auto& [joint, trajectory] : campaign.loaded_trajectories[cs.trajectory]) {
     spec.joints[joint - 1].trajectory = trajectory;

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "core/base/json_input.h"
+#include "core/base/suggest.h"
 
 namespace armfault {
 
@@ -98,13 +99,25 @@ std::shared_ptr<const MonitorModel> MakeRunMonitor(const RunConfig& run) {
   return MakeMonitorModel(run.monitor, context);
 }
 
+ThermalStart ThermalStartFromJson(const nlohmann::json& value, const std::string& pointer) {
+  if (!value.is_string()) {
+    throw InputError("", pointer, "expected \"cold\" or \"warm\", got " + Describe(value));
+  }
+  const std::string mode = value.get<std::string>();
+  if (mode == "cold") return ThermalStart::kCold;
+  if (mode == "warm") return ThermalStart::kWarm;
+  const std::string near = NearestWord(mode, {"cold", "warm"});
+  throw InputError("", pointer, "unknown start " + Describe(value) + " (known: cold, warm)",
+                   near.empty() ? "" : "did you mean \"" + near + "\"?");
+}
+
 RunConfig RunConfigFromJson(const nlohmann::json& value, const std::string& pointer, const InputContext& context) {
   try {
     ObjectReader reader(value, pointer);
     // Independent parts each on their own, so every error is reported; the joints' checks
     // need the robot and the duration and are skipped when either is bad.
     ErrorList errors;
-    errors.Try([&] { reader.AllowOnly({"robot", "duration_s", "seed", "joints", "faults", "monitor"}); });
+    errors.Try([&] { reader.AllowOnly({"robot", "duration_s", "seed", "start", "joints", "faults", "monitor"}); });
     RunConfig run;
     run.input = context;
     const bool robot_ok = errors.Try([&] {
@@ -123,6 +136,9 @@ RunConfig RunConfigFromJson(const nlohmann::json& value, const std::string& poin
         }
         run.seed = static_cast<uint64_t>(s);
       }
+    });
+    errors.Try([&] {
+      if (const auto* start = reader.Find("start")) run.start = ThermalStartFromJson(*start, reader.PointerTo("start"));
     });
     if (const auto* joints = reader.Find("joints"); joints && robot_ok && duration_ok) {
       errors.Try([&] {
@@ -167,6 +183,7 @@ RunSpec MakeRunSpec(const RunConfig& run) {
   RunSpec spec;
   spec.duration_s = run.duration_s;
   spec.seed = run.seed;
+  spec.start = run.start;
   spec.joints.resize(run.robot.modules.size());
   for (const auto& [joint, trajectory] : run.trajectories) spec.joints[joint - 1].trajectory = trajectory;
   return spec;

@@ -2,6 +2,8 @@
 // JSON shape (the same "joints" object as a campaign's trajectories):
 //   {"robot": "mrr-config1", "duration_s": 10, "seed": 1,
 //    "joints": {"3": {"type": "sine_pair", "amplitude_deg": 25, "omega_rad_s": 1.2732}}}
+// Optional "start": "cold" (default: every thermal node at ambient) or "warm" (at the steady
+// state of each drive's stated duty, core/plant/gear_thermal.h).
 // Joints are numbered from 1 at the base; a joint without a trajectory holds its angle.
 #pragma once
 
@@ -22,6 +24,7 @@ struct RunConfig {
   RobotConfig robot;
   double duration_s = 10.0;
   uint64_t seed = 1;
+  ThermalStart start = ThermalStart::kCold;  // "start": "cold" | "warm" (core/plant/simulation.h)
   std::map<int, std::shared_ptr<const Trajectory>> trajectories;  // key: joint number (1-based)
   nlohmann::json trajectories_json = nlohmann::json::object();    // as given, for records
   // "faults": kept as given; the faults library (which core does not depend on) builds them.
@@ -56,6 +59,9 @@ void CheckMotionFeasible(const Trajectory& trajectory, const MotionEnvelope& env
 std::map<int, std::shared_ptr<const Trajectory>> JointTrajectoriesFromJson(
     const nlohmann::json& joints, const std::string& pointer, const RobotConfig& robot, double duration_s,
     const InputContext& context);
+
+// "start": "cold" | "warm" at `pointer`; anything else throws InputError (with "did you mean").
+ThermalStart ThermalStartFromJson(const nlohmann::json& value, const std::string& pointer);
 
 RunConfig RunConfigFromJson(const nlohmann::json& value, const std::string& pointer, const InputContext& context);
 

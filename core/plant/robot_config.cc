@@ -78,6 +78,92 @@ const Fields<FrictionParams>& FrictionFields() {
   };
   return f;
 }
+// The optional "gearbox" group (core/plant/gear_thermal.h); limits and their reasons:
+// docs/assumptions.md, "Gearbox temperature, load and sensor drift".
+const Fields<GearboxParams>& GearboxFields() {
+  static const Fields<GearboxParams> f = {
+      {"thermal_resistance_K_per_W", &GearboxParams::thermal_resistance_K_per_W, 0, 1000, true, false},
+      {"thermal_time_constant_s", &GearboxParams::thermal_time_constant_s, 0, 1e6, true, false},
+      {"winding_coupling_W_per_K", &GearboxParams::winding_coupling_W_per_K, 0, 100, false, false},
+      {"reference_C", &GearboxParams::reference_C, -40, 120, false, false},
+      {"vogel_B_K", &GearboxParams::vogel_B_K, 0, 5000, false, false},
+      {"vogel_C_C", &GearboxParams::vogel_C_C, -273.15, -60, false, false},
+      {"coulomb_exponent", &GearboxParams::coulomb_exponent, 0, 2, false, false},
+      {"load_friction_driving", &GearboxParams::load_friction_driving, 0, 0.9, false, false},
+      {"load_friction_backdriven", &GearboxParams::load_friction_backdriven, 0, 0.9, false, false},
+      {"sensor_offset_Nm_per_K", &GearboxParams::sensor_offset_Nm_per_K, -1, 1, false, false},
+      {"sensor_gain_per_K", &GearboxParams::sensor_gain_per_K, -0.01, 0.01, false, false},
+      {"warm_copper_loss_W", &GearboxParams::warm_copper_loss_W, 0, 1e4, false, false},
+      {"warm_friction_loss_W", &GearboxParams::warm_friction_loss_W, 0, 1e4, false, false},
+  };
+  return f;
+}
+// Temperatures the plant may meet (a campaign's ambient range, docs/campaign-format.md): the
+// lubricant law must stay within kMaxLubricantFactor of its reference over them.
+constexpr double kColdestC = -40, kHottestC = 120, kMaxLubricantFactor = 100;
+// Explicit Euler on the thermal nodes: each node's fastest time constant at least this many
+// physics steps (the step's error then below 1 %).
+constexpr double kMinThermalSteps = 100;
+// A warm start's nodes at most this far above ambient: a winding's insulation class H allows
+// 180 C, and the lubricant's law is bounded only up to 120 C of ambient plus this rise.
+constexpr double kMaxWarmRise_K = 150;
+
+// The gearbox group's values (a robot built in code, or a file's: the field table's ranges
+// again) and their cross-field limits; each error names its pointer and value.
+void CheckGearbox(const ModuleParams& m, double physics_rate_Hz, const std::string& pointer, ErrorList* errors) {
+  const GearboxParams& g = m.gearbox;
+  bool ok = true;
+  for (const Field<GearboxParams>& field : GearboxFields()) {
+    ok &= errors->Try([&] {
+      const std::string ptr = PointerJoin(pointer, field.key);
+      if (field.min_exclusive) RequireAbove(g.*field.member, field.min, ptr);
+      RequireInRange(g.*field.member, field.min, field.max, ptr);
+    });
+  }
+  if (!ok) return;
+  const double cold = LubricantFactor(g, kColdestC), hot = LubricantFactor(g, kHottestC);
+  if (!(cold <= kMaxLubricantFactor && hot >= 1.0 / kMaxLubricantFactor)) {
+    errors->Add(InputError("", PointerJoin(pointer, "vogel_B_K"),
+                           "vogel_B_K " + FormatNumber(g.vogel_B_K) + " K with vogel_C_C " + FormatNumber(g.vogel_C_C) +
+                               " C scales friction by " + FormatNumber(cold) + " at -40 C and " + FormatNumber(hot) +
+                               " at 120 C: outside [1/100, 100] of its value at reference_C"));
+  }
+  for (const auto& [key, mu] : {std::pair<const char*, double>{"load_friction_driving", g.load_friction_driving},
+                                {"load_friction_backdriven", g.load_friction_backdriven}}) {
+    if (m.drive.mesh_loss_fraction + mu >= 1.0) {
+      errors->Add(InputError("", PointerJoin(pointer, key),
+                             std::string(key) + " " + FormatNumber(mu) + " with the drive's mesh_loss_fraction " +
+                                 FormatNumber(m.drive.mesh_loss_fraction) + " reaches 1: the gear would lock under its own load"));
+    }
+  }
+  const ThermalNodes warm = SteadyThermalNodes(m.motor.thermal_resistance_K_per_W, g, 0.0, g.warm_copper_loss_W,
+                                              g.warm_friction_loss_W);
+  if (!(warm.winding_C <= kMaxWarmRise_K && warm.gear_C <= kMaxWarmRise_K)) {
+    errors->Add(InputError("", PointerJoin(pointer, warm.winding_C > kMaxWarmRise_K ? "warm_copper_loss_W" : "warm_friction_loss_W"),
+                           "the warm duty (" + FormatNumber(g.warm_copper_loss_W) + " W copper, " +
+                               FormatNumber(g.warm_friction_loss_W) + " W friction) holds the winding " +
+                               FormatNumber(warm.winding_C) + " K and the gearbox " + FormatNumber(warm.gear_C) +
+                               " K above ambient: at most 150 K"));
+  }
+  if (!(physics_rate_Hz > 0)) return;
+  const double min_tau_s = kMinThermalSteps / physics_rate_Hz;
+  const double gear_tau = g.thermal_time_constant_s / (1.0 + g.thermal_resistance_K_per_W * g.winding_coupling_W_per_K);
+  const double winding_tau =
+      m.motor.thermal_time_constant_s / (1.0 + m.motor.thermal_resistance_K_per_W * g.winding_coupling_W_per_K);
+  if (gear_tau < min_tau_s) {
+    errors->Add(InputError("", PointerJoin(pointer, "thermal_time_constant_s"),
+                           "the gearbox node's time constant " + FormatNumber(gear_tau) + " s (thermal_time_constant_s " +
+                               FormatNumber(g.thermal_time_constant_s) + " s over 1 + R G) is below " +
+                               FormatNumber(min_tau_s) + " s, 100 physics steps"));
+  }
+  if (winding_tau < min_tau_s) {
+    errors->Add(InputError("", PointerJoin(pointer, "winding_coupling_W_per_K"),
+                           "winding_coupling_W_per_K " + FormatNumber(g.winding_coupling_W_per_K) +
+                               " W/K makes the winding node's time constant " + FormatNumber(winding_tau) +
+                               " s, below " + FormatNumber(min_tau_s) + " s, 100 physics steps"));
+  }
+}
+
 const Fields<BrakeParams>& BrakeFields() {
   static const Fields<BrakeParams> f = {
       {"holding_torque_Nm", &BrakeParams::holding_torque_Nm, 0, 1000, false, false},
@@ -273,7 +359,7 @@ ModuleParams ModuleFromJson(const nlohmann::json& value, const std::string& poin
   ObjectReader reader(value, pointer);
   errors->Try([&] {
     reader.AllowOnly({"type", "min_angle_deg", "max_angle_deg", "motor", "inverter", "drive", "friction", "brake",
-                      "torque_sensor", "encoder", "controller", "winding_temperature_sensor", "ripple"});
+                      "torque_sensor", "encoder", "controller", "winding_temperature_sensor", "ripple", "gearbox"});
   });
   std::string type = "MRR2";
   ModuleParams m;
@@ -299,6 +385,20 @@ ModuleParams ModuleFromJson(const nlohmann::json& value, const std::string& poin
     } else {
       ReadGroup(reader, "torque_sensor", TorqueSensorFields(), &m.torque_sensor);
       if (v) m.torque_sensor.present = true;  // overrides give the type's absent sensor back
+    }
+  });
+  errors->Try([&] {
+    // "gearbox": null switches a thermal drive type's group off; an object turns it on.
+    const nlohmann::json* v = reader.Find("gearbox");
+    if (v && v->is_null()) {
+      m.gearbox.present = false;
+    } else if (v && !v->is_object()) {
+      throw InputError("", reader.PointerTo("gearbox"),
+                       "expected an object (the gearbox's thermal, lubricant, load-friction and sensor-drift parameters) "
+                       "or null (off), got " + std::string(v->type_name()) + " " + Describe(*v));
+    } else if (v) {
+      ReadGroup(reader, "gearbox", GearboxFields(), &m.gearbox);
+      m.gearbox.present = true;
     }
   });
   errors->Try([&] { ReadGroup(reader, "encoder", EncoderFields(), &m.encoder); });
@@ -524,6 +624,32 @@ ModuleParams IndustrialDrive(const std::string& type) {
   return m;
 }
 
+// The industrial drives with their "gearbox" group on (issue 28): a gearbox node, the
+// lubricant's Vogel law, direction-dependent load friction and sensor drift. Values and their
+// sources: docs/assumptions.md, "Gearbox temperature, load and sensor drift".
+ModuleParams IndustrialThermalDrive(const std::string& type) {
+  const bool small = type == "industrial-small-thermal";
+  ModuleParams m = IndustrialDrive(small ? "industrial-small" : "industrial-large");
+  m.type = type;
+  GearboxParams& g = m.gearbox;
+  g.present = true;
+  g.thermal_resistance_K_per_W = small ? 3.0 : 1.2;
+  g.thermal_time_constant_s = small ? 1800 : 3000;
+  g.winding_coupling_W_per_K = small ? 0.5 : 1.5;
+  g.reference_C = 20;
+  g.vogel_B_K = 277;
+  g.vogel_C_C = -100;
+  g.coulomb_exponent = 0.5;
+  g.load_friction_driving = 0.05;
+  g.load_friction_backdriven = 0.10;
+  // 0.02 %FS/K zero drift, 0.01 %/K span drift of a temperature-compensated strain-gauge sensor.
+  g.sensor_offset_Nm_per_K = 0.0002 * m.torque_sensor.full_scale_Nm;
+  g.sensor_gain_per_K = 1e-4;
+  g.warm_copper_loss_W = small ? 3.0 : 10.0;
+  g.warm_friction_loss_W = small ? 4.0 : 15.0;
+  return m;
+}
+
 // A six-joint UR5e-class arm from its URDF (campaigns/files/robots/ur-class.urdf, built in):
 // shoulder and elbow joints on the large industrial drive, the wrists on the small one.
 RobotConfig UrClass() {
@@ -543,6 +669,11 @@ struct Preset {
 const std::vector<Preset>& Presets() {
   static const std::vector<Preset> presets = {{"mrr-config1", &MrrConfig1}, {"pendulum", &Pendulum}, {"ur-class", &UrClass}};
   return presets;
+}
+
+// Whether drive type `type`'s defaults carry a gearbox group (false for an unknown type).
+bool TypeHasGearbox(const std::string& type) {
+  return type == "industrial-small-thermal" || type == "industrial-large-thermal";
 }
 
 }  // namespace
@@ -575,10 +706,13 @@ ModuleParams ModuleDefaults(const std::string& type, const std::string& pointer)
     return m;
   }
   if (type == "industrial-small" || type == "industrial-large") return IndustrialDrive(type);
+  if (type == "industrial-small-thermal" || type == "industrial-large-thermal") return IndustrialThermalDrive(type);
   throw InputError("", pointer, "unknown module type \"" + type + "\" (known: " + Known(ModuleTypeNames()) + ")");
 }
 
-std::vector<std::string> ModuleTypeNames() { return {"MRR1", "MRR2", "industrial-small", "industrial-large"}; }
+std::vector<std::string> ModuleTypeNames() {
+  return {"MRR1", "MRR2", "industrial-small", "industrial-large", "industrial-small-thermal", "industrial-large-thermal"};
+}
 
 std::vector<std::string> RobotPresetNames() {
   std::vector<std::string> names;
@@ -729,6 +863,7 @@ void Validate(const RobotConfig& r, const std::string& pointer) {
                             "the rotor body's " + rotor_problem));
     }
     if (m.ripple.enabled) errors.Try([&] { CheckFields(RippleFields(), m.ripple, PointerJoin(mp, "ripple")); });
+    if (m.gearbox.present) CheckGearbox(m, rate_ok ? r.physics_rate_Hz : 0.0, PointerJoin(mp, "gearbox"), &errors);
     // The controller runs every k physics steps: the rates must divide (needs a valid physics rate).
     double k = r.physics_rate_Hz / m.controller.rate_Hz;
     if (rate_ok && (std::fabs(k - std::round(k)) > 1e-9 || k < 1)) {
@@ -827,6 +962,9 @@ nlohmann::json RobotToJson(const RobotConfig& r) {
     jm["controller"] = WriteFields(ControllerFields(), m.controller);
     jm["winding_temperature_sensor"] = m.winding_temperature_sensor;
     if (m.ripple.enabled) jm["ripple"] = WriteFields(RippleFields(), m.ripple);  // absent: off, as before
+    // Absent: as before issue 28; null where the type's own group was switched off, so it reads back off.
+    if (m.gearbox.present) jm["gearbox"] = WriteFields(GearboxFields(), m.gearbox);
+    else if (TypeHasGearbox(m.type)) jm["gearbox"] = nullptr;
     out["modules"].push_back(jm);
   }
   for (const JointBody& b : r.bodies) out["bodies"].push_back(BodyToJson(b));

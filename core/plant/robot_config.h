@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/plant/torque_ripple.h"  // RippleParams
+#include "core/plant/gear_thermal.h"
 
 namespace armfault {
 
@@ -130,6 +131,10 @@ struct ModuleParams {
   ControllerParams controller;
   bool winding_temperature_sensor = false;  // a sensor the monitor may read (JointSignals::winding_temp_C)
   RippleParams ripple;  // optional "ripple" group: gear kinematic error and cogging (core/plant/torque_ripple.h)
+  // Optional "gearbox" group (core/plant/gear_thermal.h, issue 28): the gearbox thermal node,
+  // friction against lubricant temperature, load-dependent friction, torque sensor drift.
+  // Absent (present = false): today's plant.
+  GearboxParams gearbox;
 };
 
 // Link i follows joint i. It starts at the joint anchor and extends along `direction` by
@@ -198,7 +203,8 @@ struct StatedTolerances {
 };
 
 // Module (drive) defaults by type: the drive catalogue ("MRR1", "MRR2" of the thesis;
-// "industrial-small", "industrial-large"); throws InputError for an unknown type.
+// "industrial-small", "industrial-large"; "industrial-small-thermal", "industrial-large-thermal":
+// the same with their "gearbox" group on, docs/assumptions.md); throws InputError for an unknown type.
 ModuleParams ModuleDefaults(const std::string& type, const std::string& pointer);
 std::vector<std::string> ModuleTypeNames();
 

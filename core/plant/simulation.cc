@@ -10,6 +10,8 @@
 #include "core/plant/brake.h"
 #include "core/plant/encoder.h"
 #include "core/plant/friction.h"
+#include "core/plant/gear_thermal.h"
+#include "core/plant/load_friction.h"
 #include "core/plant/mass_properties.h"
 #include "core/base/json_input.h"
 #include "core/plant/ode_runtime.h"
@@ -257,6 +259,8 @@ struct JointRuntime {
   double ripple_torque = 0;    // gear kinematic error and cogging in the current step (motor side; 0 if off)
   double i_cmd = 0;
   double winding_temp_C = 20;
+  double gear_temp_C = 20;     // gearbox node (only with the drive's gearbox group)
+  double p_gear_heat_W = 0;    // friction power the gearbox node took in the last physics step
   int last_adc_code = 0;
   bool brake_engaged = false;
   bool driver_enabled = true;
@@ -316,10 +320,20 @@ void ControllerTick(const JointModel& jm, const JointRunOptions& o, const Hardwa
   const double noise = r.rng.Normal();  // drawn every tick so streams stay aligned
   switch (cond.torque_sensor_lead) {
     case SensorLead::kHealthy:
-      // The unit's gauge errors act on the torque; a drift fault adds to the reading.
-      r.last_adc_code = TorqueSensorAdcCode(
-          ts, TorqueSensorVoltage(ts, (1.0 + ts.gain_error) * r.tau_transmitted + ts.offset_error_Nm + cond.torque_sensor_drift_Nm,
-                                  noise));
+      // The unit's gauge errors act on the torque; a drift fault adds to the reading. With a
+      // gearbox group the gauge's thermal drift follows the gearbox node (gear_thermal.h).
+      if (jm.params.gearbox.present) {
+        r.last_adc_code = TorqueSensorAdcCode(
+            ts, TorqueSensorVoltage(ts,
+                                    DriftedSensorInputNm(jm.params.gearbox, r.gear_temp_C, ts.gain_error, ts.offset_error_Nm,
+                                                         r.tau_transmitted) +
+                                        cond.torque_sensor_drift_Nm,
+                                    noise));
+      } else {
+        r.last_adc_code = TorqueSensorAdcCode(
+            ts, TorqueSensorVoltage(ts, (1.0 + ts.gain_error) * r.tau_transmitted + ts.offset_error_Nm + cond.torque_sensor_drift_Nm,
+                                    noise));
+      }
       break;
     case SensorLead::kSupply:
     case SensorLead::kGround:
@@ -370,6 +384,7 @@ void ControllerTick(const JointModel& jm, const JointRunOptions& o, const Hardwa
   sig.i_supply_meas_A = (1.0 + inv_p.supply_current_gain_error) * tick.i_supply_A + inv_p.supply_current_offset_error_A +
                          inv_p.supply_current_noise_A * supply_noise;
   tick.winding_temp_C = r.winding_temp_C;
+  tick.gear_temp_C = jm.params.gearbox.present ? r.gear_temp_C : std::nan("");
   sig.winding_temp_C = jm.params.winding_temperature_sensor ? r.winding_temp_C : std::nan("");
   tick.peak_phase_current_A = r.peak_current;
   tick.torque_motor_Nm = r.sum_torque * inv;
@@ -419,8 +434,18 @@ void DriveJoint(const JointModel& jm, const HardwareCondition& cond, int substep
   }
   StepDrive(jm.drive, warm, di, substeps, &r.drive, &dout);
   const MotorParams& motor = jm.params.motor;
-  r.winding_temp_C += dt / motor.thermal_time_constant_s *
-                      (ambient_C + motor.thermal_resistance_K_per_W * dout.p_copper_W - r.winding_temp_C);
+  const GearboxParams& gearbox = jm.params.gearbox;
+  if (!gearbox.present) {
+    r.winding_temp_C += dt / motor.thermal_time_constant_s *
+                        (ambient_C + motor.thermal_resistance_K_per_W * dout.p_copper_W - r.winding_temp_C);
+  } else {
+    // Winding and gearbox nodes together; the gearbox takes the previous step's friction power.
+    ThermalNodes nodes{r.winding_temp_C, r.gear_temp_C};
+    StepThermalNodes(motor.thermal_resistance_K_per_W, motor.thermal_time_constant_s, gearbox, ambient_C, dout.p_copper_W,
+                     r.p_gear_heat_W, dt, &nodes);
+    r.winding_temp_C = nodes.winding_C;
+    r.gear_temp_C = nodes.gear_C;
+  }
   r.sum_supply += dout.p_supply_W;
   r.sum_copper += dout.p_copper_W;
   r.sum_inverter += dout.p_inverter_W;
@@ -435,12 +460,22 @@ void DriveJoint(const JointModel& jm, const HardwareCondition& cond, int substep
   // Motor-side dry friction (Coulomb + Stribeck, brake, and the mesh loss referred to the
   // rotor) as the rotor's bounded velocity row with target 0; motor torque less viscous
   // friction as a couple between rotor and stator.
+  // With a gearbox group: friction against the gearbox node's temperature (the lubricant's
+  // law) and the load-dependent, direction-dependent gear friction, both from the previous
+  // step's state (load_friction.h).
   const FrictionParams& fp = jm.params.friction;
   const double brake = BrakeTorqueLimitNm(jm.params.brake, cond, r.brake_engaged);
-  const double dry = BreakawayFrictionNm(fp, cond.friction_factor, r.qd) +
-                     jm.params.drive.mesh_loss_fraction * std::fabs(r.tau_transmitted) / jm.ratio + brake;
+  double viscous_factor = cond.friction_factor, dry_factor = cond.friction_factor, load_Nm = 0;
+  if (gearbox.present) {
+    const double f = LubricantFactor(gearbox, r.gear_temp_C);
+    viscous_factor *= f;
+    dry_factor *= std::pow(f, gearbox.coulomb_exponent);
+    load_Nm = LoadFrictionNm(gearbox, r.tau_transmitted, r.qd, jm.ratio);
+  }
+  const double dry = BreakawayFrictionNm(fp, dry_factor, r.qd) +
+                     jm.params.drive.mesh_loss_fraction * std::fabs(r.tau_transmitted) / jm.ratio + load_Nm + brake;
   r.brake_share = dry > 0 ? brake / dry : 0.0;
-  r.viscous_torque = ViscousFrictionNm(fp, cond.friction_factor, r.qd);
+  r.viscous_torque = ViscousFrictionNm(fp, viscous_factor, r.qd);
   dJointSetAMotorParam(ode->drag(j), dParamFMax, dry);
   dVector3 axis;
   dJointGetHingeAxis(ode->joint(j), axis);
@@ -480,6 +515,10 @@ void ReadBackJoint(const JointModel& jm, const OdeWorld& ode, int j, JointRuntim
   r.sum_mech += r.tau_transmitted * qd_new;
   r.sum_friction += (r.viscous_torque - dry_torque) * r.rotor_rate;
   r.sum_ripple += r.ripple_torque * r.rotor_rate;
+  // What heats the gearbox node in the next step: the joint's friction less the brake's share.
+  if (jm.params.gearbox.present) {
+    r.p_gear_heat_W = (r.viscous_torque - dry_torque * (1.0 - r.brake_share)) * r.rotor_rate;
+  }
   // The dry elements share the constraint torque in proportion to their bounds (exact
   // while slipping, when each is at its bound); the brake is reported link side.
   r.sum_brake += jm.ratio * std::fabs(dry_torque) * r.brake_share;
@@ -561,6 +600,15 @@ RunResult Simulate(const ArmModel& model, const RunSpec& spec, const TickObserve
     rt[j].rng = Rng(MixSeed(spec.seed, static_cast<uint64_t>(j)));
     rt[j].driver_enabled = o.powered;
     rt[j].winding_temp_C = spec.ambient_C;
+    rt[j].gear_temp_C = spec.ambient_C;
+    if (spec.start == ThermalStart::kWarm) {
+      // The drive's stated duty's steady state (gear_thermal.h); a drive without a gearbox group
+      // states none and starts at ambient.
+      const ModuleParams& m = model.joint(j).params;
+      const ThermalNodes warm = WarmSteadyState(m.motor.thermal_resistance_K_per_W, m.gearbox, spec.ambient_C);
+      rt[j].winding_temp_C = warm.winding_C;
+      rt[j].gear_temp_C = warm.gear_C;
+    }
     rt[j].brake_engaged = !o.powered && !o.brake_held_released;
   }
 

@@ -26,7 +26,10 @@
 //   - with a "ripple" group: the gear's kinematic-error torque and the motor's cogging, functions
 //     of the rotor angle (core/plant/torque_ripple.h), on the rotor, reaction on the parent;
 //   - one bounded velocity row (an AMotor, rotor relative to parent, target 0) with limit
-//     Coulomb/Stribeck + brake + mesh loss mu |tau_link| / gamma: exact stiction. The brake
+//     Coulomb/Stribeck + brake + mesh loss mu |tau_link| / gamma: exact stiction. With a drive's
+//     gearbox group (core/plant/gear_thermal.h) the friction follows the gearbox node's
+//     temperature and the row adds the direction-dependent load friction (load_friction.h);
+//     both take the previous physics step's tau_link and q_dot (no iteration). The brake
 //     and the mesh are before the torque sensor, so all dry friction sits on the rotor shaft.
 // tau_link (JointTick::tau_true_Nm, the torque sensor's truth) is the moment about the joint
 // axis of the rotor hinge's force on the link: what the harmonic drive passes on.
@@ -103,10 +106,16 @@ struct JointRunOptions {
   bool brake_held_released = false;  // keep the brake released even when unpowered
 };
 
+// How a run's thermal nodes start: at ambient ("cold", today's), or at the steady state of
+// each drive's stated duty ("warm": GearboxParams warm_*_loss_W, core/plant/gear_thermal.h;
+// a drive without a gearbox group starts at ambient either way).
+enum class ThermalStart { kCold, kWarm };
+
 struct RunSpec {
   double duration_s = 10.0;
   uint64_t seed = 1;
   double ambient_C = 20.0;  // the windings start here and cool towards it
+  ThermalStart start = ThermalStart::kCold;
   std::vector<JointRunOptions> joints;  // one per joint, or empty for all defaults
   std::shared_ptr<const HardwareSchedule> hardware;  // null: healthy
   // Optional: asked after every tick's observer; true ends the run at that tick (a search for
@@ -121,6 +130,7 @@ struct JointTick {
   JointSignals signals;  // reference and sensors, what a monitor sees (core/signals/joint_signals.h)
   // truth
   double winding_temp_C = 20;   // winding temperature (signals.winding_temp_C: the sensor's, if declared)
+  double gear_temp_C = 0;       // gearbox node (core/plant/gear_thermal.h); NaN without a gearbox group
   double q_rad = 0, qd_rad_s = 0;
   double tau_true_Nm = 0;       // torque the harmonic drive passes to the link (sensor truth)
   double i_phase_a_A = 0;

@@ -923,5 +923,42 @@ printf '{"robot": {"urdf": "missing.urdf", "drives": {}}, "duration_s": 1}\n' >"
 run robot_missing_urdf "$armfault" trace "$tmp/missing_urdf.json" -o "$tmp/x.csv" -q
 expect_input_error "$tmp/missing_urdf.json: /robot/urdf: cannot read the URDF file \"$tmp/missing.urdf\": No such file or directory"
 
+# Bad gearbox, cycle and start inputs (issue 28): each names the file, the field and the value, exit 2.
+gear_run() {  # $1: the module's JSON; $2: extra run keys; $3: joint 3's trajectory (default: hold)
+  local trajectory='{"type": "hold"}'
+  [[ -n ${3:-} ]] && trajectory=$3
+  printf '{"robot": {"modules": [{"type": "MRR1"}, {}, %s], "links": [{"direction": [0, 0, 1], "joint_axis": [0, 0, 1]}, {"direction": [0, 0, 1], "joint_axis": [0, -1, 0]}, {"joint_axis": [0, -1, 0]}]}, "duration_s": 0.1%s, "joints": {"3": %s}}\n' "$1" "${2:-}" "$trajectory"
+}
+gear_run '{"gearbox": {"thermal_resistance_K_per_W": -1}}' >"$tmp/gear_negative.json"
+run gearbox_negative "$armfault" trace "$tmp/gear_negative.json" -o "$tmp/x.csv" -q
+expect_input_error "$tmp/gear_negative.json: /robot/modules/2/gearbox/thermal_resistance_K_per_W: -1 must be greater than 0"
+gear_run '{"gearbox": {"vogel_C_C": 1e999}}' >"$tmp/gear_huge.json"
+run gearbox_huge "$armfault" trace "$tmp/gear_huge.json" -o "$tmp/x.csv" -q
+expect_input_error "$tmp/gear_huge.json: /robot/modules/2/gearbox/vogel_C_C: the number 1e999 is beyond the range of a double"
+gear_run '{"gearbox": {"load_friction_backdriven": 2}}' >"$tmp/gear_range.json"
+run gearbox_out_of_range "$armfault" trace "$tmp/gear_range.json" -o "$tmp/x.csv" -q
+expect_input_error "$tmp/gear_range.json: /robot/modules/2/gearbox/load_friction_backdriven: 2 is outside [0, 0.9]"
+gear_run '{"gearbox": {"sensor_gain_per_K": "0.001"}}' >"$tmp/gear_type.json"
+run gearbox_wrong_type "$armfault" trace "$tmp/gear_type.json" -o "$tmp/x.csv" -q
+expect_input_error "$tmp/gear_type.json: /robot/modules/2/gearbox/sensor_gain_per_K: expected a number, got string \"0.001\""
+gear_run '{"gearbox": {"vogel_B_K": 4000}}' >"$tmp/gear_vogel.json"
+run gearbox_vogel_extreme "$armfault" trace "$tmp/gear_vogel.json" -o "$tmp/x.csv" -q
+expect_input_error "$tmp/gear_vogel.json: /robot/modules/2/gearbox/vogel_B_K: vogel_B_K 4000 K with vogel_C_C -100 C scales friction by"
+gear_run '{}' ', "start": "lukewarm"' >"$tmp/start_bad.json"
+run start_unknown "$armfault" trace "$tmp/start_bad.json" -o "$tmp/x.csv" -q
+expect_input_error "$tmp/start_bad.json: /start: unknown start \"lukewarm\" (known: cold, warm)"
+gear_run '{}' ', "start": "wram"' >"$tmp/start_typo.json"
+run start_typo "$armfault" trace "$tmp/start_typo.json" -o "$tmp/x.csv" -q
+expect_status 2
+gear_run '{}' ', "start": "Warm"' >"$tmp/start_case.json"
+run start_case "$armfault" trace "$tmp/start_case.json" -o "$tmp/x.csv" -q
+expect_input_error "$tmp/start_case.json: /start: unknown start \"Warm\" (known: cold, warm); did you mean \"warm\"?"
+gear_run '{}' '' '{"type": "sine_pair", "amplitude_deg": 10, "omega_rad_s": 2, "cycle": true, "cycle_period_s": 2}' >"$tmp/cycle_open.json"
+run cycle_not_closed "$armfault" trace "$tmp/cycle_open.json" -o "$tmp/x.csv" -q
+expect_input_error "$tmp/cycle_open.json: /joints/3/cycle: the cycle does not return to its start after cycle_period_s = 2 s" "mismatch"
+gear_run '{"type": "industrial-small-thermal", "min_angle_deg": -120, "max_angle_deg": 120}' ', "start": "warm"' '{"type": "sine_pair", "amplitude_deg": 10, "omega_rad_s": 2, "cycle": true, "cycle_period_s": 3.141592653589793}' >"$tmp/cycle_ok.json"
+run cycle_warm_ok "$armfault" trace "$tmp/cycle_ok.json" -o "$tmp/x.csv" -q
+expect_status 0
+
 echo "$passed passed, $failed failed"
 [[ $failed -eq 0 ]]

@@ -107,6 +107,9 @@ TEST(CampaignParse, ErrorsPointAtTheOffendingValue) {
        "greater than"},
       {R"([{"op": "add", "path": "/variation/ambient_C", "value": 300}])", "/variation/ambient_C", "300"},
       {R"([{"op": "add", "path": "/variation/units", "value": 0}])", "/variation/units", "0"},
+      {R"([{"op": "add", "path": "/variation/warm_start_fraction", "value": 1.5}])", "/variation/warm_start_fraction", "1.5"},
+      {R"([{"op": "add", "path": "/variation/warm_start_fraction", "value": "half"}])", "/variation/warm_start_fraction",
+       "expected a number"},
       {R"([{"op": "add", "path": "/commissioning", "value": "yes"}])", "/commissioning", "true or false"},
   };
   for (const Case& c : cases) {
@@ -411,6 +414,27 @@ TEST(CampaignFleet, RunsOfOneUnitShareItsDrawsAndUnitsDiffer) {
       }
     }
   }
+}
+
+// Issue 28: warm starts drawn per run; only a campaign that asks draws (older streams kept).
+TEST(CampaignFleet, WarmStartFractionDrawsWarmRunsAndRecordsThem) {
+  json j = Fleet();
+  const std::vector<CaseSpec> before = ExpandCases(Parse(j));
+  j["variation"]["warm_start_fraction"] = 0.5;
+  const std::vector<CaseSpec> cases = ExpandCases(Parse(j));
+  ASSERT_EQ(cases.size(), before.size());
+  int warm = 0;
+  for (size_t i = 0; i < cases.size(); ++i) {
+    EXPECT_FALSE(before[i].warm_start);
+    EXPECT_FALSE(before[i].VariationJson().contains("start"));
+    EXPECT_EQ(cases[i].ambient_C, before[i].ambient_C);  // drawn after the older draws
+    EXPECT_EQ(cases[i].VariationJson().contains("start"), cases[i].warm_start);
+    warm += cases[i].warm_start;
+  }
+  EXPECT_GT(warm, 0);
+  EXPECT_LT(warm, static_cast<int>(cases.size()));
+  j["variation"]["warm_start_fraction"] = 1;
+  for (const CaseSpec& cs : ExpandCases(Parse(j))) EXPECT_TRUE(cs.warm_start);
 }
 
 TEST(CampaignFleet, ResultsAreIdenticalForAnyThreadCountAndRecordTheUnit) {

@@ -122,7 +122,7 @@ TEST(RobotConfigPresets, ModuleDefaultsByType) {
   EXPECT_EQ(ModuleDefaults("MRR1", "").motor.kt_Nm_per_A, 0.12);
   const InputError e = ErrorOf([] { ModuleDefaults("mrr2", "/modules/4/type"); });
   EXPECT_EQ(e.pointer(), "/modules/4/type");
-  EXPECT_EQ(e.message(), "unknown module type \"mrr2\" (known: MRR1, MRR2, industrial-small, industrial-large)");
+  EXPECT_EQ(e.message(), "unknown module type \"mrr2\" (known: MRR1, MRR2, industrial-small, industrial-large, industrial-small-thermal, industrial-large-thermal)");
 }
 
 // ---------------------------------------------------------------- RobotFromJson
@@ -300,7 +300,7 @@ TEST(RobotConfigErrors, EveryBadModuleLinkAndFieldIsReported) {
               ElementsAre("/robot/modules/0/motr: unknown key \"motr\"; did you mean \"motor\"?",
                           "/robot/modules/0/inverter/bus_voltage_V: -1 must be greater than 0",
                           "/robot/modules/0/inverter/pwm_frequency_Hz: 0 must be greater than 0",
-                          "/robot/modules/1/type: unknown module type \"MRR3\" (known: MRR1, MRR2, industrial-small, industrial-large)",
+                          "/robot/modules/1/type: unknown module type \"MRR3\" (known: MRR1, MRR2, industrial-small, industrial-large, industrial-small-thermal, industrial-large-thermal)",
                           "/robot/modules/1/encoder/counts_per_rev: expected a whole number, got 2.5",
                           "/robot/links/1/mass_kg: 0 is outside [0.001, 1000]",
                           "/robot/links/1/direction: the link direction must not be the zero vector",
@@ -326,7 +326,7 @@ TEST(RobotConfigErrors, UnknownModuleType) {
   j["modules"][0]["type"] = "MRR3";
   InputError e = RobotError(j);
   EXPECT_EQ(e.pointer(), "/modules/0/type");
-  EXPECT_EQ(e.message(), "unknown module type \"MRR3\" (known: MRR1, MRR2, industrial-small, industrial-large)");
+  EXPECT_EQ(e.message(), "unknown module type \"MRR3\" (known: MRR1, MRR2, industrial-small, industrial-large, industrial-small-thermal, industrial-large-thermal)");
   j["modules"][0]["type"] = 1;
   e = RobotError(j);
   EXPECT_EQ(e.pointer(), "/modules/0/type");
@@ -836,6 +836,79 @@ TEST(RobotConfigRipple, ValidateChecksRippleBuiltInCode) {
   r.modules[2].ripple.drive_stiffness_Nm_per_rad = 13000;
   r.modules[2].ripple.cogging_periods_per_rev = 2.5;
   EXPECT_EQ(ErrorOf([&] { Validate(r, ""); }).message(), "expected a whole number, got 2.5");
+}
+
+// ---------------------------------------------------------------- gearbox group (issue 28)
+
+TEST(RobotConfigGearbox, AbsentIsOffAndNotWrittenAThermalTypeIsOnAndNullSwitchesItOff) {
+  const RobotConfig plain = RobotFromJson(TwoJoints(), "");
+  EXPECT_FALSE(plain.modules[0].gearbox.present);
+  EXPECT_FALSE(RobotToJson(plain)["modules"][0].contains("gearbox"));
+  json j = TwoJoints();
+  j["modules"][0] = {{"type", "industrial-large-thermal"}};
+  j["modules"][1] = {{"type", "industrial-small-thermal"}, {"gearbox", nullptr}};
+  const RobotConfig r = RobotFromJson(j, "");
+  EXPECT_TRUE(r.modules[0].gearbox.present);
+  EXPECT_EQ(r.modules[0].gearbox.vogel_B_K, 277);
+  EXPECT_FALSE(r.modules[1].gearbox.present);
+  const json written = RobotToJson(r);
+  EXPECT_EQ(written["modules"][0]["gearbox"]["load_friction_backdriven"], 0.1);
+  // What it writes reads back the same.
+  EXPECT_EQ(RobotToJson(RobotFromJson(written, "")), written);
+  j["modules"][1] = {{"gearbox", {{"load_friction_driving", 0.07}}}};
+  EXPECT_TRUE(RobotFromJson(j, "").modules[1].gearbox.present);
+  EXPECT_EQ(RobotFromJson(j, "").modules[1].gearbox.load_friction_driving, 0.07);
+}
+
+TEST(RobotConfigGearbox, EveryBadValueNamesItsPointerAndValue) {
+  json j = TwoJoints();
+  j["modules"][0]["gearbox"] = {{"thermal_resistance_K_per_W", 0},     {"thermal_time_constant_s", -5},
+                                {"vogel_C_C", 10},                      {"coulomb_exponent", "half"},
+                                {"sensor_offset_Nm_per_K", 7},          {"warm_copper_loss_W", -1},
+                                {"reference_C", nullptr},               {"thermal_resistanse_K_per_W", 1}};
+  j["modules"][1]["gearbox"] = 3;
+  EXPECT_THAT(Texts(RobotError(j, "/robot")),
+              ElementsAre("/robot/modules/0/gearbox/thermal_resistanse_K_per_W: unknown key \"thermal_resistanse_K_per_W\"; did you mean \"thermal_resistance_K_per_W\"?",
+                          "/robot/modules/0/gearbox/thermal_resistance_K_per_W: 0 must be greater than 0",
+                          "/robot/modules/0/gearbox/thermal_time_constant_s: -5 must be greater than 0",
+                          "/robot/modules/0/gearbox/reference_C: expected a number, got null null",
+                          "/robot/modules/0/gearbox/vogel_C_C: 10 is outside [-273.15, -60]",
+                          "/robot/modules/0/gearbox/coulomb_exponent: expected a number, got string \"half\"",
+                          "/robot/modules/0/gearbox/sensor_offset_Nm_per_K: 7 is outside [-1, 1]",
+                          "/robot/modules/0/gearbox/warm_copper_loss_W: -1 is outside [0, 10000]",
+                          "/robot/modules/1/gearbox: expected an object (the gearbox's thermal, lubricant, load-friction and "
+                          "sensor-drift parameters) or null (off), got number 3"));
+}
+
+TEST(RobotConfigGearbox, ValidateChecksARobotBuiltInCodeAndTheCrossFieldLimits) {
+  RobotConfig r = RobotPreset("mrr-config1");
+  r.modules[2].gearbox.present = true;
+  r.modules[2].gearbox.load_friction_backdriven = std::nan("");
+  InputError e = ErrorOf([&] { Validate(r, "/robot"); });
+  EXPECT_EQ(e.pointer(), "/robot/modules/2/gearbox/load_friction_backdriven");
+  r.modules[2].gearbox.load_friction_backdriven = 0.8;  // + mesh loss 0.24: locks
+  e = ErrorOf([&] { Validate(r, "/robot"); });
+  EXPECT_EQ(e.pointer(), "/robot/modules/2/gearbox/load_friction_backdriven");
+  EXPECT_THAT(e.message(), HasSubstr("the gear would lock under its own load"));
+  r.modules[2].gearbox.load_friction_backdriven = 0.1;
+  r.modules[2].gearbox.vogel_B_K = 3000;
+  e = ErrorOf([&] { Validate(r, "/robot"); });
+  EXPECT_EQ(e.pointer(), "/robot/modules/2/gearbox/vogel_B_K");
+  r.modules[2].gearbox.vogel_B_K = 277;
+  r.modules[2].gearbox.thermal_time_constant_s = 0.05;  // 50 physics steps
+  e = ErrorOf([&] { Validate(r, "/robot"); });
+  EXPECT_EQ(e.pointer(), "/robot/modules/2/gearbox/thermal_time_constant_s");
+  r.modules[2].gearbox.thermal_time_constant_s = 100;
+  r.modules[2].gearbox.warm_friction_loss_W = 100;  // 2 K/W: 200 K above ambient
+  e = ErrorOf([&] { Validate(r, "/robot"); });
+  EXPECT_EQ(e.pointer(), "/robot/modules/2/gearbox/warm_friction_loss_W");
+  EXPECT_THAT(e.message(), HasSubstr("holds the winding 0 K and the gearbox 200 K above ambient: at most 150 K"));
+  r.modules[2].gearbox.warm_friction_loss_W = 0;
+  r.modules[2].gearbox.winding_coupling_W_per_K = 100;  // R_w 11 K/W: 900 s / 1101
+  EXPECT_NO_THROW(Validate(r, "/robot"));
+  r.modules[2].motor.thermal_time_constant_s = 10;
+  e = ErrorOf([&] { Validate(r, "/robot"); });
+  EXPECT_EQ(e.pointer(), "/robot/modules/2/gearbox/winding_coupling_W_per_K");
 }
 
 }  // namespace
