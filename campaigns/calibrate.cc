@@ -68,16 +68,11 @@ Eigen::Matrix<double, N, 1> Solve(const Eigen::Matrix<double, N, N>& a, const Ei
   return theta;
 }
 
-// The plant parameters of one joint from the two fits (the order of ParameterNames()).
-struct Derived {
-  std::vector<double> values;
-};
-
 struct ParameterSpec {
   const char* key;
   const char* unit;
 };
-// Order of the values Derive returns.
+// The calibrated parameters of a joint, in the order Derive returns them.
 const std::vector<ParameterSpec>& Specs() {
   static const std::vector<ParameterSpec> specs = {
       {"motor/kt_Nm_per_A", "N m/A"},

@@ -93,7 +93,7 @@ TEST(Calibrate, IntervalsCoverTheDrawnUnitsAndTheTwinTakesThem) {
     if (cal.payload.identifiable) {
       ++payload_identified;
       if (unit.payload_kg >= cal.payload.low && unit.payload_kg <= cal.payload.high) ++payload_covered;
-      if (cal.payload.identifiable) EXPECT_EQ(cal.twin.payload_kg, cal.payload.estimate);
+      EXPECT_EQ(cal.twin.payload_kg, cal.payload.estimate);
     }
     if (u == first_unit_printed) {
       std::printf("payload truth %.6g estimate %.6g [%.6g, %.6g]\n", unit.payload_kg, cal.payload.estimate, cal.payload.low,
