@@ -272,16 +272,6 @@ struct Replayed {
   double seconds = 0;
 };
 
-std::string CostLine(const RunRecord& r) {
-  nlohmann::json j = {{"case", r.case_index}, {"run_id", r.run_id}};
-  if (r.cost.is_object()) {
-    j.update(r.cost);
-  } else {
-    j["ticks"] = 0;
-  }
-  return j.dump() + "\n";
-}
-
 }  // namespace
 
 ReplayResult ReplayDirectory(const ReplayOptions& o) {
@@ -496,7 +486,7 @@ ReplayResult ReplayDirectory(const ReplayOptions& o) {
                                                  Replayed out = replay(runs[k]);
                                                  out.result_line = ToJson(out.record).dump() + "\n";
                                                  out.decision_line = DecisionLineJson(out.record).dump() + "\n";
-                                                 out.cost_line = CostLine(out.record);
+                                                 out.cost_line = MonitorCostLine(out.record);
                                                  return out;
                                                }) &
             tbb::make_filter<Replayed, void>(tbb::filter_mode::serial_in_order, [&](const Replayed& item) {

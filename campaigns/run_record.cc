@@ -157,6 +157,16 @@ nlohmann::json DecisionLineJson(const RunRecord& r) {
   return {{"case_index", r.case_index}, {"run_id", r.run_id}, {"decision", r.decision}};
 }
 
+std::string MonitorCostLine(const RunRecord& r) {
+  nlohmann::json j = {{"case", r.case_index}, {"run_id", r.run_id}};
+  if (r.cost.is_object()) {
+    j.update(r.cost);
+  } else {
+    j["ticks"] = 0;
+  }
+  return j.dump() + "\n";
+}
+
 DecisionLine DecisionLineFromJson(const nlohmann::json& j) {
   if (!j.is_object()) throw std::runtime_error("not a JSON object");
   DecisionLine d;

@@ -101,6 +101,9 @@ struct DecisionLine {
   nlohmann::json decision;
 };
 nlohmann::json DecisionLineJson(const RunRecord& r);
+// One line of monitor_cost.jsonl, with its line end: case, run_id and the run's cost ("ticks": 0
+// without one).
+std::string MonitorCostLine(const RunRecord& r);
 // Throws std::runtime_error (with the key) if a key is missing or has the wrong type.
 DecisionLine DecisionLineFromJson(const nlohmann::json& j);
 

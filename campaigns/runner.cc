@@ -92,16 +92,6 @@ void KeepFirstLines(const fs::path& path, size_t lines) {
   WriteAtomically(path, text);
 }
 
-std::string CostLine(const RunRecord& r) {
-  nlohmann::json j = {{"case", r.case_index}, {"run_id", r.run_id}};
-  if (r.cost.is_object()) {
-    j.update(r.cost);
-  } else {
-    j["ticks"] = 0;
-  }
-  return j.dump() + "\n";
-}
-
 // A case's fault family, as the early-stop floors count it: "" for a healthy case. A compound
 // case's family is "compound": a faulty case for the overall floors, in no per_family scope
 // (EarlyStop::Scope::Holds).
@@ -348,7 +338,7 @@ void RunCases(RunState& run, size_t next, RunFiles& files, RunnerResult* out) {
   UnitMonitors units(run.campaign);
   auto run_case = [&](size_t k) {
     RunRecord r = RunCase(run.campaign, CaseAt(run.campaign, CaseIndexAt(run, k)), nullptr, &units);
-    RunLines lines{DecisionLineJson(r).dump() + "\n", ToJson(r).dump() + "\n", r.ok, CostLine(r), {}};
+    RunLines lines{DecisionLineJson(r).dump() + "\n", ToJson(r).dump() + "\n", r.ok, MonitorCostLine(r), {}};
     if (run.early) lines.record = std::move(r);
     return lines;
   };
