@@ -20,28 +20,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The manifest line of `run` in DIR/manifest.jsonl (InputError naming the nearest run_id).
-nlohmann::json ManifestLine(const fs::path& dir, const std::string& run) {
-  const fs::path path = dir / "manifest.jsonl";
-  if (!fs::exists(path)) {
-    throw InputError(dir.string(), "", "no manifest.jsonl here (expected the output of armfault export or import)");
-  }
-  std::vector<std::string> ids;
-  nlohmann::json found;
-  ReadJsonLines(path.string(), {}, [&](nlohmann::json&& line, long) {
-    if (!line.is_object() || !line.contains("run_id") || !line["run_id"].is_string()) {
-      throw std::runtime_error("expected an object with a string \"run_id\"");
-    }
-    ids.push_back(line["run_id"].get<std::string>());
-    if (ids.back() == run) found = std::move(line);
-  });
-  if (found.is_null()) {
-    const std::string near = NearestId(run, ids);
-    throw InputError("--run", "", "no run \"" + run + "\" in " + path.string(), near.empty() ? "" : "did you mean \"" + near + "\"?");
-  }
-  return found;
-}
-
 std::string Fixed(double v) {
   if (!std::isfinite(v)) return "-";
   char buf[32];
@@ -69,24 +47,8 @@ int CalibrateCommand(const CalibrateCommandOptions& o) {
     throw InputError("--resamples", "", "expected 50 to 100000 bootstrap resamples, got " + std::to_string(o.resamples));
   }
   // The datasheet: --robot, or the robot DIR's campaign.json was run with.
-  RobotConfig nominal;
-  if (!o.robot.empty()) {
-    nominal = ReadRobotArgument(o.robot);
-  } else {
-    const fs::path campaign = dir / "campaign.json";
-    if (!fs::exists(campaign)) throw InputError(o.dir, "", "no campaign.json here: name the robot with --robot");
-    const nlohmann::json file = ParseJsonText(ReadTextFile(campaign.string()), campaign.string());
-    // As `run`, `export` and `import` write it: {"campaign": {..., "robot": ...}, ...}.
-    if (!file.is_object() || !file.contains("campaign") || !file["campaign"].is_object() || !file["campaign"].contains("robot")) {
-      throw InputError(campaign.string(), "/campaign/robot", "missing: name the robot with --robot");
-    }
-    try {
-      nominal = RobotFromJson(file["campaign"]["robot"], "/campaign/robot", dir.string());
-    } catch (const InputError& e) {
-      throw e.WithSource(campaign.string());
-    }
-  }
-  const nlohmann::json line = ManifestLine(dir, o.run);
+  const RobotConfig nominal = !o.robot.empty() ? ReadRobotArgument(o.robot) : RecordedRobot(o.dir, "name the robot with --robot");
+  const nlohmann::json line = ManifestLine(o.dir, o.run, "--run");
   if (line.contains("family") && line["family"].is_string() && !line["family"].get<std::string>().empty()) {
     throw InputError("--run", "", "run \"" + o.run + "\" is labelled faulty (" + line["family"].get<std::string>() +
                                       "): a twin is calibrated on a healthy log");
@@ -100,17 +62,7 @@ int CalibrateCommand(const CalibrateCommandOptions& o) {
   const double dt = arm.control_dt_s();
   std::vector<std::vector<JointSignals>> ticks;
   std::vector<double> times;
-  ReadSignalsCsv(signals.string(), joints, [&](double t_s, const std::vector<JointSignals>& row) {
-    times.push_back(t_s);
-    ticks.push_back(row);
-  });
-  for (size_t k = 1; k < times.size(); ++k) {
-    if (std::fabs(times[k] - times[k - 1] - dt) > 1e-6) {
-      throw InputError(signals.string(), "", "ticks " + FormatNumber(times[k - 1]) + " s and " + FormatNumber(times[k]) +
-                                                 " s are not one control period (" + FormatNumber(dt) +
-                                                 " s) apart: calibrate reads a log at the robot's control rate");
-    }
-  }
+  ReadSignalsAtControlRate(signals.string(), joints, dt, &ticks, &times);
   CalibrationOptions options;
   options.block_s = o.block_s;
   options.resamples = o.resamples;

@@ -9,14 +9,13 @@
 #include <cmath>
 #include <limits>
 
+#include "campaigns/log_reference.h"
 #include "core/base/json_input.h"
 #include "core/base/rng.h"
 #include "core/monitors/power_monitor.h"
 #include "core/monitors/torque_balance.h"
 #include "core/plant/rigid_body_dynamics.h"
 #include "core/plant/simulation.h"
-#include "core/plant/trajectory.h"
-#include "core/run_config.h"
 
 namespace armfault {
 namespace {
@@ -332,57 +331,6 @@ LogFit FitLog(const RobotConfig& nominal, const PowerMonitorModel& model, double
   return out;
 }
 
-// The log's reference, as the controller sampled it: exact at every tick, linear between.
-class LoggedReference final : public Trajectory {
- public:
-  LoggedReference(const std::vector<std::vector<JointSignals>>& ticks, size_t joint, double dt) : dt_(dt) {
-    for (const auto& t : ticks) q_.push_back(t[joint].q_ref_rad), qd_.push_back(t[joint].qd_ref_rad_s);
-  }
-  TrajectoryPoint At(double t_s) const override {
-    TrajectoryPoint p;
-    const double last = static_cast<double>(q_.size() - 1);
-    const double x = std::clamp(t_s / dt_, 0.0, last);
-    const size_t k = std::min(static_cast<size_t>(x), q_.size() - 2);
-    const double u = x - static_cast<double>(k);
-    p.q_rad = q_[k] + u * (q_[k + 1] - q_[k]);
-    p.qd_rad_s = qd_[k] + u * (qd_[k + 1] - qd_[k]);
-    // The controller reads the reference at its ticks: there, a central difference of the
-    // logged velocity (a forward one would lead the acceleration by half a period).
-    const size_t c = std::min(static_cast<size_t>(std::lround(x)), q_.size() - 1);
-    const size_t lo = c > 0 ? c - 1 : 0, hi = std::min(c + 1, q_.size() - 1);
-    p.qdd_rad_s2 = (qd_[hi] - qd_[lo]) / (static_cast<double>(hi - lo) * dt_);
-    return p;
-  }
-  const char* type() const override { return "log"; }
-
- private:
-  double dt_;
-  std::vector<double> q_, qd_;
-};
-
-// `twin` driven through the log's reference: the log the twin would have recorded.
-std::vector<std::vector<JointSignals>> SimulateTwin(const RobotConfig& twin, double dt,
-                                                    const std::vector<std::vector<JointSignals>>& log, uint64_t seed) {
-  RunConfig run;
-  run.robot = twin;
-  run.duration_s = dt * static_cast<double>(log.size() - 1);
-  run.seed = seed;
-  for (size_t j = 0; j < twin.modules.size(); ++j) {
-    run.trajectories[static_cast<int>(j) + 1] = std::make_shared<LoggedReference>(log, j, dt);
-  }
-  const ArmModel model(run.robot);
-  std::vector<std::vector<JointSignals>> out;
-  out.reserve(log.size());
-  const RunResult r = Simulate(model, MakeRunSpec(run), [&](const Tick& tick) {
-    std::vector<JointSignals> row;
-    row.reserve(tick.joints->size());
-    for (const JointTick& j : *tick.joints) row.push_back(j.signals);
-    out.push_back(std::move(row));
-  });
-  if (!r.ok) throw InputError("calibrate", "", "the twin did not run the log's motion: " + r.failure_reason);
-  return out;
-}
-
 RobotConfig WithValues(const RobotConfig& nominal, const std::vector<std::vector<double>>& values) {
   RobotConfig twin = nominal;
   for (size_t j = 0; j < values.size(); ++j) {
@@ -437,7 +385,7 @@ UnitCalibration CalibrateUnit(const RobotConfig& nominal, double control_dt_s,
   for (int iteration = 0; iteration < options.bias_iterations; ++iteration) {
     RobotConfig twin = WithValues(nominal, theta);
     if (std::isfinite(payload) && payload >= 0) twin.payload_kg = payload;
-    const LogFit twin_fit = FitLog(nominal, model, dt, SimulateTwin(twin, dt, ticks, options.seed + 1), options, block_ticks);
+    const LogFit twin_fit = FitLog(nominal, model, dt, SimulateAlongLog(twin, dt, ticks, options.seed + 1, "calibrate"), options, block_ticks);
     on_twin = twin_fit.joints;
     if (std::isfinite(payload) && std::isfinite(twin_fit.payload_kg)) {
       const double slope = secant(iteration, payload, prev_payload, twin_fit.payload_kg, prev_payload_g);

@@ -162,6 +162,62 @@ long ReadSignalsCsv(const std::string& path, int joints,
   return ticks;
 }
 
+void ReadSignalsAtControlRate(const std::string& path, int joints, double control_dt_s,
+                              std::vector<std::vector<JointSignals>>* ticks, std::vector<double>* t_s) {
+  ticks->clear();
+  t_s->clear();
+  ReadSignalsCsv(path, joints, [&](double t, const std::vector<JointSignals>& row) {
+    if (!t_s->empty() && std::fabs(t - t_s->back() - control_dt_s) > 1e-6) {
+      throw InputError(path, "", "ticks " + FormatNumber(t_s->back()) + " s and " + FormatNumber(t) +
+                                     " s are not one control period (" + FormatNumber(control_dt_s) +
+                                     " s) apart: the log is read at the robot's control rate");
+    }
+    t_s->push_back(t);
+    ticks->push_back(row);
+  });
+}
+
+std::vector<nlohmann::json> ManifestLines(const std::string& dir) {
+  const fs::path path = fs::path(dir) / "manifest.jsonl";
+  if (!fs::exists(path)) {
+    throw InputError(dir, "", "no manifest.jsonl here (expected the output of armfault export or import)");
+  }
+  std::vector<nlohmann::json> lines;
+  ReadJsonLines(path.string(), {}, [&](nlohmann::json&& line, long) {
+    if (!line.is_object() || !line.contains("run_id") || !line["run_id"].is_string()) {
+      throw std::runtime_error("expected an object with a string \"run_id\"");
+    }
+    lines.push_back(std::move(line));
+  });
+  return lines;
+}
+
+nlohmann::json ManifestLine(const std::string& dir, const std::string& run, const std::string& option) {
+  std::vector<std::string> ids;
+  for (nlohmann::json& line : ManifestLines(dir)) {
+    if (line["run_id"] == run) return std::move(line);
+    ids.push_back(line["run_id"].get<std::string>());
+  }
+  const std::string near = NearestId(run, ids);
+  throw InputError(option, "", "no run \"" + run + "\" in " + (fs::path(dir) / "manifest.jsonl").string(),
+                   near.empty() ? "" : "did you mean \"" + near + "\"?");
+}
+
+RobotConfig RecordedRobot(const std::string& dir, const std::string& hint) {
+  const fs::path campaign = fs::path(dir) / "campaign.json";
+  if (!fs::exists(campaign)) throw InputError(dir, "", "no campaign.json here" + (hint.empty() ? "" : ": " + hint));
+  const nlohmann::json file = ParseJsonText(ReadTextFile(campaign.string()), campaign.string());
+  // As `run`, `export` and `import` write it: {"campaign": {..., "robot": ...}, ...}.
+  if (!file.is_object() || !file.contains("campaign") || !file["campaign"].is_object() || !file["campaign"].contains("robot")) {
+    throw InputError(campaign.string(), "/campaign/robot", "missing" + (hint.empty() ? "" : ": " + hint));
+  }
+  try {
+    return RobotFromJson(file["campaign"]["robot"], "/campaign/robot", dir);
+  } catch (const InputError& e) {
+    throw e.WithSource(campaign.string());
+  }
+}
+
 nlohmann::json AlarmRate::ToJson() const {
   const bool any = hours > 0;
   nlohmann::json j = {{"healthy_runs", healthy_runs},

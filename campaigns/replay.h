@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "campaigns/campaign.h"
+#include "core/plant/robot_config.h"
 #include "core/signals/joint_signals.h"
 
 namespace armfault {
@@ -34,6 +35,24 @@ namespace armfault {
 // increasing. Returns the number of ticks.
 long ReadSignalsCsv(const std::string& path, int joints,
                     const std::function<void(double t_s, const std::vector<JointSignals>& joints)>& each);
+
+// One run's signals, read whole (ReadSignalsCsv) into `ticks` (and their times into `t_s`),
+// for a command that reads a log at the robot's control rate (calibrate, report --twin):
+// InputError naming the file and the two ticks that are not one control period apart.
+void ReadSignalsAtControlRate(const std::string& path, int joints, double control_dt_s,
+                              std::vector<std::vector<JointSignals>>* ticks, std::vector<double>* t_s);
+
+// DIR/manifest.jsonl's line of `run` (an export's or an import's): InputError without the
+// file, for a line without a string "run_id", and from `option` ("--run") for an unknown run,
+// naming the nearest run_id.
+nlohmann::json ManifestLine(const std::string& dir, const std::string& run, const std::string& option);
+// DIR/manifest.jsonl's lines in order (InputError as ManifestLine's).
+std::vector<nlohmann::json> ManifestLines(const std::string& dir);
+
+// The robot DIR's runs were recorded with: DIR/campaign.json's /campaign/robot, as run,
+// export and import write it. InputError naming the file (and `hint`, what to do instead,
+// when it or the key is missing).
+RobotConfig RecordedRobot(const std::string& dir, const std::string& hint);
 
 // The false alarms of healthy and unlabelled runs per hour of operation. An alarm is counted at
 // its onset: a verdict with alarm true whose joint's previous verdict was not an alarm (a joint
