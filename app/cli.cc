@@ -242,6 +242,15 @@ Command AddReportCommand(CLI::App& app) {
       ->required();
   cmd->add_option("--run", o->run_id, "run_id of the run to plot over time (default: the first missed faulty run)");
   cmd->add_option("-o,--output", o->output, "HTML file (default: DIR/report.html; the .md goes beside it)");
+  cmd->add_option("--twin", o->twin_file,
+                  "a twin (robot file as `armfault calibrate` writes it, or a preset) run along one recorded run's reference: "
+                  "a section with the recorded and the twin's signals side by side and their residuals (docs/calibration.md, \"Compare\")");
+  cmd->add_option("--twin-run", o->twin_run,
+                  "run_id of the recorded run compared with --twin (default: the run the twin was calibrated on, else the "
+                  "first healthy run)");
+  cmd->add_option("--recorded", o->recorded_dir,
+                  "the export or import DIR replayed, whose signals --twin is compared with (default: DIR if it holds a "
+                  "manifest.jsonl, else DIR's parent: replay writes SRC/replayed)");
   return {cmd, [o] { return armfault::ReportCommand(*o); }};
 }
 

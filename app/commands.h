@@ -219,6 +219,11 @@ struct ReportCommandOptions {
   std::string dir;      // an `armfault run` output directory
   std::string run_id;   // the run plotted over time; empty: the first missed faulty run
   std::string output;   // the HTML file; empty: DIR/report.html (the .md goes beside it)
+  // --twin: a robot file (as `armfault calibrate` writes one) or preset, run along one recorded
+  // run's reference and compared with the recording (campaigns/twin_compare.h).
+  std::string twin_file;
+  std::string twin_run;      // the run compared; empty: the calibration's, else the first healthy
+  std::string recorded_dir;  // the export or import replayed; empty: DIR or its parent
 };
 // Writes the campaign report (reports/campaign_report.h): report.html and report.md. 0, or 2
 // for bad input.

@@ -41,6 +41,10 @@ using report::SummaryRate;
 using report::SummarySection;
 using report::ThesisSection;
 using report::TuningRate;
+using report::TwinResidualHead;
+using report::TwinResidualRows;
+using report::TwinRunText;
+using report::TwinSection;
 using report::WhySection;
 using report::WrongRunsSection;
 
@@ -55,6 +59,7 @@ struct ReportSection {
 };
 
 bool HasBoundary(const ReportData& d) { return d.boundary.has_value(); }
+bool HasTwin(const ReportData& d) { return d.twin.has_value(); }
 
 // The page's sections, in page order.
 const ReportSection kSections[] = {
@@ -70,6 +75,7 @@ const ReportSection kSections[] = {
     {"latency", "latency", LatencyDistributionSection},
     {"thesis", "table 5-3", ThesisSection},
     {"run", "one run", RunSection},
+    {"twin", "twin vs recorded", TwinSection, HasTwin},
 };
 
 // Which campaign the page is of, and which files say so.
@@ -225,6 +231,14 @@ std::string RenderReportMarkdown(const ReportData& d) {
                       f_met ? "met" : "MISSED"});
     }
     md += MdTable({"floor", "bound", "measured", "verdict"}, rows);
+  }
+  if (d.twin) {
+    md += "\n## Twin against the recording\n\n" + MdText(TwinRunText(*d.twin)) + "\n\n";
+    std::vector<std::vector<std::string>> rows = TwinResidualRows(*d.twin);
+    for (auto& row : rows) {
+      for (auto& cell : row) cell = MdText(cell);
+    }
+    md += MdTable(TwinResidualHead(), rows);
   }
   return md;
 }

@@ -86,6 +86,11 @@ std::string WithUnit(const std::string& key);
 // One sentence per metric, for the page, report.md and docs/campaign-format.md ("Metrics").
 const std::vector<std::pair<std::string, std::string>>& MetricDefinitions();
 
+// Keeps at most about `max_points` of a dense series (t, y) in (xs, ys), appended: each
+// bucket's minimum and maximum in time order, so spikes survive the thinning.
+void Thin(const std::vector<double>& t, const std::vector<double>& y, size_t max_points, std::vector<double>* xs,
+          std::vector<double>* ys);
+
 constexpr int kHalfWidth = 615;   // two plots side by side
 constexpr int kFullWidth = 1250;  // one plot across the page
 

@@ -361,6 +361,28 @@ void SimulateWrongRuns(const CampaignFiles& files, ReportData* d_out) {
   }
 }
 
+// The twin against one recorded run (ReportOptions::twin) into d.twin.
+void CompareTwin(const ReportOptions& options, ReportData* d_out) {
+  if (!options.twin) return;
+  TwinCompareOptions o = *options.twin;
+  if (o.recorded_dir.empty()) {
+    const fs::path dir(options.dir);
+    const fs::path parent = fs::absolute(dir).lexically_normal().parent_path();
+    if (fs::exists(dir / "manifest.jsonl")) {
+      o.recorded_dir = dir.string();
+    } else if (fs::exists(parent / "manifest.jsonl")) {
+      fs::path up = (dir / "..").lexically_normal();
+      if (up.filename().empty() && up.has_parent_path()) up = up.parent_path();  // "out/" as "out"
+      o.recorded_dir = up.string();
+    } else {
+      throw InputError("--recorded", "", "no manifest.jsonl in " + options.dir + " nor in " + parent.string() +
+                                             ": name the export or import whose runs " + options.dir +
+                                             " replayed with --recorded DIR");
+    }
+  }
+  d_out->twin = CompareRecordedRun(o);
+}
+
 }  // namespace
 
 ReportData GatherReportData(const ReportOptions& options) {
@@ -368,6 +390,7 @@ ReportData GatherReportData(const ReportOptions& options) {
   d.dir = options.dir;
   CampaignFiles files = ReadSummaryAndCampaign(options, &d);
   const RunCandidates candidates = ReadResults(options, files, &d);
+  CompareTwin(options, &d);
   ReadTuningResults(options, &files.claims, &d);
   ReadBoundary(options, &files.claims, &d);
   ReadThesisTable(options, files, &d);

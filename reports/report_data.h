@@ -14,6 +14,7 @@
 #include "campaigns/campaign.h"
 #include "campaigns/run_record.h"
 #include "campaigns/thesis.h"
+#include "campaigns/twin_compare.h"
 #include "core/monitors/monitor.h"
 
 namespace armfault {
@@ -34,6 +35,11 @@ struct ReportOptions {
   std::string output;
   std::function<std::optional<nlohmann::json>(const std::string& dir)> tuning = TuningOrDefault;
   unsigned long long thesis_seed = 1;  // when DIR/thesis.json is missing
+  // `--twin`: a twin run along one recorded run's reference, against the recording (a section
+  // of its own; without it the page is as before). Its recorded_dir empty: DIR when it holds a
+  // manifest.jsonl (an export or import), else DIR's parent (replay's default output is
+  // SRC/replayed).
+  std::optional<TwinCompareOptions> twin;
 };
 
 // One run re-simulated with RunCase (campaigns/run_pipeline.h), which hands back its own
@@ -107,10 +113,13 @@ struct ReportData {
   // kSmallMultiples re-simulated, each with its record's reason as `why`: one small plot each.
   static constexpr size_t kSmallMultiples = 12;
   std::vector<RunSeries> wrong_runs;
+  // ReportOptions::twin's comparison, when asked for.
+  std::optional<TwinComparison> twin;
 };
 
 // Reads everything the report shows and re-simulates the chosen run. Throws InputError for a
-// missing or invalid summary.json, campaign.json or results.jsonl, or an unknown run_id.
+// missing or invalid summary.json, campaign.json or results.jsonl, or an unknown run_id; with
+// a twin, for what CompareRecordedRun refuses and a recorded directory that is not found.
 ReportData GatherReportData(const ReportOptions& options);
 
 }  // namespace armfault

@@ -36,4 +36,13 @@ std::string RunSection(const ReportData& d);  // every joint, the faulted one fi
 // The missed and misnamed faulty runs (ReportData::wrong_runs): one small efficiency plot each.
 std::string WrongRunsSection(const ReportData& d);
 
+// Only with --twin (ReportData::twin, report_sections_twin.cc): per joint each signal as
+// recorded beside the twin's, their residual over time, and a table of the residuals' RMS.
+std::string TwinSection(const ReportData& d);
+// The table's head and rows (text, unescaped), and the sentence saying what was compared: for
+// the page and report.md.
+const std::vector<std::string>& TwinResidualHead();
+std::vector<std::vector<std::string>> TwinResidualRows(const TwinComparison& c);
+std::string TwinRunText(const TwinComparison& c);
+
 }  // namespace armfault::report

@@ -49,28 +49,6 @@ std::string ThesisSection(const ReportData& d) {
 
 namespace {
 
-// Keeps at most about `max_points` of a dense series by taking each bucket's minimum and
-// maximum in time order, so spikes survive the thinning.
-void Thin(const std::vector<double>& t, const std::vector<double>& y, size_t max_points, std::vector<double>* xs,
-          std::vector<double>* ys) {
-  const size_t n = std::min(t.size(), y.size());
-  const size_t bucket = std::max<size_t>(1, (2 * n + max_points - 1) / std::max<size_t>(2, max_points));
-  for (size_t b = 0; b < n; b += bucket) {
-    const size_t e = std::min(n, b + bucket);
-    size_t lo = b, hi = b;
-    for (size_t k = b; k < e; ++k) {
-      if (y[k] < y[lo]) lo = k;
-      if (y[k] > y[hi]) hi = k;
-    }
-    xs->push_back(t[std::min(lo, hi)]);
-    ys->push_back(y[std::min(lo, hi)]);
-    if (lo != hi) {
-      xs->push_back(t[std::max(lo, hi)]);
-      ys->push_back(y[std::max(lo, hi)]);
-    }
-  }
-}
-
 // A run record's outcome in words, for the page.
 std::string RecordText(const RunRecord& r) {
   if (!r.ok) return "failed: " + r.failure_reason;
