@@ -45,6 +45,11 @@ constexpr double kBrakeDragFrictionFactor = 4.0;
 constexpr double kSlowBalanceTimeConstant_s = 4.0;
 // Moving time each way in that fit before its offset is judged.
 constexpr double kMinOffsetMovingEachWay_s = 1.0;
+// The sensor's zero as the run finds it: taken from the slow fit when its offset is first
+// judged, then following it with this time constant while the offset stays within the worn
+// limit of it. A strain gauge's zero moves with its temperature (tens of minutes: the gearbox
+// it sits on); a drifting sensor moves it by the N m per second (docs/monitor.md, "Confounders").
+constexpr double kOffsetBaseTimeConstant_s = 120.0;
 
 // Ticks over which the balance residual stays correlated (the low-pass memory, both sides).
 double CorrelationTicks(const MonitorConfig& c, double dt) { return std::max(1.0, 2.0 * c.balance_filter_s / dt); }
@@ -52,6 +57,11 @@ double CorrelationTicks(const MonitorConfig& c, double dt) { return std::max(1.0
 // Copper resistance rises 0.393 %/K; an NdFeB magnet's flux (K_T) falls about 0.1 %/K.
 constexpr double kCopperPerK = 0.00393;
 constexpr double kMagnetLossPerK = 0.001;
+// The torque balance's gain ceiling: the magnet of a drive up to 30 K colder than at its
+// calibration (a cold morning against a commissioning at mid-range) gives that much more
+// torque per ampere. The electrical fit still reads n > 1 as a loss (K_T cannot rise above its
+// healthy value at one temperature).
+constexpr double kColderMagnetGain = 1.0 + kMagnetLossPerK * 30.0;
 
 double NormalCdf(double z) { return StandardNormalCdf(z); }
 
@@ -101,6 +111,9 @@ struct ElectricalFit {
   std::array<double, 3> b{};
   double yy = 0, weight = 0;
   double n = 1, n_se = 0, rho = 1, rho_se = 0, constant_W = 0;
+  // n before the n <= 1 refit: a magnet colder than at its calibration is stronger (the
+  // torque balance's gain may use it, up to kColderMagnetGain).
+  double n_free = 1;
   void Add(double y, double p_rotor, double p_copper) {
     const double x[3] = {p_rotor, p_copper, 1.0};
     int k = 0;
@@ -111,6 +124,7 @@ struct ElectricalFit {
     yy = forget * yy + y * y;
     weight = forget * weight + 1.0;
     if (!Fit(kElectricalPrior_W2)) return;
+    n_free = n;
     if (n > 1.0) {
       // K_T cannot rise: supply power above the model is an extra loss. Refit with n = 1
       // (rotor and copper power are nearly collinear in many motions).
@@ -187,6 +201,9 @@ struct PowerEfficiencyMonitor::JointState {
   BalanceFilter balance_filter;
   BalanceFit balance, balance_slow, balance_since_alarm;
   bool balance_crossed = false;
+  // The sensor's zero as this run found it, relative to the calibration [N m].
+  double offset_base_Nm = 0;
+  bool offset_base_set = false;
   // mechanical window fit (the thesis's view)
   std::deque<MechanicalWindow> mech;
   Estimates est;
@@ -362,22 +379,36 @@ void UpdateFits(const MonitorConfig& c, const JointKnowledge& k, const TickTerms
   s.est.resistance_factor = s.electrical.rho;
   s.est.resistance_factor_se = s.electrical.rho_se;
 
-  // The torque gain is the K_T factor the fast electrical fit sees (a magnet cannot
-  // strengthen, so never above 1).
+  // The torque gain is the K_T factor the fast electrical fit sees, before its n <= 1 refit:
+  // a magnet colder than at its calibration is stronger (up to kColderMagnetGain). Held at 1,
+  // a cold morning's 1.5 % more torque per ampere on a gravity-loaded joint read as a sensor
+  // offset of a newton metre.
   const BalanceRow row = RowOf(k.mechanical, terms, coupling_torque);
-  const double gain = std::min(1.0, s.electrical_fast.n);
+  const double gain = std::min(kColderMagnetGain, s.electrical_fast.n_free);
   s.balance_slow.Add(row, gain, 0.0);
-  // The fast fit keeps the calibrated offset: within one direction of motion an offset
-  // change cannot be told from friction, and friction is the commoner wear.
-  s.balance.Add(row, gain, 0.0);
-  if (s.balance_crossed) s.balance_since_alarm.Add(row, std::min(1.0, s.electrical.n), 0.0);
+  // The sensor's zero as the run finds it (kOffsetBaseTimeConstant_s): an offset present when
+  // it is first judged is the zero the unit starts with (its temperature against the
+  // calibration's), not a drift, which is a change during operation.
+  const BalanceFit::Estimate& slow_now = s.balance_slow.estimate();
+  if (k.torque_sensor && std::min(slow_now.positive_s, slow_now.negative_s) >= kMinOffsetMovingEachWay_s) {
+    if (!s.offset_base_set) {
+      s.offset_base_Nm = slow_now.offset_Nm;
+      s.offset_base_set = true;
+    } else if (std::fabs(slow_now.offset_Nm - s.offset_base_Nm) < c.sensor_drift_Nm.worn) {
+      s.offset_base_Nm += (slow_now.offset_Nm - s.offset_base_Nm) * dt / kOffsetBaseTimeConstant_s;
+    }
+  }
+  // The fast fit holds the sensor's zero as the run found it: within one direction of motion an
+  // offset change cannot be told from friction, and friction is the commoner wear.
+  s.balance.Add(row, gain, s.offset_base_Nm);
+  if (s.balance_crossed) s.balance_since_alarm.Add(row, std::min(kColderMagnetGain, s.electrical.n_free), 0.0);
   const BalanceFit::Estimate& b = s.balance.estimate();
   const BalanceFit::Estimate& m = s.balance_since_alarm.estimate();
   const BalanceFit::Estimate& sl = s.balance_slow.estimate();
   const bool grown = s.balance_crossed && m.moving_s >= c.min_balance_moving_s;
   s.est.friction_factor = grown ? m.friction_factor : b.friction_factor;
   s.est.friction_factor_se = b.friction_factor_se;
-  s.est.sensor_drift_Nm = grown ? m.offset_Nm : sl.offset_Nm;
+  s.est.sensor_drift_Nm = (grown ? m.offset_Nm : sl.offset_Nm) - s.offset_base_Nm;
   s.est.sensor_drift_se = sl.offset_se;
   s.est.torque_gain = gain;
   s.est.torque_gain_se = s.electrical_fast.n_se;
@@ -546,7 +577,7 @@ bool UpdateReadings(const MonitorConfig& c, const JointKnowledge& k, const Detec
   const bool judge_d = k.torque_sensor && std::min(slow.positive_s, slow.negative_s) >= kMinOffsetMovingEachWay_s;
   const std::array<double, kDetectorCount> deviation = {
       judge_n ? 1 - e.kt_factor : kNoStatistic, judge_r ? e.resistance_factor - 1 : kNoStatistic,
-      judge_b ? bal.friction_factor - 1 : kNoStatistic, judge_d ? std::fabs(slow.offset_Nm) : kNoStatistic};
+      judge_b ? bal.friction_factor - 1 : kNoStatistic, judge_d ? std::fabs(slow.offset_Nm - s.offset_base_Nm) : kNoStatistic};
   const std::array<double, kDetectorCount> significance = {
       judge_n ? Significance(deviation[0], e.kt_factor_se) : kNoStatistic,
       judge_r ? Significance(deviation[1], e.resistance_factor_se) : kNoStatistic,
