@@ -57,11 +57,6 @@ double CorrelationTicks(const MonitorConfig& c, double dt) { return std::max(1.0
 // Copper resistance rises 0.393 %/K; an NdFeB magnet's flux (K_T) falls about 0.1 %/K.
 constexpr double kCopperPerK = 0.00393;
 constexpr double kMagnetLossPerK = 0.001;
-// The torque balance's gain ceiling: the magnet of a drive up to 30 K colder than at its
-// calibration (a cold morning against a commissioning at mid-range) gives that much more
-// torque per ampere. The electrical fit still reads n > 1 as a loss (K_T cannot rise above its
-// healthy value at one temperature).
-constexpr double kColderMagnetGain = 1.0 + kMagnetLossPerK * 30.0;
 
 double NormalCdf(double z) { return StandardNormalCdf(z); }
 
@@ -111,9 +106,6 @@ struct ElectricalFit {
   std::array<double, 3> b{};
   double yy = 0, weight = 0;
   double n = 1, n_se = 0, rho = 1, rho_se = 0, constant_W = 0;
-  // n before the n <= 1 refit: a magnet colder than at its calibration is stronger (the
-  // torque balance's gain may use it, up to kColderMagnetGain).
-  double n_free = 1;
   void Add(double y, double p_rotor, double p_copper) {
     const double x[3] = {p_rotor, p_copper, 1.0};
     int k = 0;
@@ -124,7 +116,6 @@ struct ElectricalFit {
     yy = forget * yy + y * y;
     weight = forget * weight + 1.0;
     if (!Fit(kElectricalPrior_W2)) return;
-    n_free = n;
     if (n > 1.0) {
       // K_T cannot rise: supply power above the model is an extra loss. Refit with n = 1
       // (rotor and copper power are nearly collinear in many motions).
@@ -379,12 +370,10 @@ void UpdateFits(const MonitorConfig& c, const JointKnowledge& k, const TickTerms
   s.est.resistance_factor = s.electrical.rho;
   s.est.resistance_factor_se = s.electrical.rho_se;
 
-  // The torque gain is the K_T factor the fast electrical fit sees, before its n <= 1 refit:
-  // a magnet colder than at its calibration is stronger (up to kColderMagnetGain). Held at 1,
-  // a cold morning's 1.5 % more torque per ampere on a gravity-loaded joint read as a sensor
-  // offset of a newton metre.
+  // The torque gain is the K_T factor the fast electrical fit sees (a magnet cannot
+  // strengthen, so never above 1).
   const BalanceRow row = RowOf(k.mechanical, terms, coupling_torque);
-  const double gain = std::min(kColderMagnetGain, s.electrical_fast.n_free);
+  const double gain = std::min(1.0, s.electrical_fast.n);
   s.balance_slow.Add(row, gain, 0.0);
   // The sensor's zero as the run finds it (kOffsetBaseTimeConstant_s): an offset present when
   // it is first judged is the zero the unit starts with (its temperature against the
@@ -398,10 +387,10 @@ void UpdateFits(const MonitorConfig& c, const JointKnowledge& k, const TickTerms
       s.offset_base_Nm += (slow_now.offset_Nm - s.offset_base_Nm) * dt / kOffsetBaseTimeConstant_s;
     }
   }
-  // The fast fit holds the sensor's zero as the run found it: within one direction of motion an
-  // offset change cannot be told from friction, and friction is the commoner wear.
-  s.balance.Add(row, gain, s.offset_base_Nm);
-  if (s.balance_crossed) s.balance_since_alarm.Add(row, std::min(kColderMagnetGain, s.electrical.n_free), 0.0);
+  // The fast fit keeps the calibrated offset: within one direction of motion an offset
+  // change cannot be told from friction, and friction is the commoner wear.
+  s.balance.Add(row, gain, 0.0);
+  if (s.balance_crossed) s.balance_since_alarm.Add(row, std::min(1.0, s.electrical.n), 0.0);
   const BalanceFit::Estimate& b = s.balance.estimate();
   const BalanceFit::Estimate& m = s.balance_since_alarm.estimate();
   const BalanceFit::Estimate& sl = s.balance_slow.estimate();
