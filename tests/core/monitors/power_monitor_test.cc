@@ -31,11 +31,15 @@ struct MonitoredRun {
 
 // Runs `run_json` (a run file as `armfault trace` reads it) with the default monitor.
 // `noise_scale` multiplies every module's torque-sensor and supply-current noise.
-MonitoredRun RunMonitored(const json& run_json, double payload_kg = -1, bool record = false, double noise_scale = 1) {
+// `sensor_offset_Nm`: joint `offset_joint`'s torque sensor reads that much more than the
+// monitor's calibration holds, from the start (a temperature the calibration was not made at).
+MonitoredRun RunMonitored(const json& run_json, double payload_kg = -1, bool record = false, double noise_scale = 1,
+                          double sensor_offset_Nm = 0, int offset_joint = 3) {
   InputContext context;
   context.source = "<test>";
   RunConfig run = RunConfigFromJson(run_json, "", context);
   if (payload_kg >= 0) run.robot.payload_kg = payload_kg;
+  if (sensor_offset_Nm != 0) run.robot.modules.at(offset_joint - 1).torque_sensor.offset_error_Nm = sensor_offset_Nm;
   for (ModuleParams& m : run.robot.modules) {
     m.torque_sensor.noise_Nm *= noise_scale;
     m.inverter.supply_current_noise_A *= noise_scale;
@@ -199,6 +203,38 @@ TEST(PowerMonitorDetects, FrictionIncreaseWithItsFactor) {
   EXPECT_EQ(r.diagnosis.magnitude_name, "friction_factor");
   EXPECT_NEAR(r.diagnosis.magnitude, 2.0, 0.2);
   EXPECT_NEAR(r.top.kt_factor, 1.0, 0.03);  // the electrical side stays normal
+}
+
+// The sensor's zero as the run finds it (docs/monitor.md, "The sensor's zero"): an offset
+// the sensor has from the start, beyond the drift limit (1 N m), is its temperature's, not a
+// drift; a drift during operation is still judged against that zero. On the six-joint arm's
+// shoulder (a 0.06 N m/K zero drift is 25 K for 1.5 N m), all six joints moving.
+json UrClassRun(json faults = json::array()) {
+  json joints = json::object();
+  const double omega[6] = {1.05, 1.57, 1.05, 1.57, 1.05, 2.09};
+  for (int j = 0; j < 6; ++j) {
+    joints[std::to_string(j + 1)] = {{"type", "sine_pair"}, {"amplitude_deg", 25}, {"omega_rad_s", omega[j]}};
+  }
+  return {{"robot", "ur-class"}, {"duration_s", 20}, {"seed", 3}, {"joints", joints}, {"faults", faults}};
+}
+
+TEST(PowerMonitorSensorZero, AnOffsetFromTheStartIsNoDrift) {
+  for (double offset_Nm : {1.5, -1.5}) {
+    const MonitoredRun r = RunMonitored(UrClassRun(), -1, false, 1, offset_Nm, 2);
+    EXPECT_FALSE(r.diagnosis.detected) << offset_Nm << ": " << r.diagnosis.family << " on joint " << r.diagnosis.joint
+                                       << " at " << r.diagnosis.detection_time_s;
+  }
+}
+
+TEST(PowerMonitorSensorZero, ADriftDuringOperationIsFoundFromThatZero) {
+  const MonitoredRun r = RunMonitored(UrClassRun(Fault({{"family", "torque_sensor_drift"}, {"drift_Nm_per_s", 0.5}}, 2, 8.0)),
+                                      -1, false, 1, 1.5, 2);
+  ASSERT_TRUE(r.diagnosis.detected);
+  EXPECT_EQ(r.diagnosis.family, "torque_sensor_drift");
+  EXPECT_EQ(r.diagnosis.joint, 2);
+  // 1 N m past the zero at 10 s, then the slow fit's 4-s memory and the significance.
+  EXPECT_GE(r.diagnosis.detection_time_s, 10.0);
+  EXPECT_LT(r.diagnosis.detection_time_s, 16.0);
 }
 
 TEST(PowerMonitorDetects, BrakeLock) {
