@@ -56,7 +56,7 @@ int ReplayCommand(const ReplayCommandOptions& o) {
     }
   }
   std::printf("wrote %s/results.jsonl, decisions.jsonl, results.csv, summary.json, junit.xml, monitor_cost.jsonl, "
-              "monitor_cost.json, alarms_per_hour.json\n",
+              "monitor_cost.json, alarms_per_hour.json, replay.json\n",
               ro.output_dir.c_str());
   if (!o.quiet) std::printf("next: armfault report %s\n", ro.output_dir.c_str());
   return status;  // FinishCampaignOutputs: 3 when a run failed

@@ -88,9 +88,22 @@ void RequireOneCampaign(const std::vector<CampaignClaim>& claims) {
   }
 }
 
-CaseMatcher::CaseMatcher(const CampaignSpec& campaign) : campaign_(campaign), count_(CaseCount(campaign)) {}
+CaseMatcher::CaseMatcher(const CampaignSpec& campaign, std::optional<RecordedRuns> recorded)
+    : campaign_(campaign), count_(CaseCount(campaign)), recorded_(std::move(recorded)) {}
 
 std::string CaseMatcher::Mismatch(const RunRecord& r) const {
+  if (recorded_) {
+    const auto it = recorded_->run_ids.find(r.case_index);
+    if (it == recorded_->run_ids.end()) {
+      return "case " + std::to_string(r.case_index) + " (run \"" + r.run_id + "\") is not a case of the " +
+             std::to_string(recorded_->run_ids.size()) + " recorded runs of " + recorded_->manifest_path;
+    }
+    if (it->second != r.run_id) {
+      return "case " + std::to_string(r.case_index) + " is run \"" + r.run_id + "\" here but \"" + it->second +
+             "\" in " + recorded_->manifest_path;
+    }
+    return "";
+  }
   if (r.case_index < 0 || r.case_index >= count_) {
     return "case " + std::to_string(r.case_index) + " (run \"" + r.run_id + "\") is not one of the campaign's " +
            std::to_string(count_) + " cases";
@@ -107,6 +120,15 @@ std::string CaseMatcher::Mismatch(const RunRecord& r) const {
            " in the campaign";
   }
   return "";
+}
+
+std::string CaseMatcher::NotOf(const std::string& campaign_path, const std::string& dir) const {
+  if (recorded_) {
+    return ": this results.jsonl is not a replay of the runs of " + recorded_->manifest_path + " (the import " + dir +
+           "/replay.json names as the source); replay that import into " + dir + " again";
+  }
+  return ": this results.jsonl is not a run of " + campaign_path +
+         " (files of different campaigns are not read together); run the campaign into " + dir + " again";
 }
 
 }  // namespace armfault

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -53,18 +54,31 @@ struct CampaignClaim {
 // campaign).
 void RequireOneCampaign(const std::vector<CampaignClaim>& claims);
 
+// The runs of recorded data whose campaign.json is a stand-in (an import's: its cases are not
+// the runs, its manifest.jsonl is the truth, docs/import.md): each run's case and run_id.
+struct RecordedRuns {
+  std::string manifest_path;              // for messages
+  std::map<long, std::string> run_ids;    // by case
+};
+
 // Checks that run records are cases of one campaign: the same run_id and seed at their case
-// index. Keeps one (run_id, seed) pair per case.
+// index. Keeps one (run_id, seed) pair per case. With recorded runs (a replay of an import),
+// each record's case and run_id must be a line of their manifest instead (seeds are the
+// manifest's defaults, not checked).
 class CaseMatcher {
  public:
   // Keeps a reference to `campaign`: computes each case from its index (CaseAt), holding none.
-  explicit CaseMatcher(const CampaignSpec& campaign);
-  // Empty when `r` is case r.case_index of the campaign, else why not (for a message).
+  explicit CaseMatcher(const CampaignSpec& campaign, std::optional<RecordedRuns> recorded = std::nullopt);
+  // Empty when `r` is case r.case_index of the campaign (or of the recorded runs), else why not
+  // (for a message).
   std::string Mismatch(const RunRecord& r) const;
+  // The rest of a Mismatch's message for DIR/results.jsonl: what it is not a run of, and the remedy.
+  std::string NotOf(const std::string& campaign_path, const std::string& dir) const;
 
  private:
   const CampaignSpec& campaign_;
   long count_;
+  std::optional<RecordedRuns> recorded_;
 };
 
 }  // namespace armfault

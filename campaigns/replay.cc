@@ -218,6 +218,54 @@ RobotConfig RecordedRobot(const std::string& dir, const std::string& hint) {
   }
 }
 
+std::optional<ReplaySource> ReadReplaySource(const std::string& out_dir) {
+  const fs::path path = fs::path(out_dir) / kReplayFile;
+  if (!fs::exists(path)) return std::nullopt;
+  const nlohmann::json j = ReadJsonFile(path.string());
+  ReplaySource src;
+  src.file = path.string();
+  auto text = [&](const char* key) {
+    const auto it = j.is_object() ? j.find(key) : j.end();
+    if (!j.is_object() || it == j.end() || !it->is_string()) {
+      throw InputError(src.file, std::string("/") + key,
+                       "expected a string (the replayed directory), got " +
+                           (j.is_object() && it != j.end() ? Describe(*it) : std::string("nothing")));
+    }
+    return it->get<std::string>();
+  };
+  const std::string given = text("source"), absolute = text("source_absolute");
+  if (const auto it = j.find("import"); it == j.end() || !it->is_boolean()) {
+    throw InputError(src.file, "/import", "expected true or false, got " + (it == j.end() ? std::string("nothing") : Describe(*it)));
+  } else {
+    src.import = it->get<bool>();
+  }
+  // The absolute path first: `source` is relative to where replay ran.
+  if (fs::is_directory(absolute)) src.dir = absolute;
+  else if (fs::is_directory(given)) src.dir = given;
+  else {
+    throw InputError(src.file, "/source_absolute",
+                     "\"" + absolute + "\" (\"" + given + "\" as given) is no directory: the recorded data " +
+                         out_dir + " replayed moved; replay it again into " + out_dir);
+  }
+  return src;
+}
+
+std::optional<RecordedRuns> ReplayedImportRuns(const std::string& out_dir) {
+  const std::optional<ReplaySource> src = ReadReplaySource(out_dir);
+  if (!src || !src->import) return std::nullopt;
+  RecordedRuns runs;
+  runs.manifest_path = (fs::path(src->dir) / "manifest.jsonl").string();
+  long index = 0;
+  for (const nlohmann::json& line : ManifestLines(src->dir)) {
+    // As replay reads a line: "case" when it is an integer, else the line's index.
+    const auto c = line.find("case");
+    const long case_index = c != line.end() && c->is_number_integer() ? c->get<long>() : index;
+    runs.run_ids[case_index] = line["run_id"].get<std::string>();
+    ++index;
+  }
+  return runs;
+}
+
 nlohmann::json AlarmRate::ToJson() const {
   const bool any = hours > 0;
   nlohmann::json j = {{"healthy_runs", healthy_runs},
@@ -567,6 +615,11 @@ ReplayResult ReplayDirectory(const ReplayOptions& o) {
   costs.Commit();
   results.Commit();
   WriteAtomically(fs::path(o.output_dir) / run_dir::kAlarmsPerHour, result.alarms.ToJson().dump(2) + "\n");
+  // Where the signals came from: an import's stand-in campaign.json does not name its runs.
+  const nlohmann::json source = {{"source", o.dir},
+                                 {"source_absolute", fs::absolute(dir).lexically_normal().string()},
+                                 {"import", fs::exists(dir / "import.json")}};
+  WriteAtomically(fs::path(o.output_dir) / kReplayFile, source.dump(2) + "\n");
   return result;
 }
 

@@ -19,10 +19,12 @@
 #include <nlohmann/json.hpp>
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "campaigns/campaign.h"
+#include "campaigns/provenance.h"
 #include "core/plant/robot_config.h"
 #include "core/signals/joint_signals.h"
 
@@ -70,6 +72,24 @@ struct AlarmRate {
   nlohmann::json ToJson() const;
 };
 
+// OUT/replay.json, which `replay` writes beside its results: where the signals came from, so
+// that what reads OUT later (report, tune, report --twin) knows it holds recorded runs.
+//   {"source": DIR as given, "source_absolute": DIR made absolute, "import": DIR has import.json}
+inline constexpr const char* kReplayFile = "replay.json";
+struct ReplaySource {
+  std::string file;  // OUT/replay.json, for messages
+  std::string dir;   // the source directory as found: source_absolute, else source as given
+  bool import = false;
+};
+// OUT/replay.json's source; nullopt when OUT has no replay.json (a run, or an older replay).
+// InputError naming the file and the JSON pointer: a field of the wrong type, or a source
+// directory that is found neither as source_absolute nor as source (the data moved).
+std::optional<ReplaySource> ReadReplaySource(const std::string& out_dir);
+// When OUT is a replay of an import: the import's manifest runs (case, run_id), which its
+// records are checked against instead of the stand-in campaign's cases; else nullopt.
+// InputError as ReadReplaySource's and ManifestLines'.
+std::optional<RecordedRuns> ReplayedImportRuns(const std::string& out_dir);
+
 struct ReplayOptions {
   std::string dir;                // an export or an import
   std::string output_dir;         // default: DIR/replayed
@@ -86,7 +106,7 @@ struct ReplayResult {
 };
 // Replays every run of DIR's manifest (case order kept; runs in parallel, the same bytes for any
 // thread count) and writes OUT/{campaign.json, decisions.jsonl, results.jsonl,
-// monitor_cost.jsonl, alarms_per_hour.json}; the caller writes the summary, results.csv and
+// monitor_cost.jsonl, alarms_per_hour.json, replay.json}; the caller writes the summary, results.csv and
 // junit.xml from results.jsonl (FinishCampaignOutputs, as `run` and `score` do), summary.json
 // embedding alarms_per_hour.json. InputErrors (exit 2) name the path: DIR that is not a
 // directory, a missing campaign.json or manifest.jsonl, a manifest line, a signals file, M.json

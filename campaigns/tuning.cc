@@ -9,6 +9,7 @@
 #include "campaigns/campaign_spec.h"
 #include "campaigns/cases.h"
 #include "campaigns/provenance.h"
+#include "campaigns/replay.h"
 #include "campaigns/run_dir.h"
 #include "campaigns/run_record.h"
 #include "campaigns/tune_scoring.h"
@@ -371,9 +372,7 @@ void ReadRunTables(const CaseMatcher& matcher, const std::string& sweep, TuneDir
     n = line;
     auto where = [&] { return "line " + std::to_string(n) + ": "; };
     if (const std::string why = matcher.Mismatch(rec); !why.empty()) {
-      throw std::runtime_error(why + ": this results.jsonl is not a run of " + td->campaign_path.string() +
-                               " (files of different campaigns are not read together); run the campaign into " +
-                               td->dir_name + " again");
+      throw std::runtime_error(why + matcher.NotOf(td->campaign_path.string(), td->dir_name));
     }
     nlohmann::json decision = std::move(rec.decision);
     if (separate) {
@@ -484,7 +483,8 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
                         {summary_path.string(), ClaimedCampaignHash(ReadJsonFile(summary_path.string()), summary_path.string()),
                          "run the campaign into " + dir_name + " again (or merge its shards there), or remove the stale summary.json"}});
   }
-  const CaseMatcher matcher(campaign);
+  // A replay of an import: its records are the import's runs, not the stand-in campaign's cases.
+  const CaseMatcher matcher(campaign, ReplayedImportRuns(dir_name));
   // Only a monitor that publishes the statistics behind its alarms can be re-scored: the
   // power-efficiency monitor (DecisionStats), or any type whose runs stored published statistics
   // (ThresholdStats). Another is scored at its own operating point.

@@ -10,6 +10,7 @@
 #include <map>
 
 #include "campaigns/provenance.h"
+#include "campaigns/replay.h"
 #include "campaigns/run_dir.h"
 #include "campaigns/run_pipeline.h"
 #include "campaigns/tuning.h"
@@ -116,6 +117,8 @@ struct CampaignFiles {
   std::optional<Campaign> campaign;
   std::string campaign_error;         // why there is no campaign
   std::vector<CampaignClaim> claims;  // the campaign_hash of each file read so far
+  std::optional<ReplaySource> replay;  // DIR/replay.json's source, when DIR is replay's output
+  std::optional<RecordedRuns> recorded;  // a replay of an import: the runs its records must be
 };
 
 // Reads DIR/summary.json into d (and the campaign hash and the files that carry it) and
@@ -154,6 +157,13 @@ CampaignFiles ReadSummaryAndCampaign(const ReportOptions& options, ReportData* d
                     "summary.json is stale or was copied from elsewhere: run the campaign into " + options.dir +
                         " again (or merge its shards there)"});
   RequireOneCampaign(files.claims);
+  files.replay = ReadReplaySource(options.dir);
+  if (files.replay && files.replay->import) {
+    files.recorded = ReplayedImportRuns(options.dir);
+    d.recorded_runs = "the runs are recorded (replayed from the import " + files.replay->dir +
+                      "), and its campaign.json is a stand-in that cannot re-simulate them: compare a recorded "
+                      "run with a simulation with --twin ROBOT";
+  }
   for (const CampaignClaim& c : files.claims) {
     if (!c.hash) continue;
     if (d.campaign_hash.empty()) d.campaign_hash = *c.hash;
@@ -175,7 +185,7 @@ RunCandidates ReadResults(const ReportOptions& options, const CampaignFiles& fil
   const fs::path& campaign_path = files.campaign_path;
   const std::optional<Campaign>& campaign = files.campaign;
   std::optional<CaseMatcher> matcher;
-  if (campaign) matcher.emplace(*campaign);
+  if (campaign) matcher.emplace(*campaign, files.recorded);
   if (campaign) d.not_excited_included = campaign->include_not_excited;
   RunCandidates candidates;
   {
@@ -186,9 +196,7 @@ RunCandidates ReadResults(const ReportOptions& options, const CampaignFiles& fil
     ReadRunRecords(path, lines, [&](RunRecord&& r, long) {
       if (matcher) {
         if (const std::string why = matcher->Mismatch(r); !why.empty()) {
-          throw std::runtime_error(why + ": this results.jsonl is not a run of " + campaign_path.string() +
-                                   " (files of different campaigns are not read together); run the campaign into " +
-                                   options.dir + " again");
+          throw std::runtime_error(why + matcher->NotOf(campaign_path.string(), options.dir));
         }
       }
       ++d.records;
@@ -322,6 +330,10 @@ void SimulateChosenRun(const ReportOptions& options, const CampaignFiles& files,
           : first_detected        ? "the first faulty run (every faulty run was detected)"
                                   : "the first run (no faulty runs)";
   s.run_id = !options.run_id.empty() ? options.run_id : chosen ? chosen->run_id : "";
+  if (!d.recorded_runs.empty()) {  // the section says why it is empty
+    if (!options.run_id.empty()) throw InputError("--run", "", "cannot re-simulate run \"" + s.run_id + "\": " + d.recorded_runs);
+    return;
+  }
   if (!campaign) {
     if (!options.run_id.empty()) throw InputError("--run", "", "cannot re-simulate: " + campaign_error);
     s.error = campaign_error;
@@ -347,7 +359,7 @@ void SimulateChosenRun(const ReportOptions& options, const CampaignFiles& files,
 // ReportData::kSmallMultiples of them re-simulated into d.wrong_runs.
 void SimulateWrongRuns(const CampaignFiles& files, ReportData* d_out) {
   ReportData& d = *d_out;
-  if (!files.campaign || d.wrong.empty()) return;
+  if (!files.campaign || d.wrong.empty() || !d.recorded_runs.empty()) return;
   std::map<std::string, const CaseSpec*> by_id;
   const std::vector<CaseSpec> cases = ExpandCases(*files.campaign);
   for (const CaseSpec& c : cases) by_id[c.run_id] = &c;
@@ -362,7 +374,7 @@ void SimulateWrongRuns(const CampaignFiles& files, ReportData* d_out) {
 }
 
 // The twin against one recorded run (ReportOptions::twin) into d.twin.
-void CompareTwin(const ReportOptions& options, ReportData* d_out) {
+void CompareTwin(const ReportOptions& options, const CampaignFiles& files, ReportData* d_out) {
   if (!options.twin) return;
   TwinCompareOptions o = *options.twin;
   if (o.recorded_dir.empty()) {
@@ -370,6 +382,8 @@ void CompareTwin(const ReportOptions& options, ReportData* d_out) {
     const fs::path parent = fs::absolute(dir).lexically_normal().parent_path();
     if (fs::exists(dir / "manifest.jsonl")) {
       o.recorded_dir = dir.string();
+    } else if (files.replay) {  // replay.json names the source: no guessing
+      o.recorded_dir = files.replay->dir;
     } else if (fs::exists(parent / "manifest.jsonl")) {
       fs::path up = (dir / "..").lexically_normal();
       if (up.filename().empty() && up.has_parent_path()) up = up.parent_path();  // "out/" as "out"
@@ -390,7 +404,7 @@ ReportData GatherReportData(const ReportOptions& options) {
   d.dir = options.dir;
   CampaignFiles files = ReadSummaryAndCampaign(options, &d);
   const RunCandidates candidates = ReadResults(options, files, &d);
-  CompareTwin(options, &d);
+  CompareTwin(options, files, &d);
   ReadTuningResults(options, &files.claims, &d);
   ReadBoundary(options, &files.claims, &d);
   ReadThesisTable(options, files, &d);

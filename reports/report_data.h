@@ -37,8 +37,8 @@ struct ReportOptions {
   unsigned long long thesis_seed = 1;  // when DIR/thesis.json is missing
   // `--twin`: a twin run along one recorded run's reference, against the recording (a section
   // of its own; without it the page is as before). Its recorded_dir empty: DIR when it holds a
-  // manifest.jsonl (an export or import), else DIR's parent (replay's default output is
-  // SRC/replayed).
+  // manifest.jsonl (an export or import), else the source DIR/replay.json names (replay's
+  // output), else DIR's parent (replay's default output is SRC/replayed).
   std::optional<TwinCompareOptions> twin;
 };
 
@@ -113,6 +113,9 @@ struct ReportData {
   // kSmallMultiples re-simulated, each with its record's reason as `why`: one small plot each.
   static constexpr size_t kSmallMultiples = 12;
   std::vector<RunSeries> wrong_runs;
+  // Set for a replay of an import (DIR/replay.json): why the sections that re-simulate a run
+  // from campaign.json (one run, the missed runs) are empty.
+  std::string recorded_runs;
   // ReportOptions::twin's comparison, when asked for.
   std::optional<TwinComparison> twin;
 };

@@ -144,6 +144,9 @@ vega::Plot EfficiencyPlot(const RunSeries& s, int j, const std::string& id, cons
 std::string RunSection(const ReportData& d) {
   const RunSeries& s = d.run;
   std::string o = "<section id=\"run\"><h2>One run over time</h2>";
+  if (!d.recorded_runs.empty()) {
+    return o + "<p class=\"missing\">Empty because " + Escape(d.recorded_runs) + ".</p></section>";
+  }
   if (!s.error.empty()) {
     return o + "<p class=\"missing\">Could not re-simulate " + Escape(s.run_id.empty() ? "a run" : s.run_id) + ": " +
            Escape(s.error) + "</p></section>";
@@ -195,6 +198,10 @@ std::string RunSection(const ReportData& d) {
 
 std::string WrongRunsSection(const ReportData& d) {
   std::string o = "<section id=\"wrong-runs\"><h2>Missed and misnamed runs, one small plot each</h2>";
+  if (!d.recorded_runs.empty()) {
+    return o + "<p class=\"missing\">Empty because " + Escape(d.recorded_runs) + " (the runs scored wrong: the table "
+               "above and <code>results.csv</code>'s <code>miss_reason</code>).</p></section>";
+  }
   if (d.wrong_runs.empty()) {
     return o + "<p>None: every faulty run was detected and named with its family and joint" +
            (d.wrong_count > 0 ? std::string(" (the runs scored wrong are healthy runs that alarmed)") : std::string()) +

@@ -119,6 +119,12 @@ expect_error "no run \"${healthy}x\" in $tmp/x/manifest.jsonl; did you mean \"$h
 expect_error "--twin-run: names the run compared with --twin" "$tmp/x/replayed" --twin-run "$healthy"
 expect_error "--recorded: no such directory \"$tmp/nope\"" "$tmp/x/replayed" --twin "$tmp/unit.json" --recorded "$tmp/nope"
 mkdir -p "$tmp/elsewhere" && cp -r "$tmp/x/replayed" "$tmp/elsewhere/replayed"
+# The replay moved: its replay.json still names the recording.
+"$armfault" report "$tmp/elsewhere/replayed" --twin "$tmp/unit.json" -o "$tmp/moved/report.html" > "$tmp/moved.out" 2>&1 ||
+  fail "report of a moved replay --twin: $(cat "$tmp/moved.out")"
+grep -qF "as recorded in \`$tmp/x/runs/" "$tmp/moved/report.md" || fail "a moved replay's twin is not read from $tmp/x (replay.json)"
+# Without replay.json (an older replay), only DIR and its parent are looked in.
+rm "$tmp/elsewhere/replayed/replay.json"
 expect_error "no manifest.jsonl in $tmp/elsewhere/replayed nor in $tmp/elsewhere" "$tmp/elsewhere/replayed" --twin "$tmp/unit.json"
 
 if [ "$failures" -eq 0 ]; then echo "twin_compare_cli: all checks passed"; fi
