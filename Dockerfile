@@ -7,7 +7,7 @@
 FROM debian:bookworm-slim AS build
 RUN apt-get update \
  && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends \
-      build-essential cmake pkg-config nodejs npm libode-dev libeigen3-dev libtbb-dev nlohmann-json3-dev libcli11-dev libssl-dev zlib1g-dev liburdfdom-dev libtinyxml-dev libboost-math-dev \
+      build-essential cmake pkg-config nodejs npm libode-dev libeigen3-dev libtbb-dev nlohmann-json3-dev libcli11-dev libssl-dev zlib1g-dev libisal-dev liburdfdom-dev libtinyxml-dev libboost-math-dev \
  && rm -rf /var/lib/apt/lists/*
 WORKDIR /src
 COPY . .
@@ -19,7 +19,7 @@ RUN cmake -S . -B /build -DCMAKE_BUILD_TYPE=Release -DBUILD_TESTING=OFF -DARMFAU
 
 FROM debian:bookworm-slim
 RUN apt-get update \
- && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends libode8 libtbb12 libssl3 zlib1g liburdfdom-model3.0 libtinyxml2.6.2v5 \
+ && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends libode8 libtbb12 libssl3 zlib1g libisal2 liburdfdom-model3.0 libtinyxml2.6.2v5 \
  && rm -rf /var/lib/apt/lists/*
 COPY --from=build /usr/local/bin/armfault /usr/local/bin/armfault
 COPY --from=build /usr/local/share/armfault /usr/local/share/armfault

@@ -27,12 +27,12 @@ done
 
 # Building and running armfault: the compiler and CMake, ODE (physics), Eigen, oneTBB,
 # nlohmann-json, CLI11, OpenSSL (SHA-256 of the provenance), zlib (`armfault export` writes gzip
-# CSV), urdfdom and TinyXML (URDF robots), Boost.Math (header-only here: the statistics'
+# CSV), ISA-L (igzip: `armfault import` deflates its CSV blocks), urdfdom and TinyXML (URDF robots), Boost.Math (header-only here: the statistics'
 # distributions), nodejs and npm (`npm ci` fetches the report's plotting libraries, pinned with
 # their integrity hashes in reports/web/package-lock.json; the build inlines them into report.html).
 # The Dockerfile's build stage installs exactly these (tests/deploy/deploy_test.sh).
 build_packages=(build-essential cmake pkg-config nodejs npm libode-dev libeigen3-dev libtbb-dev nlohmann-json3-dev
-                libcli11-dev libssl-dev zlib1g-dev liburdfdom-dev libtinyxml-dev libboost-math-dev)
+                libcli11-dev libssl-dev zlib1g-dev libisal-dev liburdfdom-dev libtinyxml-dev libboost-math-dev)
 # The Python package (python/): pybind11 and python3-dev to build it, NumPy and pandas for its
 # arrays and DataFrames.
 python_packages=(python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pandas)
