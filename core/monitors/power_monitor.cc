@@ -50,6 +50,19 @@ constexpr double kMinOffsetMovingEachWay_s = 1.0;
 // limit of it. A strain gauge's zero moves with its temperature (tens of minutes: the gearbox
 // it sits on); a drifting sensor moves it by the N m per second (docs/monitor.md, "Confounders").
 constexpr double kOffsetBaseTimeConstant_s = 120.0;
+// A warm magnet gives less torque per ampere, and the winding beside it tells how warm: copper's
+// resistance rises 0.393 %/K, a permanent magnet's flux falls at most 0.12 %/K (NdFeB grades
+// 0.08-0.12 %/K, SmCo 0.03-0.05 %/K; material data, docs/assumptions.md). So a K_T factor
+// under 1 by up to 0.12/0.393 of the resistance factor's rise is what a magnet as warm as its
+// winding would show, not a loss: the K_T statistic discounts it. The magnet is seldom warmer
+// than the winding that heats it, so this is a bound, not a model of the unit.
+constexpr double kMagnetFluxPerCopperResistance = 0.12 / 0.393;
+constexpr double kMaxWindingResistanceRise = 0.393;  // 100 K of copper
+// The resistance factor read as a temperature: the fit's own for this long after it is first
+// judged (while the fit converges on a unit that starts warm), then following the fit with
+// this time constant (a winding warms over minutes), so that the jump an abrupt K_T loss puts
+// into the joint electrical fit for a few seconds does not widen the K_T allowance.
+constexpr double kWindingThermometerTimeConstant_s = 60.0;
 
 // Ticks over which the balance residual stays correlated (the low-pass memory, both sides).
 double CorrelationTicks(const MonitorConfig& c, double dt) { return std::max(1.0, 2.0 * c.balance_filter_s / dt); }
@@ -195,6 +208,9 @@ struct PowerEfficiencyMonitor::JointState {
   // The sensor's zero as this run found it, relative to the calibration [N m].
   double offset_base_Nm = 0;
   bool offset_base_set = false;
+  // The winding's resistance factor as a slow thermometer (kWindingThermometerTimeConstant_s).
+  double winding_rho = 1;
+  double winding_rho_judged_s = 0;  // time since the copper loss was first enough to judge it
   // mechanical window fit (the thesis's view)
   std::deque<MechanicalWindow> mech;
   Estimates est;
@@ -369,6 +385,16 @@ void UpdateFits(const MonitorConfig& c, const JointKnowledge& k, const TickTerms
   s.est.kt_factor_se = s.electrical.n_se;
   s.est.resistance_factor = s.electrical.rho;
   s.est.resistance_factor_se = s.electrical.rho_se;
+  if (s.excitation_copper_J >= c.min_copper_energy_J) {
+    // While the fit converges (its first time constant of judged data) the reading is the
+    // fit's; then it follows slowly.
+    if (s.winding_rho_judged_s < kWindingThermometerTimeConstant_s) {
+      s.winding_rho = s.electrical.rho;
+    } else {
+      s.winding_rho += (s.electrical.rho - s.winding_rho) * dt / kWindingThermometerTimeConstant_s;
+    }
+    s.winding_rho_judged_s += dt;
+  }
 
   // The torque gain is the K_T factor the fast electrical fit sees (a magnet cannot
   // strengthen, so never above 1).
@@ -564,8 +590,14 @@ bool UpdateReadings(const MonitorConfig& c, const JointKnowledge& k, const Detec
   // An offset is told from friction only by motion both ways.
   // A model's torque has no offset to drift.
   const bool judge_d = k.torque_sensor && std::min(slow.positive_s, slow.negative_s) >= kMinOffsetMovingEachWay_s;
+  // kMagnetFluxPerCopperResistance: the K_T a warm magnet could lose, read from the winding's
+  // resistance: its reading (1 until the copper loss has been enough to judge it) plus one
+  // standard error, so that a resistance not yet well known allows more, up to a winding
+  // 100 K over its datasheet temperature.
+  const double winding_rise = std::min(kMaxWindingResistanceRise, s.winding_rho - 1 + e.resistance_factor_se);
+  const double thermal_kt_allowance = kMagnetFluxPerCopperResistance * std::max(0.0, winding_rise);
   const std::array<double, kDetectorCount> deviation = {
-      judge_n ? 1 - e.kt_factor : kNoStatistic, judge_r ? e.resistance_factor - 1 : kNoStatistic,
+      judge_n ? 1 - e.kt_factor - thermal_kt_allowance : kNoStatistic, judge_r ? e.resistance_factor - 1 : kNoStatistic,
       judge_b ? bal.friction_factor - 1 : kNoStatistic, judge_d ? std::fabs(slow.offset_Nm - s.offset_base_Nm) : kNoStatistic};
   const std::array<double, kDetectorCount> significance = {
       judge_n ? Significance(deviation[0], e.kt_factor_se) : kNoStatistic,

@@ -34,7 +34,7 @@ struct MonitoredRun {
 // `sensor_offset_Nm`: joint `offset_joint`'s torque sensor reads that much more than the
 // monitor's calibration holds, from the start (a temperature the calibration was not made at).
 MonitoredRun RunMonitored(const json& run_json, double payload_kg = -1, bool record = false, double noise_scale = 1,
-                          double sensor_offset_Nm = 0, int offset_joint = 3) {
+                          double sensor_offset_Nm = 0, int offset_joint = 3, double ambient_C = 20) {
   InputContext context;
   context.source = "<test>";
   RunConfig run = RunConfigFromJson(run_json, "", context);
@@ -48,6 +48,7 @@ MonitoredRun RunMonitored(const json& run_json, double payload_kg = -1, bool rec
   std::vector<std::shared_ptr<const Fault>> faults;
   for (auto& f : MakeFaults(run.faults_json, "/faults", run.robot)) faults.push_back(std::move(f));
   RunSpec spec = MakeRunSpec(run);
+  spec.ambient_C = ambient_C;
   if (!faults.empty()) spec.hardware = std::make_shared<FaultSchedule>(faults);
   const PowerMonitorModel monitor_model =
       MakePowerMonitorModel(run.robot, MonitorConfigFromJson(run.monitor.settings, "/monitor", "<test>"));
@@ -235,6 +236,20 @@ TEST(PowerMonitorSensorZero, ADriftDuringOperationIsFoundFromThatZero) {
   // 1 N m past the zero at 10 s, then the slow fit's 4-s memory and the significance.
   EXPECT_GE(r.diagnosis.detection_time_s, 10.0);
   EXPECT_LT(r.diagnosis.detection_time_s, 16.0);
+}
+
+// A six-joint unit run at 85 °C (a winding as hot as a long shift makes it) against its 20 °C datasheet: its windings read more
+// resistance and its magnets give 6.5 % less torque per ampere (the plant's NdFeB law). That is
+// no K_T loss (the warm magnet's allowance, docs/monitor.md); K_T 0.9 on the same hot unit is.
+TEST(PowerMonitorWarmMagnet, AHotUnitIsNoKtLossButAKtFaultOnItIs) {
+  const MonitoredRun hot = RunMonitored(UrClassRun(), -1, false, 1, 0, 3, 85.0);
+  EXPECT_GT(hot.top.resistance_factor, 1.15);
+  EXPECT_LT(hot.top.kt_factor, 0.96);  // the premise: the raw K_T reading is low (without the allowance: an alarm)
+  EXPECT_FALSE(hot.diagnosis.detected) << hot.diagnosis.family << " on joint " << hot.diagnosis.joint << " at "
+                                       << hot.diagnosis.detection_time_s;
+  const MonitoredRun fault =
+      RunMonitored(UrClassRun(Fault({{"family", "kt_degradation"}, {"kt_factor", 0.9}}, 3, 8.0)), -1, false, 1, 0, 3, 85.0);
+  ExpectDiagnosis(fault, "kt_degradation", 3, 8.0);
 }
 
 TEST(PowerMonitorDetects, BrakeLock) {
