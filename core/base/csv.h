@@ -36,8 +36,9 @@ inline void AppendCsvExact(std::string* out, double x) {
 // what the fast path is tested against (tests/core/base/csv_test.cc). The fast path covers the
 // fixed notation (1e-4 <= |x| < 10^digits after rounding), where 10^k is an exact double and
 // the product's rounding error is exact by one FMA, so the rounding is the library's (ties to
-// even); everything else goes to std::to_chars. About 4x faster than std::to_chars's shortest
-// form of a double on the import's values, and less text to deflate. `last - first` >= 32.
+// even); everything else goes to std::to_chars. On the import's values (|x| < 3) 44-55 ns a
+// number here against 62-66 ns for std::to_chars's shortest form (2.5x faster than its
+// precision form), and 12 characters against 18 to deflate. `last - first` >= 32.
 inline char* FormatGeneral(char* first, char* last, double x, int digits) {
   // 10^-5 ... 10^22 as doubles (exact from 10^0 on); kTen[i] = 10^(i - 5).
   static constexpr double kTen[] = {1e-5, 1e-4, 1e-3, 1e-2, 1e-1, 1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,

@@ -57,7 +57,7 @@ constexpr double kOffsetBaseTimeConstant_s = 120.0;
 // winding would show, not a loss: the K_T statistic discounts it. The magnet is seldom warmer
 // than the winding that heats it, so this is a bound, not a model of the unit.
 constexpr double kMagnetFluxPerCopperResistance = 0.12 / 0.393;
-constexpr double kMaxWindingResistanceRise = 0.393;  // 100 K of copper
+constexpr double kMaxWindingResistanceRise = 0.393;  // 100 K of copper: beyond it, not a temperature
 // The resistance factor read as a temperature: the fit's own for this long after it is first
 // judged (while the fit converges on a unit that starts warm), then following the fit with
 // this time constant (a winding warms over minutes), so that the jump an abrupt K_T loss puts
@@ -591,11 +591,12 @@ bool UpdateReadings(const MonitorConfig& c, const JointKnowledge& k, const Detec
   // A model's torque has no offset to drift.
   const bool judge_d = k.torque_sensor && std::min(slow.positive_s, slow.negative_s) >= kMinOffsetMovingEachWay_s;
   // kMagnetFluxPerCopperResistance: the K_T a warm magnet could lose, read from the winding's
-  // resistance: its reading (1 until the copper loss has been enough to judge it) plus one
-  // standard error, so that a resistance not yet well known allows more, up to a winding
-  // 100 K over its datasheet temperature.
-  const double winding_rise = std::min(kMaxWindingResistanceRise, s.winding_rho - 1 + e.resistance_factor_se);
-  const double thermal_kt_allowance = kMagnetFluxPerCopperResistance * std::max(0.0, winding_rise);
+  // resistance (its reading: 1 until the copper loss has been enough to judge it). A rise
+  // beyond a winding 100 K over its datasheet temperature is no temperature (a K_T loss lifts
+  // the joint fit's resistance for seconds; a resistance fault): no allowance.
+  const double winding_rise = s.winding_rho - 1;
+  const double thermal_kt_allowance =
+      winding_rise <= kMaxWindingResistanceRise ? kMagnetFluxPerCopperResistance * std::max(0.0, winding_rise) : 0.0;
   const std::array<double, kDetectorCount> deviation = {
       judge_n ? 1 - e.kt_factor - thermal_kt_allowance : kNoStatistic, judge_r ? e.resistance_factor - 1 : kNoStatistic,
       judge_b ? bal.friction_factor - 1 : kNoStatistic, judge_d ? std::fabs(slow.offset_Nm - s.offset_base_Nm) : kNoStatistic};
