@@ -63,6 +63,30 @@ constexpr double kMaxWindingResistanceRise = 0.393;  // 100 K of copper: beyond 
 // this time constant (a winding warms over minutes), so that the jump an abrupt K_T loss puts
 // into the joint electrical fit for a few seconds does not widen the K_T allowance.
 constexpr double kWindingThermometerTimeConstant_s = 60.0;
+// The friction the run finds (docs/monitor.md, "The friction the run finds"). A strain-wave
+// gear's lubricant thickens in the cold and thins when warm: the no-load running torque falls
+// by a factor of about 3 from -10 to +40 degC (strain-wave gear catalogues, docs/assumptions.md),
+// an exponential slope of ln 3 / 50 K, the steepest the monitor allows for. The friction limit
+// (1.3) already holds what 10 K of cold lubricant adds (exp(0.22) = 1.25); a winding that reads
+// colder than that below its commissioning gets the rest as an allowance, up to 40 K.
+constexpr double kLubricantFrictionSlopePerK = 0.021972245773362196;  // ln 3 / 50
+constexpr double kColdHeldByLimitK = 10.0;
+constexpr double kMaxColdK = 40.0;
+// Judged copper loss after which the winding's reading counts as settled; until then the
+// allowance is that of the reading less kWindingUnsettledSe standard errors (one left a wrist
+// of a 5.8 degC cold start alarming before its copper loss had been read).
+constexpr double kWindingSettle_s = 2.0;
+constexpr double kWindingUnsettledSe = 2.0;
+// A gear that warms through the run thins its lubricant, and a warm-started one begins thin:
+// its friction falls below the commissioned curve, hiding wear under the limit. The reference
+// follows the highest friction the fast fit has shown over the last kFrictionEnvelopeSpan_s of
+// motion (the top of a work cycle's swing) down, with kFrictionReferenceTimeConstant_s, never
+// up (a rise is wear), and not below kMinFrictionReference (about the thinnest a catalogue
+// lubricant goes, 60 degC against 20 degC).
+constexpr double kFrictionEnvelopeBlock_s = 1.0;
+constexpr int kFrictionEnvelopeBlocks = 60;
+constexpr double kFrictionReferenceTimeConstant_s = 60.0;
+constexpr double kMinFrictionReference = 0.5;
 
 // Ticks over which the balance residual stays correlated (the low-pass memory, both sides).
 double CorrelationTicks(const MonitorConfig& c, double dt) { return std::max(1.0, 2.0 * c.balance_filter_s / dt); }
@@ -72,6 +96,14 @@ constexpr double kCopperPerK = 0.00393;
 constexpr double kMagnetLossPerK = 0.001;
 
 double NormalCdf(double z) { return StandardNormalCdf(z); }
+
+// The friction factor a lubricant as cold as a winding with resistance factor `winding_rho`
+// could add beyond what the limit holds: 1 unless the winding reads more than
+// kColdHeldByLimitK below its commissioning.
+double ColdFrictionAllowance(double winding_rho) {
+  const double cold_K = std::min(kMaxColdK, (1.0 - winding_rho) / kCopperPerK);
+  return std::exp(kLubricantFrictionSlopePerK * std::max(0.0, cold_K - kColdHeldByLimitK));
+}
 
 // Deviation in standard errors; an exact (se 0) deviation counts as very significant.
 double Significance(double deviation, double se) {
@@ -187,6 +219,7 @@ struct PowerEfficiencyMonitor::JointState {
     const double sd = std::max(1e-3, k.constant_power_sd_W);
     electrical.constant_prior = electrical_fast.constant_prior =
         kElectricalTickSigma_W * kElectricalTickSigma_W / (sd * sd);
+    friction_block.reserve(static_cast<size_t>(kFrictionEnvelopeBlock_s / dt) + 2);
     for (SlidingMin& h : held) h = SlidingMin(hold_span);
     for (SlidingMin& h : held_significance) h = SlidingMin(hold_span);
   }
@@ -211,6 +244,18 @@ struct PowerEfficiencyMonitor::JointState {
   // The winding's resistance factor as a slow thermometer (kWindingThermometerTimeConstant_s).
   double winding_rho = 1;
   double winding_rho_judged_s = 0;  // time since the copper loss was first enough to judge it
+  // The friction the run finds: the friction statistic is the fast fit's factor over
+  // min(allowance, friction_follow). friction_cap: the cold allowance of the coldest the
+  // winding has read. friction_follow: the top of the fast factor over the last
+  // kFrictionEnvelopeBlocks blocks of motion, followed down only (infinite until they fill).
+  double friction_cap = 1;
+  bool friction_cap_settled = false;  // friction_cap is from settled readings
+  double friction_follow = std::numeric_limits<double>::infinity();
+  double friction_reference = 1;
+  std::array<double, kFrictionEnvelopeBlocks> friction_block_median{};
+  int friction_blocks = 0;
+  std::vector<double> friction_block;  // this block's fast factors
+  double friction_block_s = 0;
   // mechanical window fit (the thesis's view)
   std::deque<MechanicalWindow> mech;
   Estimates est;
@@ -348,6 +393,7 @@ struct TickTerms {
   double rotor_torque = 0;  // rotor torque the command gives, as perceived at the link [N m]
   double p_supply = 0;      // U_d I_d [W]
   double p_rotor = 0, p_copper = 0, p_fixed = 0;  // the calibration's terms of the supply power [W]
+  double winding_above_K = kNaN;  // a declared winding sensor's reading over the calibration's [K]
 };
 
 TickTerms TermsOf(const JointKnowledge& k, const JointSignals& now, const JointSignals& prev, double dt) {
@@ -365,14 +411,80 @@ TickTerms TermsOf(const JointKnowledge& k, const JointSignals& now, const JointS
   x.p_rotor = k.electrical.rotor_gain * x.rotor_torque * x.dq / dt;
   x.p_copper = (1.0 + kCopperPerK * dT) * k.electrical.Copper(x.i);
   x.p_fixed = k.electrical.Fixed(x.i);
+  if (has_temp) x.winding_above_K = dT;
   return x;
+}
+
+// The friction the run finds, after the fast balance fit `b` has taken this tick (`usable`:
+// the tick was one the fit could use) (JointState).
+void UpdateFrictionReference(const MonitorConfig& c, const TickTerms& x, const BalanceFit::Estimate& b, bool usable,
+                             double dt, double arm_allowance, JointState* state) {
+  JointState& s = *state;
+  // The coldest the winding has read once its reading settled (a gear warms more slowly than
+  // its winding; with a declared winding sensor, the sensor: the fit's resistance factor then
+  // stays near 1), and until it settles (kWindingSettle_s), the reading less two standard
+  // errors (the fit's first moments can sit at its prior, 1, on a unit 15 K cold). A cold
+  // morning is cold for the whole arm: the arm's reading (arm_allowance,
+  // FrictionAllowanceOfArm) counts for every joint, a joint with little copper loss included.
+  double allowance;
+  if (std::isfinite(x.winding_above_K)) {
+    s.friction_cap = std::max(s.friction_cap, ColdFrictionAllowance(1.0 + kCopperPerK * x.winding_above_K));
+    s.friction_cap_settled = true;
+    allowance = s.friction_cap;
+  } else if (s.winding_rho_judged_s >= kWindingSettle_s) {
+    s.friction_cap = std::max(s.friction_cap, ColdFrictionAllowance(s.winding_rho));
+    s.friction_cap_settled = true;
+    allowance = s.friction_cap;
+  } else {
+    allowance = ColdFrictionAllowance(s.electrical.rho - kWindingUnsettledSe * s.electrical.rho_se);
+  }
+  allowance = std::max(allowance, arm_allowance);
+  // Only ticks the fit takes: at rest it forgets towards its prior (1).
+  if (usable && b.moving_s >= c.min_balance_moving_s) {
+    s.friction_block.push_back(b.friction_factor);
+    s.friction_block_s += dt;
+    if (s.friction_block_s >= kFrictionEnvelopeBlock_s) {
+      // A block's median: at each reversal the fast fit has few usable ticks and sits at its
+      // prior (1) for a moment, which must not count as the friction shown.
+      const auto mid = s.friction_block.begin() + s.friction_block.size() / 2;
+      std::nth_element(s.friction_block.begin(), mid, s.friction_block.end());
+      s.friction_block_median[s.friction_blocks % kFrictionEnvelopeBlocks] = *mid;
+      ++s.friction_blocks;
+      s.friction_block_s = 0;
+      s.friction_block.clear();
+      if (s.friction_blocks >= kFrictionEnvelopeBlocks) {
+        const double top = *std::max_element(s.friction_block_median.begin(), s.friction_block_median.end());
+        if (!std::isfinite(s.friction_follow)) {
+          s.friction_follow = std::max(kMinFrictionReference, top);
+        } else if (top < s.friction_follow) {
+          // once per block: the first-order follower over the block's length
+          s.friction_follow = std::max(kMinFrictionReference, s.friction_follow + (top - s.friction_follow) *
+                                                                   kFrictionEnvelopeBlock_s / kFrictionReferenceTimeConstant_s);
+        }
+      }
+    }
+  }
+  s.friction_reference = std::min(allowance, s.friction_follow);
+}
+
+// The arm's cold allowance: the median of its joints' settled ones (1 until one has settled),
+// so that one joint's odd reading (a K_T loss can lower its resistance fit) widens nothing.
+double FrictionAllowanceOfArm(const std::vector<std::unique_ptr<JointState>>& joints) {
+  std::array<double, 64> settled;
+  size_t n = 0;
+  for (const auto& j : joints) {
+    if (j->friction_cap_settled && n < settled.size()) settled[n++] = j->friction_cap;
+  }
+  if (n == 0) return 1.0;
+  std::sort(settled.begin(), settled.begin() + n);
+  return n % 2 ? settled[n / 2] : 0.5 * (settled[n / 2 - 1] + settled[n / 2]);
 }
 
 // The electrical fits and the tick-rate torque balance fits after one tick, and the joint's
 // estimates from them. `terms`: the balance filter's output at this tick; `coupling_torque`:
 // the lower joints' rotor coupling [N m].
 void UpdateFits(const MonitorConfig& c, const JointKnowledge& k, const TickTerms& x, const FilteredTerms& terms,
-                double coupling_torque, double dt, JointState* state) {
+                double coupling_torque, double dt, double arm_allowance, JointState* state) {
   JointState& s = *state;
   // --- electrical balance, every tick ---
   const double y = x.p_supply - x.p_fixed;
@@ -418,11 +530,13 @@ void UpdateFits(const MonitorConfig& c, const JointKnowledge& k, const TickTerms
   s.balance.Add(row, gain, 0.0);
   if (s.balance_crossed) s.balance_since_alarm.Add(row, std::min(1.0, s.electrical.n), 0.0);
   const BalanceFit::Estimate& b = s.balance.estimate();
+  UpdateFrictionReference(c, x, b, terms.usable, dt, arm_allowance, &s);
   const BalanceFit::Estimate& m = s.balance_since_alarm.estimate();
   const BalanceFit::Estimate& sl = s.balance_slow.estimate();
   const bool grown = s.balance_crossed && m.moving_s >= c.min_balance_moving_s;
-  s.est.friction_factor = grown ? m.friction_factor : b.friction_factor;
-  s.est.friction_factor_se = b.friction_factor_se;
+  s.est.friction_factor = (grown ? m.friction_factor : b.friction_factor) / s.friction_reference;
+  s.est.friction_factor_se = b.friction_factor_se / s.friction_reference;
+  s.est.friction_reference = s.friction_reference;
   s.est.sensor_drift_Nm = (grown ? m.offset_Nm : sl.offset_Nm) - s.offset_base_Nm;
   s.est.sensor_drift_se = sl.offset_se;
   s.est.torque_gain = gain;
@@ -599,11 +713,11 @@ bool UpdateReadings(const MonitorConfig& c, const JointKnowledge& k, const Detec
       winding_rise <= kMaxWindingResistanceRise ? kMagnetFluxPerCopperResistance * std::max(0.0, winding_rise) : 0.0;
   const std::array<double, kDetectorCount> deviation = {
       judge_n ? 1 - e.kt_factor - thermal_kt_allowance : kNoStatistic, judge_r ? e.resistance_factor - 1 : kNoStatistic,
-      judge_b ? bal.friction_factor - 1 : kNoStatistic, judge_d ? std::fabs(slow.offset_Nm - s.offset_base_Nm) : kNoStatistic};
+      judge_b ? bal.friction_factor / s.friction_reference - 1 : kNoStatistic, judge_d ? std::fabs(slow.offset_Nm - s.offset_base_Nm) : kNoStatistic};
   const std::array<double, kDetectorCount> significance = {
       judge_n ? Significance(deviation[0], e.kt_factor_se) : kNoStatistic,
       judge_r ? Significance(deviation[1], e.resistance_factor_se) : kNoStatistic,
-      judge_b ? Significance(deviation[2], bal.friction_factor_se) : kNoStatistic,
+      judge_b ? Significance(deviation[2], bal.friction_factor_se / s.friction_reference) : kNoStatistic,
       judge_d ? Significance(deviation[3], slow.offset_se) : kNoStatistic};
   if (!s.balance_crossed && ((judge_b && deviation[2] > thresholds[2]) || (judge_d && deviation[3] > thresholds[3]))) {
     s.balance_crossed = true;
@@ -730,7 +844,7 @@ void PowerEfficiencyMonitor::Observe(double t_s, const std::vector<JointSignals>
         coupling_torque += k.coupling[l] * k.mechanical.rotor_coupling_kg_m2 * joints_[l]->balance_filter.terms().accel_rad_s2;
       }
     }
-    UpdateFits(c, k, x, terms, coupling_torque, dt, &s);
+    UpdateFits(c, k, x, terms, coupling_torque, dt, FrictionAllowanceOfArm(joints_), &s);
 
     // --- windows bounded by zero velocity ---
     const double v = now.qd_est_rad_s;

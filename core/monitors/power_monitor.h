@@ -166,7 +166,8 @@ class PowerEfficiencyMonitor : public HealthMonitor {
   struct Estimates {
     double kt_factor = 1, kt_factor_se = 0;
     double resistance_factor = 1, resistance_factor_se = 0;
-    double friction_factor = 1, friction_factor_se = 0;
+    double friction_factor = 1, friction_factor_se = 0;  // over friction_reference
+    double friction_reference = 1;  // the friction the run found, against the calibration (docs/monitor.md)
     double sensor_drift_Nm = 0, sensor_drift_se = 0;
     int windows_in_fit = 0;      // windows in the (thesis-view) mechanical window fit
     double window_friction_factor = 1;  // the window fit's friction factor
