@@ -79,10 +79,11 @@ constexpr double kWindingSettle_s = 2.0;
 constexpr double kWindingUnsettledSe = 2.0;
 // A gear that warms through the run thins its lubricant, and a warm-started one begins thin:
 // its friction falls below the commissioned curve, hiding wear under the limit. The reference
-// follows the highest friction the fast fit has shown over the last kFrictionEnvelopeSpan_s of
-// motion (the top of a work cycle's swing) down, with kFrictionReferenceTimeConstant_s, never
-// up (a rise is wear), and not below kMinFrictionReference (about the thinnest a catalogue
-// lubricant goes, 60 degC against 20 degC).
+// follows the highest friction the fast fit has shown (the largest median of its last
+// kFrictionEnvelopeBlocks blocks of kFrictionEnvelopeBlock_s of usable motion: the top of a
+// work cycle's swing) down, with kFrictionReferenceTimeConstant_s, never up (a rise is wear),
+// and not below kMinFrictionReference (about the thinnest a catalogue lubricant goes, 60 degC
+// against 20 degC).
 constexpr double kFrictionEnvelopeBlock_s = 1.0;
 constexpr int kFrictionEnvelopeBlocks = 60;
 constexpr double kFrictionReferenceTimeConstant_s = 60.0;
