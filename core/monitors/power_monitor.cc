@@ -152,6 +152,7 @@ struct ElectricalFit {
   std::array<double, 3> b{};
   double yy = 0, weight = 0;
   double n = 1, n_se = 0, rho = 1, rho_se = 0, constant_W = 0;
+  double sse = 0;  // the fit's residual sum of squares
   void Add(double y, double p_rotor, double p_copper) {
     const double x[3] = {p_rotor, p_copper, 1.0};
     int k = 0;
@@ -163,12 +164,53 @@ struct ElectricalFit {
     weight = forget * weight + 1.0;
     if (!Fit(kElectricalPrior_W2)) return;
     if (n > 1.0) {
-      // K_T cannot rise: supply power above the model is an extra loss. Refit with n = 1
-      // (rotor and copper power are nearly collinear in many motions).
+      // K_T rises only as far as a magnet as cold as the winding reads can strengthen it:
+      // n <= 1 + kMagnetFluxPerCopperResistance (1 - rho) for rho < 1, n <= 1 otherwise.
+      // Beyond that, supply power above the model is an extra loss. Rotor and copper power are
+      // nearly collinear in many motions, so holding n at 1 on a cold unit pushes the cold
+      // magnet's extra rotor power into rho, and the winding then reads warmer than it is
+      // (docs/monitor.md, "The friction the run finds"). The bound is not convex: the best
+      // fit on each of its two pieces, the one with the smaller residual.
       const double se = n_se;
       Fit(kHeldPrior);
+      const double held_sse = sse;
+      const double held_rho = rho, held_rho_se = rho_se, held_q = constant_W;
+      if (!(FitOnColdMagnetBound() && rho < 1.0 && sse < held_sse)) {
+        n = 1.0;
+        rho = held_rho;
+        rho_se = held_rho_se;
+        constant_W = held_q;
+        sse = held_sse;
+      }
       n_se = se;
     }
+  }
+  // Residual sum of squares of parameters (tn, tr, tq) on the accumulated data.
+  double Sse(double tn, double tr, double tq) const {
+    return yy - 2 * (tn * b[0] + tr * b[1] + tq * b[2]) + tn * tn * a[0] + 2 * tn * tr * a[1] + 2 * tn * tq * a[2] +
+           tr * tr * a[3] + 2 * tr * tq * a[4] + tq * tq * a[5];
+  }
+  // The fit on the line n = 1 + s (1 - rho), s = kMagnetFluxPerCopperResistance: with
+  // y - (1 + s) P_r = rho (P_copper - s P_r) + q, a two-parameter fit (the weak n prior kept).
+  bool FitOnColdMagnetBound() {
+    const double s = kMagnetFluxPerCopperResistance, c0 = 1.0 + s, c1 = -s;
+    // u = (P_copper + c1 P_r, 1); y' = y - c0 P_r
+    const double uu00 = a[3] + 2 * c1 * a[1] + c1 * c1 * a[0] + kElectricalPrior_W2 + kElectricalPrior_W2 * c1 * c1;
+    const double uu01 = a[4] + c1 * a[2];
+    const double uu11 = a[5] + constant_prior;
+    const double uy0 = (b[1] - c0 * a[1]) + c1 * (b[0] - c0 * a[0]) + kElectricalPrior_W2 + kElectricalPrior_W2 * c1 * (1.0 - c0);
+    const double uy1 = b[2] - c0 * a[2];
+    double tr, tq, inv_rr, inv_qq;
+    if (!Solve2(uu00, uu01, uu11, uy0, uy1, &tr, &tq, &inv_rr, &inv_qq)) return false;
+    const double tn = c0 + c1 * tr;
+    const double e = Sse(tn, tr, tq);
+    const double sigma2 = std::max(0.0, e) / std::max(1.0, weight - 2.0);
+    n = tn;
+    rho = tr;
+    constant_W = tq;
+    rho_se = std::sqrt(sigma2 * std::max(0.0, inv_rr));
+    sse = e;
+    return true;
   }
   // Solves with prior weight `n_prior` on n = 1.
   bool Fit(double n_prior) {
@@ -179,8 +221,7 @@ struct ElectricalFit {
     const std::array<double, 3> r = {b[0] + n_prior, b[1] + kElectricalPrior_W2, b[2]};
     std::array<double, 3> t, inv;
     if (!Solve3(m, r, &t, &inv)) return false;
-    const double sse = yy - 2 * (t[0] * b[0] + t[1] * b[1] + t[2] * b[2]) + t[0] * t[0] * a[0] + 2 * t[0] * t[1] * a[1] +
-                       2 * t[0] * t[2] * a[2] + t[1] * t[1] * a[3] + 2 * t[1] * t[2] * a[4] + t[2] * t[2] * a[5];
+    sse = Sse(t[0], t[1], t[2]);
     const double sigma2 = std::max(0.0, sse) / std::max(1.0, weight - 3.0);
     n = t[0];
     rho = t[1];
