@@ -77,6 +77,12 @@ constexpr double kMaxColdK = 40.0;
 // of a 5.8 degC cold start alarming before its copper loss had been read).
 constexpr double kWindingSettle_s = 2.0;
 constexpr double kWindingUnsettledSe = 2.0;
+// The reading the cold allowance takes once settled: the fit's resistance factor averaged
+// with this time constant (a plain mean until then). The fit swings with the work cycle's
+// current (+-0.03 over a wrist's 3-s motion), and the coldest of a swinging reading is colder
+// than the winding: a friction rise of 1.5x on a 5.8 degC wrist dipped the fit's reading by
+// 0.03, widening its own allowance by 10 % and hiding itself.
+constexpr double kWindingReadingTimeConstant_s = 10.0;
 // A gear that warms through the run thins its lubricant, and a warm-started one begins thin:
 // its friction falls below the commissioned curve, hiding wear under the limit. The reference
 // follows the highest friction the fast fit has shown (the largest median of its last
@@ -286,6 +292,7 @@ struct PowerEfficiencyMonitor::JointState {
   // The winding's resistance factor as a slow thermometer (kWindingThermometerTimeConstant_s).
   double winding_rho = 1;
   double winding_rho_judged_s = 0;  // time since the copper loss was first enough to judge it
+  double winding_reading = 1;  // the cold allowance's reading (kWindingReadingTimeConstant_s)
   // The friction the run finds: the friction statistic is the fast fit's factor over
   // min(allowance, friction_follow). friction_cap: the cold allowance of the coldest the
   // winding has read. friction_follow: the top of the fast factor over the last
@@ -462,9 +469,9 @@ TickTerms TermsOf(const JointKnowledge& k, const JointSignals& now, const JointS
 void UpdateFrictionReference(const MonitorConfig& c, const TickTerms& x, const BalanceFit::Estimate& b, bool usable,
                              double dt, double arm_allowance, JointState* state) {
   JointState& s = *state;
-  // The coldest the winding has read once its reading settled (a gear warms more slowly than
-  // its winding; with a declared winding sensor, the sensor: the fit's resistance factor then
-  // stays near 1), and until it settles (kWindingSettle_s), the reading less two standard
+  // The coldest the winding has read (its averaged reading, kWindingReadingTimeConstant_s)
+  // once the reading settled (a gear warms more slowly than its winding; with a declared
+  // winding sensor, the sensor: the fit's resistance factor then stays near 1), and until it settles (kWindingSettle_s), the reading less two standard
   // errors (the fit's first moments can sit at its prior, 1, on a unit 15 K cold). A cold
   // morning is cold for the whole arm: the arm's reading (arm_allowance,
   // FrictionAllowanceOfArm) counts for every joint, a joint with little copper loss included.
@@ -474,7 +481,7 @@ void UpdateFrictionReference(const MonitorConfig& c, const TickTerms& x, const B
     s.friction_cap_settled = true;
     allowance = s.friction_cap;
   } else if (s.winding_rho_judged_s >= kWindingSettle_s) {
-    s.friction_cap = std::max(s.friction_cap, ColdFrictionAllowance(s.winding_rho));
+    s.friction_cap = std::max(s.friction_cap, ColdFrictionAllowance(s.winding_reading));
     s.friction_cap_settled = true;
     allowance = s.friction_cap;
   } else {
@@ -509,8 +516,12 @@ void UpdateFrictionReference(const MonitorConfig& c, const TickTerms& x, const B
   s.friction_reference = std::min(allowance, s.friction_follow);
 }
 
-// The arm's cold allowance: the median of its joints' settled ones (1 until one has settled),
-// so that one joint's odd reading (a K_T loss can lower its resistance fit) widens nothing.
+// The arm's cold allowance: the second largest of its joints' settled ones, the only one of a
+// lone joint's (1 until one has settled). The windings' readings err warm more than cold (a
+// joint with little copper loss, the K_T-resistance coupling of the fit: on a 5.7 degC cold
+// start the six read 0.93-1.00 where 0.933 is the truth), so the coldest are the best; the
+// second, so that one joint's odd reading (a K_T loss can lower its resistance fit) widens
+// nothing.
 double FrictionAllowanceOfArm(const std::vector<std::unique_ptr<JointState>>& joints) {
   std::array<double, 64> settled;
   size_t n = 0;
@@ -519,7 +530,7 @@ double FrictionAllowanceOfArm(const std::vector<std::unique_ptr<JointState>>& jo
   }
   if (n == 0) return 1.0;
   std::sort(settled.begin(), settled.begin() + n);
-  return n % 2 ? settled[n / 2] : 0.5 * (settled[n / 2 - 1] + settled[n / 2]);
+  return settled[n >= 2 ? n - 2 : 0];
 }
 
 // The electrical fits and the tick-rate torque balance fits after one tick, and the joint's
@@ -548,6 +559,8 @@ void UpdateFits(const MonitorConfig& c, const JointKnowledge& k, const TickTerms
       s.winding_rho += (s.electrical.rho - s.winding_rho) * dt / kWindingThermometerTimeConstant_s;
     }
     s.winding_rho_judged_s += dt;
+    s.winding_reading += (s.electrical.rho - s.winding_reading) * dt /
+                         std::min(kWindingReadingTimeConstant_s, s.winding_rho_judged_s);
   }
 
   // The torque gain is the K_T factor the fast electrical fit sees (a magnet cannot

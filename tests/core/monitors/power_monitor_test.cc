@@ -636,7 +636,7 @@ TEST(PowerMonitorLubricant, AColdMagnetDoesNotWarmTheWinding) {
     EXPECT_GT(cold.all[j].resistance_factor, 0.9);
     EXPECT_GT(cold.all[j].kt_factor, 1.0);  // the cold magnet, within its bound
     EXPECT_LE(cold.all[j].kt_factor, 1.0 + 0.12 / 0.393 * (1.0 - cold.all[j].resistance_factor) + 1e-12);
-    EXPECT_GT(cold.all[j].friction_reference, 1.15);
+    EXPECT_GT(cold.all[j].friction_reference, 1.1);  // 14 K of cold read at least (20 K: 1.25)
   }
   EXPECT_FALSE(cold.diagnosis.detected) << cold.diagnosis.family << " on joint " << cold.diagnosis.joint << " at "
                                         << cold.diagnosis.detection_time_s;
