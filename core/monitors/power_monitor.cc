@@ -175,7 +175,7 @@ struct ElectricalFit {
       // Beyond that, supply power above the model is an extra loss. Rotor and copper power are
       // nearly collinear in many motions, so holding n at 1 on a cold unit pushes the cold
       // magnet's extra rotor power into rho, and the winding then reads warmer than it is
-      // (docs/monitor.md, "The friction the run finds"). The bound is not convex: the best
+      // (docs/monitor.md, "Estimators"). The bound is not convex: the best
       // fit on each of its two pieces, the one with the smaller residual.
       const double se = n_se;
       Fit(kHeldPrior);
@@ -204,7 +204,8 @@ struct ElectricalFit {
     const double uu00 = a[3] + 2 * c1 * a[1] + c1 * c1 * a[0] + kElectricalPrior_W2 + kElectricalPrior_W2 * c1 * c1;
     const double uu01 = a[4] + c1 * a[2];
     const double uu11 = a[5] + constant_prior;
-    const double uy0 = (b[1] - c0 * a[1]) + c1 * (b[0] - c0 * a[0]) + kElectricalPrior_W2 + kElectricalPrior_W2 * c1 * (1.0 - c0);
+    const double uy0 =
+        (b[1] - c0 * a[1]) + c1 * (b[0] - c0 * a[0]) + kElectricalPrior_W2 + kElectricalPrior_W2 * c1 * (1.0 - c0);
     const double uy1 = b[2] - c0 * a[2];
     double tr, tq, inv_rr, inv_qq;
     if (!Solve2(uu00, uu01, uu11, uy0, uy1, &tr, &tq, &inv_rr, &inv_qq)) return false;
@@ -471,10 +472,11 @@ void UpdateFrictionReference(const MonitorConfig& c, const TickTerms& x, const B
   JointState& s = *state;
   // The coldest the winding has read (its averaged reading, kWindingReadingTimeConstant_s)
   // once the reading settled (a gear warms more slowly than its winding; with a declared
-  // winding sensor, the sensor: the fit's resistance factor then stays near 1), and until it settles (kWindingSettle_s), the reading less two standard
-  // errors (the fit's first moments can sit at its prior, 1, on a unit 15 K cold). A cold
-  // morning is cold for the whole arm: the arm's reading (arm_allowance,
-  // FrictionAllowanceOfArm) counts for every joint, a joint with little copper loss included.
+  // winding sensor, the sensor: the fit's resistance factor then stays near 1), and until it
+  // settles (kWindingSettle_s), the fit's reading less two standard errors (its first moments
+  // can sit at its prior, 1, on a unit 15 K cold). A cold morning is cold for the whole arm:
+  // the arm's reading (arm_allowance, FrictionAllowanceOfArm) counts for every joint, a joint
+  // with little copper loss included.
   double allowance;
   if (std::isfinite(x.winding_above_K)) {
     s.friction_cap = std::max(s.friction_cap, ColdFrictionAllowance(1.0 + kCopperPerK * x.winding_above_K));
