@@ -465,18 +465,54 @@ TickTerms TermsOf(const JointKnowledge& k, const JointSignals& now, const JointS
   return x;
 }
 
+// The arm's cold allowance: the second largest of its joints' settled ones, the only one of a
+// lone joint's (1 until one has settled). The windings' readings err warm more than cold (a
+// joint with little copper loss, the K_T-resistance coupling of the fit: on a 5.7 degC cold
+// start the six read 0.93-1.00 where 0.933 is the truth), so the coldest are the best; the
+// second, so that one joint's odd reading (a K_T loss can lower its resistance fit) widens
+// nothing. A joint whose own reading has not settled takes `unsettled`: the same over every
+// joint whose copper loss has been read at all, an unsettled one's reading less
+// kWindingUnsettledSe standard errors (on a 5.2 degC cold start two wrists, their fits reading
+// 1.02-1.04 in their first second where 0.94 is the truth, alarmed before any joint settled).
+struct ArmAllowance {
+  double settled = 1.0;
+  double unsettled = 1.0;
+};
+
+double SecondLargest(std::array<double, 64>* values, size_t n) {
+  if (n == 0) return 1.0;
+  std::sort(values->begin(), values->begin() + n);
+  return (*values)[n >= 2 ? n - 2 : 0];
+}
+
+ArmAllowance FrictionAllowanceOfArm(const std::vector<std::unique_ptr<JointState>>& joints) {
+  std::array<double, 64> settled;
+  std::array<double, 64> read;
+  size_t n_settled = 0;
+  size_t n_read = 0;
+  for (const auto& j : joints) {
+    if (j->friction_cap_settled) {
+      if (n_settled < settled.size()) settled[n_settled++] = j->friction_cap;
+      if (n_read < read.size()) read[n_read++] = j->friction_cap;
+    } else if (j->winding_rho_judged_s > 0 && n_read < read.size()) {
+      read[n_read++] = ColdFrictionAllowance(j->electrical.rho - kWindingUnsettledSe * j->electrical.rho_se);
+    }
+  }
+  return {SecondLargest(&settled, n_settled), SecondLargest(&read, n_read)};
+}
+
 // The friction the run finds, after the fast balance fit `b` has taken this tick (`usable`:
 // the tick was one the fit could use) (JointState).
 void UpdateFrictionReference(const MonitorConfig& c, const TickTerms& x, const BalanceFit::Estimate& b, bool usable,
-                             double dt, double arm_allowance, JointState* state) {
+                             double dt, const ArmAllowance& arm, JointState* state) {
   JointState& s = *state;
   // The coldest the winding has read (its averaged reading, kWindingReadingTimeConstant_s)
   // once the reading settled (a gear warms more slowly than its winding; with a declared
   // winding sensor, the sensor: the fit's resistance factor then stays near 1), and until it
   // settles (kWindingSettle_s), the fit's reading less two standard errors (its first moments
   // can sit at its prior, 1, on a unit 15 K cold). A cold morning is cold for the whole arm:
-  // the arm's reading (arm_allowance, FrictionAllowanceOfArm) counts for every joint, a joint
-  // with little copper loss included.
+  // the arm's reading (FrictionAllowanceOfArm) counts for every joint, a joint with little
+  // copper loss included.
   double allowance;
   if (std::isfinite(x.winding_above_K)) {
     s.friction_cap = std::max(s.friction_cap, ColdFrictionAllowance(1.0 + kCopperPerK * x.winding_above_K));
@@ -487,9 +523,9 @@ void UpdateFrictionReference(const MonitorConfig& c, const TickTerms& x, const B
     s.friction_cap_settled = true;
     allowance = s.friction_cap;
   } else {
-    allowance = ColdFrictionAllowance(s.electrical.rho - kWindingUnsettledSe * s.electrical.rho_se);
+    allowance = std::max(arm.unsettled, ColdFrictionAllowance(s.electrical.rho - kWindingUnsettledSe * s.electrical.rho_se));
   }
-  allowance = std::max(allowance, arm_allowance);
+  allowance = std::max(allowance, arm.settled);
   // Only ticks the fit takes: at rest it forgets towards its prior (1).
   if (usable && b.moving_s >= c.min_balance_moving_s) {
     s.friction_block.push_back(b.friction_factor);
@@ -518,28 +554,11 @@ void UpdateFrictionReference(const MonitorConfig& c, const TickTerms& x, const B
   s.friction_reference = std::min(allowance, s.friction_follow);
 }
 
-// The arm's cold allowance: the second largest of its joints' settled ones, the only one of a
-// lone joint's (1 until one has settled). The windings' readings err warm more than cold (a
-// joint with little copper loss, the K_T-resistance coupling of the fit: on a 5.7 degC cold
-// start the six read 0.93-1.00 where 0.933 is the truth), so the coldest are the best; the
-// second, so that one joint's odd reading (a K_T loss can lower its resistance fit) widens
-// nothing.
-double FrictionAllowanceOfArm(const std::vector<std::unique_ptr<JointState>>& joints) {
-  std::array<double, 64> settled;
-  size_t n = 0;
-  for (const auto& j : joints) {
-    if (j->friction_cap_settled && n < settled.size()) settled[n++] = j->friction_cap;
-  }
-  if (n == 0) return 1.0;
-  std::sort(settled.begin(), settled.begin() + n);
-  return settled[n >= 2 ? n - 2 : 0];
-}
-
 // The electrical fits and the tick-rate torque balance fits after one tick, and the joint's
 // estimates from them. `terms`: the balance filter's output at this tick; `coupling_torque`:
 // the lower joints' rotor coupling [N m].
 void UpdateFits(const MonitorConfig& c, const JointKnowledge& k, const TickTerms& x, const FilteredTerms& terms,
-                double coupling_torque, double dt, double arm_allowance, JointState* state) {
+                double coupling_torque, double dt, const ArmAllowance& arm, JointState* state) {
   JointState& s = *state;
   // --- electrical balance, every tick ---
   const double y = x.p_supply - x.p_fixed;
@@ -587,7 +606,7 @@ void UpdateFits(const MonitorConfig& c, const JointKnowledge& k, const TickTerms
   s.balance.Add(row, gain, 0.0);
   if (s.balance_crossed) s.balance_since_alarm.Add(row, std::min(1.0, s.electrical.n), 0.0);
   const BalanceFit::Estimate& b = s.balance.estimate();
-  UpdateFrictionReference(c, x, b, terms.usable, dt, arm_allowance, &s);
+  UpdateFrictionReference(c, x, b, terms.usable, dt, arm, &s);
   const BalanceFit::Estimate& m = s.balance_since_alarm.estimate();
   const BalanceFit::Estimate& sl = s.balance_slow.estimate();
   const bool grown = s.balance_crossed && m.moving_s >= c.min_balance_moving_s;
