@@ -136,6 +136,10 @@ int FinishCampaignOutputs(const std::string& dir_name, const CampaignSpec& campa
                                      (campaign.include_not_excited ? " (scored)" : ", left out")).c_str()
                                   : "");
   }
+  // `replay` prints its own, over the hours it replayed (alarms_per_hour.json).
+  if (builder.healthy_runs() > 0 && !fs::exists(dir / run_dir::kAlarmsPerHour)) {
+    std::printf("%s (summary.json healthy_operation)\n", HealthyOperationOf(builder, campaign.duration_s).Line().c_str());
+  }
   bool all_met = true;
   for (const FloorVerdict& v : verdicts) {
     std::printf("floor %-50s %s  %s\n", v.name.c_str(), v.met ? "met   " : "MISSED", v.message.c_str());

@@ -357,6 +357,51 @@ std::vector<FloorVerdict> SummaryBuilder::Verdicts(const Floors& floors) const {
   return out;
 }
 
+long SummaryBuilder::healthy_runs() const {
+  long n = 0;
+  for (const auto& [key, t] : cells_) n += t.healthy;
+  return n;
+}
+
+long SummaryBuilder::healthy_alarms() const {
+  long n = 0;
+  for (const auto& [key, t] : cells_) n += t.healthy_alarms;
+  return n;
+}
+
+HealthyOperation HealthyOperationOf(const SummaryBuilder& builder, double duration_s) {
+  HealthyOperation h;
+  h.runs = builder.healthy_runs();
+  h.false_alarms = builder.healthy_alarms();
+  h.hours = static_cast<double>(h.runs) * duration_s / 3600.0;
+  return h;
+}
+
+nlohmann::json HealthyOperation::ToJson() const {
+  const bool any = hours > 0;
+  return {{"healthy_runs", runs},
+          {"false_alarms", false_alarms},
+          {"hours", hours},
+          {"per_hour", any ? nlohmann::json(static_cast<double>(false_alarms) / hours) : nlohmann::json(nullptr)},
+          {"per_hour_upper_95", any ? nlohmann::json(PoissonUpperBound(false_alarms, 0.95) / hours) : nlohmann::json(nullptr)},
+          {"counted",
+           "healthy runs that alarmed, over the healthy runs' hours (each lasting the campaign's duration_s); upper "
+           "bound one-sided 95 % (Poisson, chi-squared)"}};
+}
+
+std::string HealthyOperation::Line() const {
+  char buf[256];
+  if (hours > 0) {
+    std::snprintf(buf, sizeof buf,
+                  "healthy operation: %ld runs, %.4g h, %ld false alarm%s: %.3g per hour (95 %% upper bound %.3g)", runs,
+                  hours, false_alarms, false_alarms == 1 ? "" : "s", static_cast<double>(false_alarms) / hours,
+                  PoissonUpperBound(false_alarms, 0.95) / hours);
+  } else {
+    std::snprintf(buf, sizeof buf, "healthy operation: no healthy runs scored, no rate per hour");
+  }
+  return buf;
+}
+
 std::string SummaryBuilder::FirstFailureText() const {
   if (first_failure_.case_index < 0) return "";
   return "run " + first_failure_.run_id + ": " + first_failure_.reason;

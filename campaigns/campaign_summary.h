@@ -61,10 +61,12 @@
 //    "failed_runs": {"count", "truncated", "runs": [{"run_id", "reason"}]},
 //                   (the 100 smallest run_ids, sorted, so the list is independent of order)
 //    "not_excited_runs": {"count", "included", "truncated", "runs": [{"run_id", "reason"}]},
-//    "not_injected_runs": {"count", "truncated", "runs": [{"run_id", "reason"}]}}  (only with
+//    "not_injected_runs": {"count", "truncated", "runs": [{"run_id", "reason"}]},  (only with
 //   conditional onsets: runs whose condition never fired, outside every rate; also "runs.not_injected")
 //                   (likewise; faulty runs whose fault could not act on anything a monitor
 //                    sees: left out of every rate unless "included")
+//    "healthy_operation": HealthyOperation::ToJson (below; `run`, `merge`, `export`: not
+//                         `replay`, whose "alarms_per_hour" counts the hours it replayed)}
 //   Every scope also reports "not_excited": its faulty runs that could not act.
 #pragma once
 
@@ -133,6 +135,9 @@ class SummaryBuilder {
   std::vector<FloorVerdict> Verdicts(const Floors& floors) const;
 
   long runs() const { return ok_runs_ + failed_runs_; }  // every record added
+  // ok healthy runs, and those of them that alarmed (the false-alarm rate's trials and successes)
+  long healthy_runs() const;
+  long healthy_alarms() const;
   long not_excited_runs() const { return not_excited_runs_; }
   // ok faulty runs whose conditional onset never fired (RunRecord::injected), outside every rate
   long not_injected_runs() const { return not_injected_runs_; }
@@ -226,6 +231,22 @@ std::string JUnitXml(const std::string& campaign_name, const std::vector<FloorVe
 // alarms that named it; no floor is checked there.
 std::string JUnitXml(const std::string& campaign_name, const SummaryBuilder& builder, const Floors& floors,
                      const std::string& campaign_json);
+
+// The healthy runs' false alarms per hour of operation: each healthy run scored lasts the
+// campaign's duration_s, and a false-alarmed one counts once (a monitor's first alarm ends
+// its verdict). per_hour_upper_95: the one-sided 95 % upper bound on the rate the hours
+// support (Poisson, chi-squared; 0 alarms in 20 h: 0.150 per hour).
+struct HealthyOperation {
+  long runs = 0;
+  long false_alarms = 0;
+  double hours = 0;
+  // {"healthy_runs", "false_alarms", "hours", "per_hour", "per_hour_upper_95" (both null
+  // without hours), "counted"}
+  nlohmann::json ToJson() const;
+  // "healthy operation: 120 runs, 20.0 h, 0 false alarms: 0 per hour (95 % upper bound 0.150)"
+  std::string Line() const;
+};
+HealthyOperation HealthyOperationOf(const SummaryBuilder& builder, double duration_s);
 
 // 95 % Wilson score interval (z = 1.959963984540054) of successes / trials.
 struct RateInterval {

@@ -69,7 +69,8 @@ class ResultsCsvOutput : public RecordOutput {
 };
 
 // summary.json, with an early-stopped run's decisions (early_stop.json) and a replay's alarms per
-// hour (alarms_per_hour.json) beside the rates.
+// hour (alarms_per_hour.json) beside the rates; without the latter, the healthy runs' false
+// alarms per hour of the campaign's duration (healthy_operation).
 class SummaryJsonOutput : public RecordOutput {
  public:
   SummaryJsonOutput(const fs::path& dir, const CampaignSpec& campaign) : dir_(dir), campaign_(campaign) {}
@@ -81,6 +82,8 @@ class SummaryJsonOutput : public RecordOutput {
     // `replay`: the false alarms per hour of operation of its healthy and unlabelled runs.
     if (const fs::path alarms_path = dir_ / run_dir::kAlarmsPerHour; fs::exists(alarms_path)) {
       summary["alarms_per_hour"] = ReadJsonFile(alarms_path.string());
+    } else {
+      summary["healthy_operation"] = HealthyOperationOf(all, campaign_.duration_s).ToJson();
     }
     WriteAtomically(dir_ / run_dir::kSummary, summary.dump(2) + "\n");
   }

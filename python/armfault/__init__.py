@@ -403,7 +403,8 @@ def summary(records, campaign=None):
     """summary.json's content (a dict) for run records as run_campaign returns them (DataFrame or
     list of dicts, any subset, in any order): rates with Wilson intervals, the confusion matrix,
     latency, magnitude errors (docs/campaign-format.md, "summary.json"). With the campaign (its
-    Campaign, file or dict) also its floors ("floors", "floors_met") and its hash."""
+    Campaign, file or dict) also its floors ("floors", "floors_met"), its hash and the false
+    alarms per hour of healthy operation ("healthy_operation")."""
     if hasattr(records, "to_dict") and hasattr(records, "columns"):
         records = records.to_dict("records")
     lines = [_record_line(r) for r in records]

@@ -237,9 +237,10 @@ std::string SummaryOf(const std::vector<std::string>& lines, std::optional<PyCam
       throw InputError("records", "/" + std::to_string(n - 1), std::string("not a run record: ") + e.what());
     }
   }
-  const nlohmann::json summary =
-      pc ? builder.Build(pc->campaign->floors, pc->campaign->resolved, ARMFAULT_VERSION)
-         : builder.Build(Floors{}, nullptr, ARMFAULT_VERSION);
+  nlohmann::json summary = pc ? builder.Build(pc->campaign->floors, pc->campaign->resolved, ARMFAULT_VERSION)
+                              : builder.Build(Floors{}, nullptr, ARMFAULT_VERSION);
+  // as `run` writes it (campaigns/run_dir.cc): the hours need the campaign's duration
+  if (pc) summary["healthy_operation"] = HealthyOperationOf(builder, pc->campaign->duration_s).ToJson();
   return summary.dump();
 }
 

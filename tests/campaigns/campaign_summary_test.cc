@@ -214,6 +214,35 @@ TEST(CampaignSummaryTest, CountsRunsAndExcludesFailedOnes) {
             (nlohmann::json::array({{{"run_id", "kt/r5"}, {"reason", "simulation diverged"}}})));
 }
 
+// The healthy runs' false alarms per hour: 4 healthy runs of 15 min, one alarmed, the failed
+// one left out; the bound is the exact Poisson one (k = 1: 4.743864518 alarms).
+TEST(CampaignSummaryTest, FalseAlarmsPerHourOfHealthyOperation) {
+  const SummaryBuilder b = BuilderOf(MixedRecords());
+  EXPECT_EQ(b.healthy_runs(), 4);
+  EXPECT_EQ(b.healthy_alarms(), 1);
+  const HealthyOperation h = HealthyOperationOf(b, 900.0);
+  EXPECT_EQ(h.hours, 1.0);
+  const nlohmann::json j = h.ToJson();
+  EXPECT_EQ(j.at("healthy_runs"), 4);
+  EXPECT_EQ(j.at("false_alarms"), 1);
+  EXPECT_EQ(j.at("per_hour").get<double>(), 1.0);
+  EXPECT_NEAR(j.at("per_hour_upper_95").get<double>(), 4.743864518, 1e-8);
+  EXPECT_EQ(h.Line(), "healthy operation: 4 runs, 1 h, 1 false alarm: 1 per hour (95 % upper bound 4.74)");
+  // Issue 28's target: 0 alarms in 120 runs of 10 min support at most 0.150 per hour.
+  SummaryBuilder quiet;
+  for (int k = 0; k < 120; ++k) quiet.Add(Healthy("h/" + std::to_string(k), false));
+  const nlohmann::json q = HealthyOperationOf(quiet, 600.0).ToJson();
+  EXPECT_EQ(q.at("hours").get<double>(), 20.0);
+  EXPECT_EQ(q.at("per_hour").get<double>(), 0.0);
+  EXPECT_NEAR(q.at("per_hour_upper_95").get<double>(), 2.995732273553991 / 20.0, 1e-12);
+  EXPECT_EQ(HealthyOperationOf(quiet, 600.0).Line(),
+            "healthy operation: 120 runs, 20 h, 0 false alarms: 0 per hour (95 % upper bound 0.15)");
+  // No healthy run: no rate.
+  const nlohmann::json none = HealthyOperationOf(SummaryBuilder(), 600.0).ToJson();
+  EXPECT_TRUE(none.at("per_hour").is_null());
+  EXPECT_TRUE(none.at("per_hour_upper_95").is_null());
+}
+
 TEST(CampaignSummaryTest, OverallRatesOnMixedSet) {
   const nlohmann::json o = BuilderOf(MixedRecords()).Build(Floors{}, nullptr, "v").at("overall");
   EXPECT_EQ(o.at("runs"), 10);
