@@ -72,8 +72,8 @@ struct PowerMonitorCommissioning::Joint {
   // Torque balance: XᵀX of the rows x and, since y = u − a p is linear in the gain a that only
   // the electrical fit gives at the end, Xᵀu, Xᵀp, uᵀu, uᵀp and pᵀp (see the top of this file):
   // a fixed size whatever the commissioning's length.
-  Eigen::Matrix<double, 6, 6> m_a = Eigen::Matrix<double, 6, 6>::Zero();
-  Eigen::Matrix<double, 6, 1> m_u = Eigen::Matrix<double, 6, 1>::Zero(), m_p = Eigen::Matrix<double, 6, 1>::Zero();
+  Eigen::Matrix<double, 7, 7> m_a = Eigen::Matrix<double, 7, 7>::Zero();
+  Eigen::Matrix<double, 7, 1> m_u = Eigen::Matrix<double, 7, 1>::Zero(), m_p = Eigen::Matrix<double, 7, 1>::Zero();
   double uu = 0, up = 0, pp = 0;
   long m_rows = 0;
 };
@@ -134,8 +134,8 @@ void PowerMonitorCommissioning::Tick(const std::vector<JointSignals>& joints) {
         if (k.coupling[l] != 0) coupling += k.coupling[l] * k.mechanical.rotor_coupling_kg_m2 * filters_[l].terms().accel_rad_s2;
       }
       if (!f.usable) continue;
-      Eigen::Matrix<double, 6, 1> row;
-      row << -f.accel_rad_s2, -f.mesh_Nm, -f.viscous_rad_s, -f.coulomb, -f.stribeck, 1.0;
+      Eigen::Matrix<double, 7, 1> row;
+      row << -f.accel_rad_s2, -f.mesh_Nm, -f.viscous_rad_s, -f.coulomb, -f.stribeck, 1.0, -f.mesh_back_Nm;
       const double u = f.sensor_Nm + coupling, p = f.perceived_Nm;
       acc.m_a.noalias() += row * row.transpose();
       acc.m_u.noalias() += row * u;
@@ -194,17 +194,17 @@ PowerMonitorModel PowerMonitorCommissioning::End() const {
     if (rows < kMinBalanceTicks) continue;  // the joint hardly moved: keep the datasheet
     JointKnowledge& k = model.joints[j];
     const double a = k.mechanical.torque_gain;
-    const Eigen::Matrix<double, 6, 1> b = acc.m_u - a * acc.m_p;
+    const Eigen::Matrix<double, 7, 1> b = acc.m_u - a * acc.m_p;
     const double yy = acc.uu - 2 * a * acc.up + a * a * acc.pp;
     const MechanicalCalibration& m0 = nominal_.joints[j].mechanical;
-    Eigen::Matrix<double, 6, 1> theta0, sd;
+    Eigen::Matrix<double, 7, 1> theta0, sd;
     theta0 << m0.rotor_inertia_kg_m2, m0.mesh_loss_fraction, m0.viscous_Nm_s, m0.coulomb_Nm, m0.stribeck_Nm,
-        m0.sensor_offset_Nm;
+        m0.sensor_offset_Nm, 0.0;
     sd << kRotorInertiaSpread * m0.rotor_inertia_kg_m2, std::max(0.1, 0.5 * m0.mesh_loss_fraction),
-        0.5 * m0.viscous_Nm_s + 1e-3, 0.5 * m0.coulomb_Nm + 0.01, 0.5 * m0.stribeck_Nm + 0.01, 1.0;
+        0.5 * m0.viscous_Nm_s + 1e-3, 0.5 * m0.coulomb_Nm + 0.01, 0.5 * m0.stribeck_Nm + 0.01, 1.0, 0.1;
     double rms = 0;
     // The filtered balance scatters ~0.1 N m per tick on a healthy unit.
-    const Eigen::Matrix<double, 6, 1> tm = SolveRidge<6>(acc.m_a, b, yy, rows, 0.1, theta0, sd, &rms);
+    const Eigen::Matrix<double, 7, 1> tm = SolveRidge<7>(acc.m_a, b, yy, rows, 0.1, theta0, sd, &rms);
     if (!tm.allFinite() || tm(0) <= 0) continue;
     MechanicalCalibration& mc = k.mechanical;
     mc.rotor_inertia_kg_m2 = tm(0);
@@ -213,6 +213,7 @@ PowerMonitorModel PowerMonitorCommissioning::End() const {
     mc.coulomb_Nm = std::max(0.0, tm(3));
     mc.stribeck_Nm = std::max(0.0, tm(4));
     mc.sensor_offset_Nm = tm(5);
+    mc.mesh_backdriven_extra = std::max(-mc.mesh_loss_fraction, tm(6));
     k.balance_sigma_Nm = std::max(nominal_.joints[j].balance_sigma_Nm, rms);
     k.commissioned = true;
   }

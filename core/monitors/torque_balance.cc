@@ -33,6 +33,7 @@ const FilteredTerms& BalanceFilter::Push(double perceived_torque_Nm, double qd, 
   const double s = qd > 0 ? 1.0 : (qd < 0 ? -1.0 : 0.0);
   f_.sensor_Nm += alpha_ * (tau - f_.sensor_Nm);
   f_.mesh_Nm += alpha_ * (std::fabs(tau) * dir - f_.mesh_Nm);
+  f_.mesh_back_Nm += alpha_ * ((tau * dir < 0 ? std::fabs(tau) * dir : 0.0) - f_.mesh_back_Nm);
   f_.perceived_Nm += alpha_ * (perceived_torque_Nm - f_.perceived_Nm);
   f_.viscous_rad_s = v_;
   f_.coulomb += alpha_ * (s - f_.coulomb);
@@ -45,6 +46,7 @@ BalanceRow RowOf(const MechanicalCalibration& cal, const FilteredTerms& f, doubl
   BalanceRow row;
   row.y = f.sensor_Nm + cal.rotor_inertia_kg_m2 * f.accel_rad_s2 + cal.mesh_loss_fraction * f.mesh_Nm + coupling_Nm -
           cal.sensor_offset_Nm;
+  if (cal.mesh_backdriven_extra != 0) row.y += cal.mesh_backdriven_extra * f.mesh_back_Nm;
   row.torque = cal.torque_gain * f.perceived_Nm;
   row.friction = cal.viscous_Nm_s * f.viscous_rad_s + cal.coulomb_Nm * f.coulomb + cal.stribeck_Nm * f.stribeck;
   row.usable = f.usable;

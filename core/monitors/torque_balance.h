@@ -34,6 +34,9 @@ struct MechanicalCalibration {
   double stribeck_Nm = 0;           // γ F_s
   double stribeck_s2 = 15;          // F_t [s²/rad²]
   double mesh_loss_fraction = 0;    // μ
+  // μ_b − μ: the extra load friction while the link drives the motor (τ_s q̇ < 0); a
+  // strain-wave gear's load friction depends on the direction of power flow.
+  double mesh_backdriven_extra = 0;
   double sensor_offset_Nm = 0;      // d
   // The friction curve f_c(q̇), signed with q̇.
   double FrictionNm(double qd) const {
@@ -47,6 +50,7 @@ struct FilteredTerms {
   double sensor_Nm = 0;      // F[τ_s]
   double accel_rad_s2 = 0;   // F[q̈] = dF[q̇]/dt
   double mesh_Nm = 0;        // F[|τ_s| sgn q̇]
+  double mesh_back_Nm = 0;   // F[|τ_s| sgn q̇] of the ticks with τ_s q̇ < 0 (back-driven)
   double perceived_Nm = 0;   // F[γ K_T i], datasheet K_T
   double viscous_rad_s = 0;  // F[q̇]
   double coulomb = 0;        // F[sgn q̇]

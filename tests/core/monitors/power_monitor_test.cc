@@ -507,6 +507,37 @@ TEST(Commissioning, LearnsTheUnitFromItsHealthySignals) {
   for (const JointKnowledge& k : learned.joints) EXPECT_NEAR(k.mechanical.sensor_offset_Nm, 0.0, 0.1);
 }
 
+// A strain-wave gear loses more, or less, of the transmitted torque when the link drives the
+// motor than when the motor drives the link (load friction by the direction of power flow).
+// Commissioning reads the difference, μ_x, from the signals, whichever way it goes; the
+// datasheet's is 0.
+RobotConfig UnitWithLoadFriction(double driving, double backdriven) {
+  RobotConfig robot = RobotPreset("mrr-config1");
+  for (ModuleParams& m : robot.modules) {
+    m.gearbox.present = true;
+    m.gearbox.load_friction_driving = driving;
+    m.gearbox.load_friction_backdriven = backdriven;
+  }
+  return robot;
+}
+
+TEST(Commissioning, LearnsWhichWayTheGearsLoadFrictionIsLarger) {
+  const PowerMonitorModel nominal = MakePowerMonitorModel(RobotPreset("mrr-config1"), MonitorConfig());
+  for (const JointKnowledge& k : nominal.joints) EXPECT_EQ(k.mechanical.mesh_backdriven_extra, 0.0);
+  const PowerMonitorModel less_back = Commissioned(nominal, UnitWithLoadFriction(0.10, 0.02), MovingAllJoints(16), 99);
+  const PowerMonitorModel more_back = Commissioned(nominal, UnitWithLoadFriction(0.02, 0.10), MovingAllJoints(16), 99);
+  for (int j = 1; j < 3; ++j) {  // the base (j = 0) has a pure inertia load: little torque back-driven
+    SCOPED_TRACE(j + 1);
+    const double less = less_back.joints[j].mechanical.mesh_backdriven_extra;
+    const double more = more_back.joints[j].mechanical.mesh_backdriven_extra;
+    RecordProperty("mesh_backdriven_extra_less_j" + std::to_string(j + 1), std::to_string(less));
+    RecordProperty("mesh_backdriven_extra_more_j" + std::to_string(j + 1), std::to_string(more));
+    EXPECT_LT(less, -0.02);
+    EXPECT_GT(more, 0.02);
+    EXPECT_NEAR(more - less, 0.16, 0.08);  // the truth: +0.08 and -0.08
+  }
+}
+
 TEST(Commissioning, HealthyUnitReadsHealthyOnlyAfterCommissioning) {
   const RobotConfig unit = OffDatasheetUnit();
   const PowerMonitorModel nominal = MakePowerMonitorModel(RobotPreset("mrr-config1"), MonitorConfig());
