@@ -72,6 +72,32 @@ constexpr double kWindingThermometerTimeConstant_s = 60.0;
 constexpr double kLubricantFrictionSlopePerK = 0.021972245773362196;  // ln 3 / 50
 constexpr double kColdHeldByLimitK = 10.0;
 constexpr double kMaxColdK = 40.0;
+// The warm side, the mirror of the cold allowance: a gear warmer than at its commissioning has
+// thinner lubricant, and its friction falls at least by the gentlest slope of the class (half
+// the catalogues' typical 0.02/K above 20 degC: docs/assumptions.md), so wear present from a
+// warm start shows against that floor, not against the calibrated curve it hides under. The
+// first kWarmReadingErrorK of warmth are not counted (the arm's reading errs by about that
+// much), nor any beyond kMaxWarmCountedK more: a drive whose friction does not fall when warm
+// (no lubricant law, as the shipped plain drives; or a gentler one) then reads at most
+// exp(0.14) = 1.15 of its healthy friction, inside the 1.3 limit with the fit's scatter. A
+// winding more than kMaxWarmK over its commissioning gives no floor: the catalogues' curves
+// end there, and a larger rise is as likely a resistance fault (ur-class on plain drives at
+// 80 degC, 60 K over, raised a friction alarm at 6.3 s with a floor).
+constexpr double kWarmLubricantSlopePerK = 0.01;
+constexpr double kWarmReadingErrorK = 5.0;
+constexpr double kMaxWarmCountedK = 14.0;
+constexpr double kMaxWarmK = 40.0;
+// The floor is no lower than the friction the arm's other gears show: a warm gear whose
+// friction did not fall (no lubricant law, as the shipped plain drives: ur-class at 80 degC
+// read 1.0-1.2 on every joint) is not held to a floor its peers do not reach either, while
+// wear is on one joint and leaves the arm's median where the lubricant put it. The shown
+// friction of a joint: the top of its last kShownFrictionBlocks 1-s block medians (a work
+// cycle's swing), the first kUnconvergedFrictionBlocks of the run not counted (the fast fit
+// starts at its prior, 1), once it has kMinShownFrictionBlocks; the arm's: their upper median,
+// over two joints at least.
+constexpr int kShownFrictionBlocks = 20;
+constexpr int kUnconvergedFrictionBlocks = 2;
+constexpr int kMinShownFrictionBlocks = 5;
 // Judged copper loss after which the winding's reading counts as settled; until then the
 // allowance is that of the reading less kWindingUnsettledSe standard errors (one left a wrist
 // of a 5.8 degC cold start alarming before its copper loss had been read).
@@ -110,6 +136,15 @@ double NormalCdf(double z) { return StandardNormalCdf(z); }
 double ColdFrictionAllowance(double winding_rho) {
   const double cold_K = std::min(kMaxColdK, (1.0 - winding_rho) / kCopperPerK);
   return std::exp(kLubricantFrictionSlopePerK * std::max(0.0, cold_K - kColdHeldByLimitK));
+}
+
+// The friction a lubricant as warm as a winding with resistance factor `winding_rho` keeps at
+// most, against the commissioned curve: 1 unless the winding reads between kWarmReadingErrorK
+// and kMaxWarmK above its commissioning.
+double WarmFrictionFloor(double winding_rho) {
+  const double warm_K = (winding_rho - 1.0) / kCopperPerK;
+  if (!(warm_K <= kMaxWarmK)) return 1.0;
+  return std::exp(-kWarmLubricantSlopePerK * std::clamp(warm_K - kWarmReadingErrorK, 0.0, kMaxWarmCountedK));
 }
 
 // Deviation in standard errors; an exact (se 0) deviation counts as very significant.
@@ -300,6 +335,10 @@ struct PowerEfficiencyMonitor::JointState {
   // kFrictionEnvelopeBlocks blocks of motion, followed down only (infinite until they fill).
   double friction_cap = 1;
   bool friction_cap_settled = false;  // friction_cap is from settled readings
+  // The coldest settled reading of the winding's resistance factor (the warm floor's).
+  double coldest_settled_rho = std::numeric_limits<double>::infinity();
+  // The top of the fast factor's recent block medians (kShownFrictionBlocks: the warm floor's peers).
+  double friction_shown = 0;
   double friction_follow = std::numeric_limits<double>::infinity();
   double friction_reference = 1;
   std::array<double, kFrictionEnvelopeBlocks> friction_block_median{};
@@ -474,9 +513,18 @@ TickTerms TermsOf(const JointKnowledge& k, const JointSignals& now, const JointS
 // joint whose copper loss has been read at all, an unsettled one's reading less
 // kWindingUnsettledSe standard errors (on a 5.2 degC cold start two wrists, their fits reading
 // 1.02-1.04 in their first second where 0.94 is the truth, alarmed before any joint settled).
+//
+// `warm_rho`: the lower median over the joints of the coldest settled reading each has given,
+// once every joint whose copper loss has been read has settled, two at least (1 until then):
+// the reading a joint's warm floor may take at most. A median, as the readings err towards the
+// fit's prior (1) where the copper loss is small (a wrist of a 40 degC warm start reads 1.01
+// where 1.14 is the truth) and far from it now and then (an elbow of a 5.4 degC cold start read
+// +0.13 where -0.07 is the truth): neither may set the arm's.
 struct ArmAllowance {
   double settled = 1.0;
   double unsettled = 1.0;
+  double warm_rho = 1.0;
+  double shown_friction = std::numeric_limits<double>::infinity();
 };
 
 double SecondLargest(std::array<double, 64>* values, size_t n) {
@@ -490,7 +538,17 @@ ArmAllowance FrictionAllowanceOfArm(const std::vector<std::unique_ptr<JointState
   std::array<double, 64> read;
   size_t n_settled = 0;
   size_t n_read = 0;
+  bool all_settled = true;
+  std::array<double, 64> coldest;
+  size_t n_coldest = 0;
+  std::array<double, 64> shown;
+  size_t n_shown = 0;
   for (const auto& j : joints) {
+    if (j->friction_blocks >= kUnconvergedFrictionBlocks + kMinShownFrictionBlocks && n_shown < shown.size()) {
+      shown[n_shown++] = j->friction_shown;
+    }
+    if (j->friction_cap_settled && n_coldest < coldest.size()) coldest[n_coldest++] = j->coldest_settled_rho;
+    if (!j->friction_cap_settled && j->winding_rho_judged_s > 0) all_settled = false;
     if (j->friction_cap_settled) {
       if (n_settled < settled.size()) settled[n_settled++] = j->friction_cap;
       if (n_read < read.size()) read[n_read++] = j->friction_cap;
@@ -498,7 +556,17 @@ ArmAllowance FrictionAllowanceOfArm(const std::vector<std::unique_ptr<JointState
       read[n_read++] = ColdFrictionAllowance(j->electrical.rho - kWindingUnsettledSe * j->electrical.rho_se);
     }
   }
-  return {SecondLargest(&settled, n_settled), SecondLargest(&read, n_read)};
+  double warm_rho = 1.0;
+  if (all_settled && n_coldest >= std::min<size_t>(2, joints.size())) {
+    std::sort(coldest.begin(), coldest.begin() + n_coldest);
+    warm_rho = coldest[(n_coldest - 1) / 2];
+  }
+  double shown_friction = std::numeric_limits<double>::infinity();
+  if (n_shown >= 2) {
+    std::sort(shown.begin(), shown.begin() + n_shown);
+    shown_friction = shown[n_shown / 2];
+  }
+  return {SecondLargest(&settled, n_settled), SecondLargest(&read, n_read), warm_rho, shown_friction};
 }
 
 // The friction the run finds, after the fast balance fit `b` has taken this tick (`usable`:
@@ -516,10 +584,12 @@ void UpdateFrictionReference(const MonitorConfig& c, const TickTerms& x, const B
   double allowance;
   if (std::isfinite(x.winding_above_K)) {
     s.friction_cap = std::max(s.friction_cap, ColdFrictionAllowance(1.0 + kCopperPerK * x.winding_above_K));
+    s.coldest_settled_rho = std::min(s.coldest_settled_rho, 1.0 + kCopperPerK * x.winding_above_K);
     s.friction_cap_settled = true;
     allowance = s.friction_cap;
   } else if (s.winding_rho_judged_s >= kWindingSettle_s) {
     s.friction_cap = std::max(s.friction_cap, ColdFrictionAllowance(s.winding_reading));
+    s.coldest_settled_rho = std::min(s.coldest_settled_rho, s.winding_reading);
     s.friction_cap_settled = true;
     allowance = s.friction_cap;
   } else {
@@ -537,6 +607,15 @@ void UpdateFrictionReference(const MonitorConfig& c, const TickTerms& x, const B
       std::nth_element(s.friction_block.begin(), mid, s.friction_block.end());
       s.friction_block_median[s.friction_blocks % kFrictionEnvelopeBlocks] = *mid;
       ++s.friction_blocks;
+      const int n_shown = std::min(kShownFrictionBlocks, s.friction_blocks - kUnconvergedFrictionBlocks);
+      if (n_shown > 0) {
+        std::array<double, kShownFrictionBlocks> recent;
+        for (int i = 0; i < n_shown; ++i) {
+          recent[i] = s.friction_block_median[(s.friction_blocks - 1 - i) % kFrictionEnvelopeBlocks];
+        }
+        std::nth_element(recent.begin(), recent.begin() + n_shown / 2, recent.begin() + n_shown);
+        s.friction_shown = recent[n_shown / 2];
+      }
       s.friction_block_s = 0;
       s.friction_block.clear();
       if (s.friction_blocks >= kFrictionEnvelopeBlocks) {
@@ -551,7 +630,13 @@ void UpdateFrictionReference(const MonitorConfig& c, const TickTerms& x, const B
       }
     }
   }
-  s.friction_reference = std::min(allowance, s.friction_follow);
+  // The warm floor: of the joint's own coldest settled reading (its gear is warmed by its own
+  // motor) or the arm's, whichever is colder; a joint with too little copper loss to read (a
+  // base yaw, a wrist roll without gravity load) takes the arm's. Below 1 it takes the
+  // allowance's place: every reading is settled then, and no joint's allowance exceeds 1.
+  const double warm =
+      std::max(WarmFrictionFloor(std::min(s.coldest_settled_rho, arm.warm_rho)), arm.shown_friction);
+  s.friction_reference = std::min(warm < 1.0 ? warm : allowance, s.friction_follow);
 }
 
 // The electrical fits and the tick-rate torque balance fits after one tick, and the joint's

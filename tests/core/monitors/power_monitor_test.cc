@@ -694,5 +694,41 @@ TEST(PowerMonitorLubricant, AWarmGearsFrictionIsTheReferenceForWear) {
   EXPECT_GT(wrist.friction_factor, 1.3);
 }
 
+// Wear present from a warm start at 40 degC: the thin lubricant hides friction 1.5x under the
+// calibrated curve, and the follower would take it for the unit's own friction. Every winding
+// that reads warm says the gear is warm too, and a warm gear's friction is at most the warm
+// floor (docs/monitor.md, "The friction the run finds"): the wear shows against it.
+TEST(PowerMonitorLubricant, WearFromAWarmStartShowsAgainstTheWarmFloor) {
+  const MonitoredRun worn =
+      RunMonitored(UrClassThermalRun(Fault({{"family", "friction_increase"}, {"friction_factor", 1.5}}, 6, 0.0), 30),
+                   -1, false, 1, 0, 3, 40.0, ThermalStart::kWarm, true);
+  // Found once every winding that carries copper loss has settled (a wrist's after 8 s).
+  ASSERT_TRUE(worn.diagnosis.detected);
+  EXPECT_EQ(worn.diagnosis.family, "friction_increase");
+  EXPECT_EQ(worn.diagnosis.joint, 6);
+  EXPECT_LT(worn.diagnosis.detection_time_s, 15.0);
+  // the premise: against the calibration the worn wrist is under the 1.3 limit
+  const PowerEfficiencyMonitor::Estimates& wrist = worn.all.at(5);
+  EXPECT_LT(wrist.friction_factor * wrist.friction_reference, 1.3);
+  EXPECT_LT(wrist.friction_reference, 0.95);  // the floor
+}
+
+// A drive whose friction does not fall when warm (the plain drives: no lubricant law) is held
+// to no floor its peers do not reach: at 80 degC every winding of the ur-class arm reads warm,
+// which alone would lower the reference to the warm floor (0.87-0.92) and let joint 2 alarm at
+// 6.5 s, but the arm's gears show their calibrated friction, so the reference stays at 1.
+TEST(PowerMonitorLubricant, AWarmFloorIsNoLowerThanTheArmsGearsShow) {
+  const MonitoredRun hot = RunMonitored(UrClassRun(), -1, false, 1, 0, 3, 80.0);
+  EXPECT_FALSE(hot.diagnosis.detected) << hot.diagnosis.family << " on joint " << hot.diagnosis.joint << " at "
+                                       << hot.diagnosis.detection_time_s;
+  int warm_windings = 0;
+  for (size_t j = 0; j < hot.all.size(); ++j) {
+    SCOPED_TRACE(j + 1);
+    if (hot.all[j].resistance_factor > 1.02) ++warm_windings;  // 5 K over the commissioning: W < 1
+    EXPECT_GE(hot.all[j].friction_reference, 0.99);
+  }
+  EXPECT_GE(warm_windings, 3);  // the premise: the windings say warm
+}
+
 }  // namespace
 }  // namespace armfault
