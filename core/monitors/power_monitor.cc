@@ -91,10 +91,10 @@ constexpr double kMaxWarmK = 40.0;
 // friction did not fall (no lubricant law, as the shipped plain drives: ur-class at 80 degC
 // read 1.0-1.2 on every joint) is not held to a floor its peers do not reach either, while
 // wear is on one joint and leaves the arm's median where the lubricant put it. The shown
-// friction of a joint: the top of its last kShownFrictionBlocks 1-s block medians (a work
-// cycle's swing), the first kUnconvergedFrictionBlocks of the run not counted (the fast fit
-// starts at its prior, 1), once it has kMinShownFrictionBlocks; the arm's: their upper median,
-// over two joints at least.
+// friction of a joint: the median of its last kShownFrictionBlocks 1-s block medians (their
+// top sits near the fit's prior, 1, on a warm arm whose joints run at 0.55-0.8), the first
+// kUnconvergedFrictionBlocks of the run not counted (the fast fit starts at its prior), once it
+// has kMinShownFrictionBlocks; the arm's: their upper median, over two joints at least.
 constexpr int kShownFrictionBlocks = 20;
 constexpr int kUnconvergedFrictionBlocks = 2;
 constexpr int kMinShownFrictionBlocks = 5;
@@ -337,7 +337,7 @@ struct PowerEfficiencyMonitor::JointState {
   bool friction_cap_settled = false;  // friction_cap is from settled readings
   // The coldest settled reading of the winding's resistance factor (the warm floor's).
   double coldest_settled_rho = std::numeric_limits<double>::infinity();
-  // The top of the fast factor's recent block medians (kShownFrictionBlocks: the warm floor's peers).
+  // The median of the fast factor's recent block medians (kShownFrictionBlocks: the warm floor's bound).
   double friction_shown = 0;
   double friction_follow = std::numeric_limits<double>::infinity();
   double friction_reference = 1;
@@ -632,8 +632,8 @@ void UpdateFrictionReference(const MonitorConfig& c, const TickTerms& x, const B
   }
   // The warm floor: of the joint's own coldest settled reading (its gear is warmed by its own
   // motor) or the arm's, whichever is colder; a joint with too little copper loss to read (a
-  // base yaw, a wrist roll without gravity load) takes the arm's. Below 1 it takes the
-  // allowance's place: every reading is settled then, and no joint's allowance exceeds 1.
+  // base yaw, a wrist roll without gravity load) takes the arm's; no lower than the arm's gears
+  // show (P). Below 1 it takes the allowance's place: the windings read warm, the gears thin.
   const double warm =
       std::max(WarmFrictionFloor(std::min(s.coldest_settled_rho, arm.warm_rho)), arm.shown_friction);
   s.friction_reference = std::min(warm < 1.0 ? warm : allowance, s.friction_follow);
