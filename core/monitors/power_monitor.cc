@@ -72,6 +72,15 @@ constexpr double kWindingThermometerTimeConstant_s = 60.0;
 constexpr double kLubricantFrictionSlopePerK = 0.021972245773362196;  // ln 3 / 50
 constexpr double kColdHeldByLimitK = 10.0;
 constexpr double kMaxColdK = 40.0;
+// The cold the arm's gears show: the band the limit holds is what a drive whose friction does
+// not rise in the cold (no lubricant law, as the shipped plain drives) needs to have its wear
+// found; a lubricated arm shows its cold on every joint alike, and wear is on one. So a joint
+// is also allowed the friction most of the arm's joints show, at most what the steepest slope
+// gives for the arm's reading less kColdReadingErrorK (the readings err by about that much;
+// docs/monitor.md, "The friction the run finds", C). The held-out arm's wrist of a 3.9 degC
+// cold start ran at 1.24-1.28 of its commissioning all run (a 1.30 peak) with every joint at
+// 1.16-1.28, while its winding read 1-8 K cold.
+constexpr double kColdReadingErrorK = 5.0;
 // The warm side, the mirror of the cold allowance: a gear warmer than at its commissioning has
 // thinner lubricant, and its friction falls at least by the gentlest slope of the class (half
 // the catalogues' typical 0.02/K above 20 degC: docs/assumptions.md), so wear present from a
@@ -504,15 +513,20 @@ TickTerms TermsOf(const JointKnowledge& k, const JointSignals& now, const JointS
   return x;
 }
 
-// The arm's cold allowance: the second largest of its joints' settled ones, the only one of a
-// lone joint's (1 until one has settled). The windings' readings err warm more than cold (a
+// The arm's cold reading `cold_rho`: the second coldest of its joints' readings (the only one
+// of a lone joint's; 1 until one has been read): a settled joint's coldest settled reading, an
+// unsettled one's averaged reading (a joint that settles must not lose the arm's unsettled
+// readings: on a 1.4 degC cold start, 19 K under, the shoulder's allowance fell from 1.15 to
+// 1.00 as it settled at 4.5 s, and it raised a friction alarm at 6.7 s with the elbow settled
+// at 0.950 and the wrist averaging 0.932). The windings' readings err warm more than cold (a
 // joint with little copper loss, the K_T-resistance coupling of the fit: on a 5.7 degC cold
 // start the six read 0.93-1.00 where 0.933 is the truth), so the coldest are the best; the
 // second, so that one joint's odd reading (a K_T loss can lower its resistance fit) widens
-// nothing. A joint whose own reading has not settled takes `unsettled`: the same over every
-// joint whose copper loss has been read at all, an unsettled one's reading less
-// kWindingUnsettledSe standard errors (on a 5.2 degC cold start two wrists, their fits reading
-// 1.02-1.04 in their first second where 0.94 is the truth, alarmed before any joint settled).
+// nothing. A joint whose own reading has not settled also takes `unsettled`: the second
+// largest allowance over every joint whose copper loss has been read at all, an unsettled
+// one's from its reading less kWindingUnsettledSe standard errors (on a 5.2 degC cold start two
+// wrists, their fits reading 1.02-1.04 in their first second where 0.94 is the truth, alarmed
+// before any joint settled).
 //
 // `warm_rho`: the lower median over the joints of the coldest settled reading each has given,
 // once every joint whose copper loss has been read has settled, two at least (1 until then):
@@ -520,8 +534,13 @@ TickTerms TermsOf(const JointKnowledge& k, const JointSignals& now, const JointS
 // fit's prior (1) where the copper loss is small (a wrist of a 40 degC warm start reads 1.01
 // where 1.14 is the truth) and far from it now and then (an elbow of a 5.4 degC cold start read
 // +0.13 where -0.07 is the truth): neither may set the arm's.
+//
+// `cold_friction`: the lower median over the joints of the latest 1-s block median of each
+// one's fast friction factor (two joints at least, 1 until then): the friction most of the arm
+// shows, which wear on one joint does not move.
 struct ArmAllowance {
-  double settled = 1.0;
+  double cold_rho = 1.0;
+  double cold_friction = 1.0;
   double unsettled = 1.0;
   double warm_rho = 1.0;
   double shown_friction = std::numeric_limits<double>::infinity();
@@ -534,10 +553,12 @@ double SecondLargest(std::array<double, 64>* values, size_t n) {
 }
 
 ArmAllowance FrictionAllowanceOfArm(const std::vector<std::unique_ptr<JointState>>& joints) {
-  std::array<double, 64> settled;
+  std::array<double, 64> cold_rho;
   std::array<double, 64> read;
-  size_t n_settled = 0;
+  std::array<double, 64> latest;
+  size_t n_cold_rho = 0;
   size_t n_read = 0;
+  size_t n_latest = 0;
   bool all_settled = true;
   std::array<double, 64> coldest;
   size_t n_coldest = 0;
@@ -550,11 +571,27 @@ ArmAllowance FrictionAllowanceOfArm(const std::vector<std::unique_ptr<JointState
     if (j->friction_cap_settled && n_coldest < coldest.size()) coldest[n_coldest++] = j->coldest_settled_rho;
     if (!j->friction_cap_settled && j->winding_rho_judged_s > 0) all_settled = false;
     if (j->friction_cap_settled) {
-      if (n_settled < settled.size()) settled[n_settled++] = j->friction_cap;
+      if (n_cold_rho < cold_rho.size()) cold_rho[n_cold_rho++] = j->coldest_settled_rho;
       if (n_read < read.size()) read[n_read++] = j->friction_cap;
-    } else if (j->winding_rho_judged_s > 0 && n_read < read.size()) {
-      read[n_read++] = ColdFrictionAllowance(j->electrical.rho - kWindingUnsettledSe * j->electrical.rho_se);
+    } else if (j->winding_rho_judged_s > 0) {
+      if (n_cold_rho < cold_rho.size()) cold_rho[n_cold_rho++] = j->winding_reading;
+      if (n_read < read.size()) {
+        read[n_read++] = ColdFrictionAllowance(j->electrical.rho - kWindingUnsettledSe * j->electrical.rho_se);
+      }
     }
+    if (j->friction_blocks >= 1 && n_latest < latest.size()) {
+      latest[n_latest++] = j->friction_block_median[(j->friction_blocks - 1) % kFrictionEnvelopeBlocks];
+    }
+  }
+  double arm_rho = 1.0;
+  if (n_cold_rho > 0) {
+    std::sort(cold_rho.begin(), cold_rho.begin() + n_cold_rho);
+    arm_rho = cold_rho[n_cold_rho >= 2 ? 1 : 0];
+  }
+  double cold_friction = 1.0;
+  if (n_latest >= 2) {
+    std::sort(latest.begin(), latest.begin() + n_latest);
+    cold_friction = latest[(n_latest - 1) / 2];
   }
   double warm_rho = 1.0;
   if (all_settled && n_coldest >= std::min<size_t>(2, joints.size())) {
@@ -566,7 +603,7 @@ ArmAllowance FrictionAllowanceOfArm(const std::vector<std::unique_ptr<JointState
     std::sort(shown.begin(), shown.begin() + n_shown);
     shown_friction = shown[n_shown / 2];
   }
-  return {SecondLargest(&settled, n_settled), SecondLargest(&read, n_read), warm_rho, shown_friction};
+  return {arm_rho, cold_friction, SecondLargest(&read, n_read), warm_rho, shown_friction};
 }
 
 // The friction the run finds, after the fast balance fit `b` has taken this tick (`usable`:
@@ -595,7 +632,11 @@ void UpdateFrictionReference(const MonitorConfig& c, const TickTerms& x, const B
   } else {
     allowance = std::max(arm.unsettled, ColdFrictionAllowance(s.electrical.rho - kWindingUnsettledSe * s.electrical.rho_se));
   }
-  allowance = std::max(allowance, arm.settled);
+  allowance = std::max(allowance, ColdFrictionAllowance(arm.cold_rho));
+  // C, the cold the arm's gears show (kColdReadingErrorK).
+  const double arm_cold_K = std::clamp((1.0 - arm.cold_rho) / kCopperPerK, 0.0, kMaxColdK);
+  allowance = std::max(
+      allowance, std::min(std::exp(kLubricantFrictionSlopePerK * std::max(0.0, arm_cold_K - kColdReadingErrorK)), arm.cold_friction));
   // Only ticks the fit takes: at rest it forgets towards its prior (1).
   if (usable && b.moving_s >= c.min_balance_moving_s) {
     s.friction_block.push_back(b.friction_factor);
