@@ -76,24 +76,25 @@ constexpr double kMaxColdK = 40.0;
 // not rise in the cold (no lubricant law, as the shipped plain drives) needs to have its wear
 // found; a lubricated arm shows its cold on every joint alike, and wear is on one. So a joint
 // is also allowed the friction most of the arm's joints show, at most what the steepest slope
-// gives for the arm's reading less kColdReadingErrorK (the readings err by about that much;
-// docs/monitor.md, "The friction the run finds", C). The held-out arm's wrist of a 3.9 degC
-// cold start ran at 1.24-1.28 of its commissioning all run (a 1.30 peak) with every joint at
-// 1.16-1.28, while its winding read 1-8 K cold.
-constexpr double kColdReadingErrorK = 5.0;
+// gives for the arm's reading less kWindingReadingErrorK (docs/monitor.md, "The friction the
+// run finds", C). The held-out arm's wrist of a 3.9 degC cold start ran at 1.24-1.28 of its
+// commissioning all run (a 1.30 peak) with every joint at 1.16-1.28, while its winding read
+// 1-8 K cold.
+// The arm's reading of its windings' temperature errs by about this much (the first joints to
+// settle on a 5.2 degC cold start read 2 % warm): neither the cold nor the warm side counts it.
+constexpr double kWindingReadingErrorK = 5.0;
 // The warm side, the mirror of the cold allowance: a gear warmer than at its commissioning has
 // thinner lubricant, and its friction falls at least by the gentlest slope of the class (half
 // the catalogues' typical 0.02/K above 20 degC: docs/assumptions.md), so wear present from a
 // warm start shows against that floor, not against the calibrated curve it hides under. The
-// first kWarmReadingErrorK of warmth are not counted (the arm's reading errs by about that
-// much), nor any beyond kMaxWarmCountedK more: a drive whose friction does not fall when warm
-// (no lubricant law, as the shipped plain drives; or a gentler one) then reads at most
-// exp(0.14) = 1.15 of its healthy friction, inside the 1.3 limit with the fit's scatter. A
+// first kWindingReadingErrorK of warmth are not counted, nor any beyond kMaxWarmCountedK more:
+// a drive whose friction does not fall when warm (no lubricant law, as the shipped plain
+// drives; or a gentler one) then reads at most exp(0.14) = 1.15 of its healthy friction,
+// inside the 1.3 limit with the fit's scatter. A
 // winding more than kMaxWarmK over its commissioning gives no floor: the catalogues' curves
 // end there, and a larger rise is as likely a resistance fault (ur-class on plain drives at
 // 80 degC, 60 K over, raised a friction alarm at 6.3 s with a floor).
 constexpr double kWarmLubricantSlopePerK = 0.01;
-constexpr double kWarmReadingErrorK = 5.0;
 constexpr double kMaxWarmCountedK = 14.0;
 constexpr double kMaxWarmK = 40.0;
 // The floor is no lower than the friction the arm's other gears show: a warm gear whose
@@ -140,20 +141,20 @@ constexpr double kMagnetLossPerK = 0.001;
 double NormalCdf(double z) { return StandardNormalCdf(z); }
 
 // The friction factor a lubricant as cold as a winding with resistance factor `winding_rho`
-// could add beyond what the limit holds: 1 unless the winding reads more than
-// kColdHeldByLimitK below its commissioning.
-double ColdFrictionAllowance(double winding_rho) {
+// could add beyond the `held_K` the limit holds: 1 unless the winding reads more than that
+// below its commissioning; no colder than kMaxColdK counted.
+double ColdFrictionAllowance(double winding_rho, double held_K = kColdHeldByLimitK) {
   const double cold_K = std::min(kMaxColdK, (1.0 - winding_rho) / kCopperPerK);
-  return std::exp(kLubricantFrictionSlopePerK * std::max(0.0, cold_K - kColdHeldByLimitK));
+  return std::exp(kLubricantFrictionSlopePerK * std::max(0.0, cold_K - held_K));
 }
 
 // The friction a lubricant as warm as a winding with resistance factor `winding_rho` keeps at
-// most, against the commissioned curve: 1 unless the winding reads between kWarmReadingErrorK
+// most, against the commissioned curve: 1 unless the winding reads between kWindingReadingErrorK
 // and kMaxWarmK above its commissioning.
 double WarmFrictionFloor(double winding_rho) {
   const double warm_K = (winding_rho - 1.0) / kCopperPerK;
   if (!(warm_K <= kMaxWarmK)) return 1.0;
-  return std::exp(-kWarmLubricantSlopePerK * std::clamp(warm_K - kWarmReadingErrorK, 0.0, kMaxWarmCountedK));
+  return std::exp(-kWarmLubricantSlopePerK * std::clamp(warm_K - kWindingReadingErrorK, 0.0, kMaxWarmCountedK));
 }
 
 // Deviation in standard errors; an exact (se 0) deviation counts as very significant.
@@ -633,10 +634,8 @@ void UpdateFrictionReference(const MonitorConfig& c, const TickTerms& x, const B
     allowance = std::max(arm.unsettled, ColdFrictionAllowance(s.electrical.rho - kWindingUnsettledSe * s.electrical.rho_se));
   }
   allowance = std::max(allowance, ColdFrictionAllowance(arm.cold_rho));
-  // C, the cold the arm's gears show (kColdReadingErrorK).
-  const double arm_cold_K = std::clamp((1.0 - arm.cold_rho) / kCopperPerK, 0.0, kMaxColdK);
-  allowance = std::max(
-      allowance, std::min(std::exp(kLubricantFrictionSlopePerK * std::max(0.0, arm_cold_K - kColdReadingErrorK)), arm.cold_friction));
+  // C, the cold the arm's gears show: what most of the arm shows, up to the steepest slope.
+  allowance = std::max(allowance, std::min(ColdFrictionAllowance(arm.cold_rho, kWindingReadingErrorK), arm.cold_friction));
   // Only ticks the fit takes: at rest it forgets towards its prior (1).
   if (usable && b.moving_s >= c.min_balance_moving_s) {
     s.friction_block.push_back(b.friction_factor);
