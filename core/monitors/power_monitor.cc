@@ -119,6 +119,12 @@ constexpr double kWindingUnsettledSe = 2.0;
 // than the winding: a friction rise of 1.5x on a 5.8 degC wrist dipped the fit's reading by
 // 0.03, widening its own allowance by 10 % and hiding itself.
 constexpr double kWindingReadingTimeConstant_s = 10.0;
+// The warm floor's reading forgets the coldest the reading gave before it converged, one time
+// constant of judged copper loss: until then it is a plain mean of the fit's first moments,
+// which start at its prior (1). A joint 2 of a 21.4 degC warm start on the held-out bench kept
+// 1.0185 as its coldest settled reading, where its winding read 1.08 (20 K warm) from 10 s on,
+// and its wear from the start hid under the commissioned curve all run.
+constexpr double kWindingReadingConverged_s = kWindingReadingTimeConstant_s;
 // A gear that warms through the run thins its lubricant, and a warm-started one begins thin:
 // its friction falls below the commissioned curve, hiding wear under the limit. The reference
 // follows the highest friction the fast fit has shown (the largest median of its last
@@ -345,8 +351,11 @@ struct PowerEfficiencyMonitor::JointState {
   // kFrictionEnvelopeBlocks blocks of motion, followed down only (infinite until they fill).
   double friction_cap = 1;
   bool friction_cap_settled = false;  // friction_cap is from settled readings
-  // The coldest settled reading of the winding's resistance factor (the warm floor's).
+  // The coldest settled reading of the winding's resistance factor (the cold allowance's), and
+  // the coldest since the reading converged (kWindingReadingConverged_s of judged copper loss;
+  // with a declared winding sensor, its reading from the start): WarmFloorReading.
   double coldest_settled_rho = std::numeric_limits<double>::infinity();
+  double coldest_converged_rho = std::numeric_limits<double>::infinity();
   // The median of the fast factor's recent block medians (kShownFrictionBlocks: the warm floor's bound).
   double friction_shown = 0;
   double friction_follow = std::numeric_limits<double>::infinity();
@@ -447,6 +456,12 @@ namespace {
 
 using JointState = PowerEfficiencyMonitor::JointState;
 
+// The warm floor's reading of a joint's winding: the coldest converged reading, and until the
+// reading converges, the coldest settled one (infinite before it settles).
+double WarmFloorReading(const JointState& s) {
+  return std::isfinite(s.coldest_converged_rho) ? s.coldest_converged_rho : s.coldest_settled_rho;
+}
+
 void FinishWindow(EfficiencyWindow* w) {
   w->mesh_in_J = w->rotor_J - w->friction_J;
   w->eta = w->eta_m = w->eta_e = w->eta_expected = w->eta_m_expected = w->eta_e_expected = kNaN;
@@ -529,8 +544,8 @@ TickTerms TermsOf(const JointKnowledge& k, const JointSignals& now, const JointS
 // wrists, their fits reading 1.02-1.04 in their first second where 0.94 is the truth, alarmed
 // before any joint settled).
 //
-// `warm_rho`: the lower median over the joints of the coldest settled reading each has given,
-// once every joint whose copper loss has been read has settled, two at least (1 until then):
+// `warm_rho`: the lower median over the settled joints of each one's WarmFloorReading, once
+// every joint whose copper loss has been read has settled, two at least (1 until then):
 // the reading a joint's warm floor may take at most. A median, as the readings err towards the
 // fit's prior (1) where the copper loss is small (a wrist of a 40 degC warm start reads 1.01
 // where 1.14 is the truth) and far from it now and then (an elbow of a 5.4 degC cold start read
@@ -569,7 +584,7 @@ ArmAllowance FrictionAllowanceOfArm(const std::vector<std::unique_ptr<JointState
     if (j->friction_blocks >= kUnconvergedFrictionBlocks + kMinShownFrictionBlocks && n_shown < shown.size()) {
       shown[n_shown++] = j->friction_shown;
     }
-    if (j->friction_cap_settled && n_coldest < coldest.size()) coldest[n_coldest++] = j->coldest_settled_rho;
+    if (j->friction_cap_settled && n_coldest < coldest.size()) coldest[n_coldest++] = WarmFloorReading(*j);
     if (!j->friction_cap_settled && j->winding_rho_judged_s > 0) all_settled = false;
     if (j->friction_cap_settled) {
       if (n_cold_rho < cold_rho.size()) cold_rho[n_cold_rho++] = j->coldest_settled_rho;
@@ -623,11 +638,15 @@ void UpdateFrictionReference(const MonitorConfig& c, const TickTerms& x, const B
   if (std::isfinite(x.winding_above_K)) {
     s.friction_cap = std::max(s.friction_cap, ColdFrictionAllowance(1.0 + kCopperPerK * x.winding_above_K));
     s.coldest_settled_rho = std::min(s.coldest_settled_rho, 1.0 + kCopperPerK * x.winding_above_K);
+    s.coldest_converged_rho = s.coldest_settled_rho;
     s.friction_cap_settled = true;
     allowance = s.friction_cap;
   } else if (s.winding_rho_judged_s >= kWindingSettle_s) {
     s.friction_cap = std::max(s.friction_cap, ColdFrictionAllowance(s.winding_reading));
     s.coldest_settled_rho = std::min(s.coldest_settled_rho, s.winding_reading);
+    if (s.winding_rho_judged_s >= kWindingReadingConverged_s) {
+      s.coldest_converged_rho = std::min(s.coldest_converged_rho, s.winding_reading);
+    }
     s.friction_cap_settled = true;
     allowance = s.friction_cap;
   } else {
@@ -670,12 +689,12 @@ void UpdateFrictionReference(const MonitorConfig& c, const TickTerms& x, const B
       }
     }
   }
-  // The warm floor: of the joint's own coldest settled reading (its gear is warmed by its own
+  // The warm floor: of the joint's own reading (WarmFloorReading: its gear is warmed by its own
   // motor) or the arm's, whichever is colder; a joint with too little copper loss to read (a
   // base yaw, a wrist roll without gravity load) takes the arm's; no lower than the arm's gears
   // show (P). Below 1 it takes the allowance's place: the windings read warm, the gears thin.
   const double warm =
-      std::max(WarmFrictionFloor(std::min(s.coldest_settled_rho, arm.warm_rho)), arm.shown_friction);
+      std::max(WarmFrictionFloor(std::min(WarmFloorReading(s), arm.warm_rho)), arm.shown_friction);
   s.friction_reference = std::min(warm < 1.0 ? warm : allowance, s.friction_follow);
 }
 

@@ -79,5 +79,23 @@ TEST(ConfoundersHeldOut, WearFromAColdStartIsFoundAgainstTheArmsCold) {
   EXPECT_LT(r.detection_time_s.value_or(99), 2.0);
 }
 
+// Wear present from a warm start, hidden by the thin lubricant: friction 1.5x on joint 2 of a
+// 21.4 degC warm start. Its winding's averaged reading was still a plain mean of the fit's first
+// moments when it settled (1.0185 at 2 s, where it read 1.08, 20 K warm, from 10 s on), and the
+// warm floor, counting the coldest settled reading, stayed at 1 all 300 s. Once the reading has
+// converged (10 s of judged copper loss) the floor forgets what it read before (docs/monitor.md,
+// "The friction the run finds", W).
+TEST(ConfoundersHeldOut, WearFromAWarmStartIsFoundOnceTheWindingsReadingConverges) {
+  CaseSpec spec;
+  const RunRecord r = FirstSecondsOf("pick/friction_increase#2/-/j2/r1", 25.0, &spec, kHeldOut);
+  EXPECT_TRUE(spec.warm_start);
+  EXPECT_NEAR(spec.ambient_C, 21.4, 0.1);
+  ASSERT_TRUE(r.ok) << r.failure_reason;
+  ASSERT_TRUE(r.detected);
+  EXPECT_EQ(r.isolated_family, "friction_increase");
+  EXPECT_EQ(r.isolated_joint, 2);
+  EXPECT_GT(r.detection_time_s.value_or(0), 10.0);  // not before the reading converges
+}
+
 }  // namespace
 }  // namespace armfault
