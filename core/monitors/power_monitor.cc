@@ -157,10 +157,11 @@ double ColdFrictionAllowance(double winding_rho, double held_K = kColdHeldByLimi
 // The friction a lubricant as warm as a winding with resistance factor `winding_rho` keeps at
 // most, against the commissioned curve: 1 unless the winding reads between kWindingReadingErrorK
 // and kMaxWarmK above its commissioning.
-double WarmFrictionFloor(double winding_rho) {
+double WarmFrictionFloor(double winding_rho, double slope_per_K = kWarmLubricantSlopePerK,
+                         double max_counted_K = kMaxWarmCountedK) {
   const double warm_K = (winding_rho - 1.0) / kCopperPerK;
   if (!(warm_K <= kMaxWarmK)) return 1.0;
-  return std::exp(-kWarmLubricantSlopePerK * std::clamp(warm_K - kWindingReadingErrorK, 0.0, kMaxWarmCountedK));
+  return std::exp(-slope_per_K * std::clamp(warm_K - kWindingReadingErrorK, 0.0, max_counted_K));
 }
 
 // Deviation in standard errors; an exact (se 0) deviation counts as very significant.
@@ -358,6 +359,9 @@ struct PowerEfficiencyMonitor::JointState {
   double coldest_converged_rho = std::numeric_limits<double>::infinity();
   // The median of the fast factor's recent block medians (kShownFrictionBlocks: the warm floor's bound).
   double friction_shown = 0;
+  // The friction the joint's gear first showed: the top of its first kMinShownFrictionBlocks
+  // block medians after the kUnconvergedFrictionBlocks (infinite until it has them all).
+  double friction_first_top = std::numeric_limits<double>::infinity();
   double friction_follow = std::numeric_limits<double>::infinity();
   double friction_reference = 1;
   std::array<double, kFrictionEnvelopeBlocks> friction_block_median{};
@@ -674,6 +678,9 @@ void UpdateFrictionReference(const MonitorConfig& c, const TickTerms& x, const B
         }
         std::nth_element(recent.begin(), recent.begin() + n_shown / 2, recent.begin() + n_shown);
         s.friction_shown = recent[n_shown / 2];
+        if (n_shown == kMinShownFrictionBlocks) {
+          s.friction_first_top = *std::max_element(recent.begin(), recent.begin() + n_shown);
+        }
       }
       s.friction_block_s = 0;
       s.friction_block.clear();
@@ -693,8 +700,17 @@ void UpdateFrictionReference(const MonitorConfig& c, const TickTerms& x, const B
   // motor) or the arm's, whichever is colder; a joint with too little copper loss to read (a
   // base yaw, a wrist roll without gravity load) takes the arm's; no lower than the arm's gears
   // show (P). Below 1 it takes the allowance's place: the windings read warm, the gears thin.
-  const double warm =
-      std::max(WarmFrictionFloor(std::min(WarmFloorReading(s), arm.warm_rho)), arm.shown_friction);
+  double warm = std::max(WarmFrictionFloor(std::min(WarmFloorReading(s), arm.warm_rho)), arm.shown_friction);
+  // E, the floor the gear's own first friction supports: a warm arm's gears may thin more than
+  // the gentlest slope's kMaxWarmCountedK allow (the held-out wrist of a 31.2 degC warm start
+  // ran at 0.71 of its commissioning, the floor at 0.87, and wear ramping from 30 s hid under
+  // it). Down to the arm's reading at the steepest slope, no lower than what the arm's gears
+  // show (P) or than what this joint first showed: a gear whose friction did not fall shows
+  // it from its first blocks on.
+  if (warm < 1.0) {
+    warm = std::min(warm, std::max({WarmFrictionFloor(arm.warm_rho, kLubricantFrictionSlopePerK, kMaxWarmK),
+                                    arm.shown_friction, s.friction_first_top}));
+  }
   s.friction_reference = std::min(warm < 1.0 ? warm : allowance, s.friction_follow);
 }
 
