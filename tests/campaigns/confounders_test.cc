@@ -52,6 +52,14 @@ TEST(ConfoundersBench, ACold52DegreeStartRaisesNoAlarmBeforeAnyWindingSettles) {
 
 constexpr char kHeldOut[] = "campaigns/sketches/confounders-heldout.json";
 
+// The run found friction wear, on `joint`.
+void ExpectFrictionFoundOn(const RunRecord& r, int joint) {
+  ASSERT_TRUE(r.ok) << r.failure_reason;
+  ASSERT_TRUE(r.detected);
+  EXPECT_EQ(r.isolated_family, "friction_increase");
+  EXPECT_EQ(r.isolated_joint, joint);
+}
+
 // The held-out bench: another arm (four joints), an Arrhenius lubricant the monitor does not
 // know. Three cold starts at 1.3-3.9 degC, 16-19 K under the commissioning, raised friction
 // alarms in their first strokes (wrist at 3.9 and 4.3 s, shoulder at 6.7 s): every joint's
@@ -78,10 +86,7 @@ TEST(ConfoundersHeldOut, WearFromAColdStartIsFoundAgainstTheArmsCold) {
   CaseSpec spec;
   const RunRecord r = FirstSecondsOf("pick/friction_increase#2/-/j4/r0", 10.0, &spec, kHeldOut);
   EXPECT_FALSE(spec.warm_start);
-  ASSERT_TRUE(r.ok) << r.failure_reason;
-  ASSERT_TRUE(r.detected);
-  EXPECT_EQ(r.isolated_family, "friction_increase");
-  EXPECT_EQ(r.isolated_joint, 4);
+  ExpectFrictionFoundOn(r, 4);
   EXPECT_LT(r.detection_time_s.value_or(99), 2.0);
 }
 
@@ -96,10 +101,7 @@ TEST(ConfoundersHeldOut, WearFromAWarmStartIsFoundOnceTheWindingsReadingConverge
   const RunRecord r = FirstSecondsOf("pick/friction_increase#2/-/j2/r1", 25.0, &spec, kHeldOut);
   EXPECT_TRUE(spec.warm_start);
   EXPECT_NEAR(spec.ambient_C, 21.4, 0.1);
-  ASSERT_TRUE(r.ok) << r.failure_reason;
-  ASSERT_TRUE(r.detected);
-  EXPECT_EQ(r.isolated_family, "friction_increase");
-  EXPECT_EQ(r.isolated_joint, 2);
+  ExpectFrictionFoundOn(r, 2);
   EXPECT_GT(r.detection_time_s.value_or(0), 10.0);  // not before the reading converges
 }
 
@@ -114,10 +116,7 @@ TEST(ConfoundersHeldOut, AWearRampOnAWarmWristIsFoundAgainstWhatItsGearFirstShow
   const RunRecord r = FirstSecondsOf("pick/friction_increase#3/-/j4/r0", 150.0, &spec, kHeldOut);
   EXPECT_TRUE(spec.warm_start);
   EXPECT_NEAR(spec.ambient_C, 31.2, 0.1);
-  ASSERT_TRUE(r.ok) << r.failure_reason;
-  ASSERT_TRUE(r.detected);
-  EXPECT_EQ(r.isolated_family, "friction_increase");
-  EXPECT_EQ(r.isolated_joint, 4);
+  ExpectFrictionFoundOn(r, 4);
   EXPECT_FALSE(r.alarm_before_onset);
 }
 
