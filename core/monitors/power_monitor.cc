@@ -347,7 +347,8 @@ struct PowerEfficiencyMonitor::JointState {
   double winding_rho_judged_s = 0;  // time since the copper loss was first enough to judge it
   double winding_reading = 1;  // the cold allowance's reading (kWindingReadingTimeConstant_s)
   // The friction the run finds: the friction statistic is the fast fit's factor over
-  // min(allowance, friction_follow). friction_cap: the cold allowance of the coldest the
+  // friction_reference (UpdateFrictionReference: min(max(A, C), F), or min(max(W, P), E, F)
+  // on a warm arm; docs/monitor.md). friction_cap: the cold allowance of the coldest the
   // winding has read. friction_follow: the top of the fast factor over the last
   // kFrictionEnvelopeBlocks blocks of motion, followed down only (infinite until they fill).
   double friction_cap = 1;
