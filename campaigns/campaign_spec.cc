@@ -20,6 +20,9 @@ using spec_parse::ParseSweep;
 namespace {
 
 constexpr long kMaxCases = 10'000'000;
+// Commissioning on a work cycle: two cycles of 14 s and more (the held-out-b bench's place
+// cycle; docs/campaign-format.md, "Commissioning").
+constexpr double kDefaultTrajectoryCommissioning_s = 30.0;
 
 Sweep VariationSweep(ObjectReader& reader, const char* key, double min, double max) {
   Sweep s;
@@ -176,6 +179,38 @@ void ParseTrajectories(ObjectReader& reader, bool robot_ok, bool duration_ok, co
   }
 }
 
+// The object form of "commissioning": on, on one of the campaign's trajectories (by name,
+// default the first) for duration_s (default 30 s or the campaign's duration if shorter; at most
+// the campaign's duration, over which the trajectory was checked against the robot).
+void ParseCommissioningOnTrajectory(const nlohmann::json& v, const std::string& pointer, CampaignSpec* c,
+                                    ErrorList* errors) {
+  ObjectReader r(v, pointer);
+  errors->Try([&] { r.AllowOnly({"trajectory", "duration_s"}); });
+  c->commissioning = true;
+  c->commissioning_trajectory = 0;
+  c->commissioning_duration_s = std::min(kDefaultTrajectoryCommissioning_s, std::max(1.0, c->duration_s));
+  errors->Try([&] {
+    std::string name = c->trajectories.empty() ? std::string() : c->trajectories.front().name;
+    r.OptionalString("trajectory", &name);
+    for (size_t i = 0; i < c->trajectories.size(); ++i) {
+      if (c->trajectories[i].name == name) {
+        c->commissioning_trajectory = static_cast<int>(i);
+        return;
+      }
+    }
+    if (r.Has("trajectory")) {
+      std::string known;
+      for (const CampaignTrajectory& t : c->trajectories) known += (known.empty() ? "\"" : ", \"") + t.name + "\"";
+      throw InputError("", r.PointerTo("trajectory"),
+                       "no trajectory named " + Describe(v["trajectory"]) + " in this campaign (its trajectories: " + known + ")");
+    }
+  });
+  errors->Try([&] {
+    r.OptionalNumber("duration_s", &c->commissioning_duration_s);
+    RequireInRange(c->commissioning_duration_s, 1.0, std::max(1.0, c->duration_s), r.PointerTo("duration_s"));
+  });
+}
+
 // The "variation" object.
 void ParseVariation(const nlohmann::json& v, const std::string& pointer, Variation* out, ErrorList* errors) {
   ObjectReader vr(v, pointer);
@@ -219,7 +254,12 @@ nlohmann::json Resolved(const CampaignSpec& c, const nlohmann::json& value) {
   resolved["healthy"] = c.healthy;
   resolved["repetitions"] = c.repetitions;
   resolved["monitor"] = c.monitor.ToJson();  // as given: the widening is derived again on reading
-  if (c.variation.has_tolerances || value.contains("commissioning")) resolved["commissioning"] = c.commissioning;
+  if (c.commissioning_trajectory >= 0 && static_cast<size_t>(c.commissioning_trajectory) < c.trajectories.size()) {
+    resolved["commissioning"] = {{"trajectory", c.trajectories[c.commissioning_trajectory].name},
+                                 {"duration_s", c.commissioning_duration_s}};
+  } else if (c.variation.has_tolerances || value.contains("commissioning")) {
+    resolved["commissioning"] = c.commissioning;
+  }
   if (value.contains("include_not_excited")) resolved["include_not_excited"] = c.include_not_excited;
   if (!resolved.contains("faults")) resolved["faults"] = nlohmann::json::array();
   if (!resolved.contains("variation")) resolved["variation"] = nlohmann::json::object();
@@ -349,8 +389,14 @@ CampaignSpec CampaignSpecFromJson(const nlohmann::json& value, const std::string
     c.commissioning = c.variation.has_tolerances;
     errors.Try([&] {
       if (const auto* v = reader.Find("commissioning")) {
-        if (!v->is_boolean()) throw InputError("", reader.PointerTo("commissioning"), "expected true or false, got " + Describe(*v));
-        c.commissioning = v->get<bool>();
+        if (v->is_object()) {
+          ParseCommissioningOnTrajectory(*v, reader.PointerTo("commissioning"), &c, &errors);
+        } else if (!v->is_boolean()) {
+          throw InputError("", reader.PointerTo("commissioning"),
+                           "expected true, false or {\"trajectory\": NAME, \"duration_s\": SECONDS}, got " + Describe(*v));
+        } else {
+          c.commissioning = v->get<bool>();
+        }
       }
     });
     errors.Try([&] {

@@ -148,6 +148,11 @@ struct CampaignSpec {
   // One healthy commissioning run per unit teaches the monitor that unit (docs/monitor.md);
   // default: on when the campaign states tolerances.
   bool commissioning = false;
+  // "commissioning": {"trajectory": NAME, "duration_s": D}: each unit is commissioned on that
+  // trajectory of the campaign (its index in `trajectories`) for D seconds, the work it does,
+  // instead of the sine motion (campaigns/run_pipeline.cc, CommissioningMotion). -1: the sine.
+  int commissioning_trajectory = -1;
+  double commissioning_duration_s = 0;
   // Score runs whose fault could not act (RunRecord::not_excited_reason) like any other; by
   // default they are listed apart and left out of every rate.
   bool include_not_excited = false;

@@ -110,7 +110,11 @@ TEST(CampaignParse, ErrorsPointAtTheOffendingValue) {
       {R"([{"op": "add", "path": "/variation/warm_start_fraction", "value": 1.5}])", "/variation/warm_start_fraction", "1.5"},
       {R"([{"op": "add", "path": "/variation/warm_start_fraction", "value": "half"}])", "/variation/warm_start_fraction",
        "expected a number"},
-      {R"([{"op": "add", "path": "/commissioning", "value": "yes"}])", "/commissioning", "true or false"},
+      {R"([{"op": "add", "path": "/commissioning", "value": "yes"}])", "/commissioning", "expected true, false or"},
+      {R"([{"op": "add", "path": "/commissioning", "value": {"trajectory": "pick"}}])", "/commissioning/trajectory",
+       "no trajectory named \"pick\" in this campaign (its trajectories: \"exp1\")"},
+      {R"([{"op": "add", "path": "/commissioning", "value": {"duration_s": 4}}])", "/commissioning/duration_s", "4"},
+      {R"([{"op": "add", "path": "/commissioning", "value": {"duraton_s": 2}}])", "/commissioning/duraton_s", "unknown key"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.patch);
@@ -383,6 +387,24 @@ json Fleet() {
                                    "friction_spread": 0.15})");
   j["duration_s"] = 2;
   return j;
+}
+
+// Commissioning on one of the campaign's trajectories: by name, for the given seconds; the
+// resolved campaign writes the object with its defaults, and reads back the same.
+TEST(CampaignFleet, CommissioningOnATrajectoryIsReadAndWrittenBack) {
+  json j = Fleet();
+  j["commissioning"] = {{"duration_s", 1.5}};
+  const Campaign c = Parse(j);
+  EXPECT_TRUE(c.commissioning);
+  EXPECT_EQ(c.commissioning_trajectory, 0);  // the first, by default
+  EXPECT_EQ(c.commissioning_duration_s, 1.5);
+  EXPECT_EQ(c.resolved["commissioning"], json::parse(R"({"trajectory": "exp1", "duration_s": 1.5})"));
+  const Campaign again = Parse(c.resolved);
+  EXPECT_EQ(again.commissioning_trajectory, 0);
+  EXPECT_EQ(again.commissioning_duration_s, 1.5);
+  // A boolean keeps the sine motion.
+  j["commissioning"] = true;
+  EXPECT_EQ(Parse(j).commissioning_trajectory, -1);
 }
 
 TEST(CampaignFleet, RunsOfOneUnitShareItsDrawsAndUnitsDiffer) {

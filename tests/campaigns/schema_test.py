@@ -187,6 +187,15 @@ with tempfile.TemporaryDirectory(prefix="armfault_schema_test.") as tmp:
     status, stderr = loader(good_path)
     check("loader accepts a compound entry", status == 0, stderr[:300])
 
+    good = copy.deepcopy(BASE)
+    good["commissioning"] = {"trajectory": "exp1", "duration_s": 1}
+    good_path = os.path.join(tmp, "good-commissioning.json")
+    with open(good_path, "w") as f:
+        json.dump(good, f)
+    check("schema accepts commissioning on a trajectory", not schema_errors(good), str(schema_errors(good)[:1]))
+    status, stderr = loader(good_path)
+    check("loader accepts commissioning on a trajectory", status == 0, stderr[:300])
+
     both = [
         ("compound of one fault", compound(compound=[COMPOUND["compound"][0]])),
         ("compound with an unknown key", compound(joint=2)),
@@ -276,6 +285,9 @@ with tempfile.TemporaryDirectory(prefix="armfault_schema_test.") as tmp:
         ("units 0", put(["variation", "units"], 0)),
         ("fractional units", put(["variation", "units"], 1.5)),
         ("commissioning as text", put(["commissioning"], "yes")),
+        ("commissioning with an unknown key", put(["commissioning"], {"trajectory": "exp1", "duraton_s": 1})),
+        ("commissioning for 0 s", put(["commissioning"], {"duration_s": 0})),
+        ("commissioning trajectory as a number", put(["commissioning"], {"trajectory": 1})),
         ("monitor as a number", put(["monitor"], 5)),
         ("plugin without a library", put(["monitor"], {"type": "plugin"})),
         ("plugin with an unknown key", put(["monitor"], {"type": "plugin", "library": "lib.so", "setting": {}})),
@@ -362,6 +374,8 @@ with tempfile.TemporaryDirectory(prefix="armfault_schema_test.") as tmp:
                                                   "drift_Nm_per_s": {"from": -1, "to": 1, "steps": 3}})),
         ("ambient uniform low above high", put(["variation", "ambient_C"], {"uniform": [40, 15]})),
         ("duplicate trajectory names", put(["trajectories"], [BASE["trajectories"][0], BASE["trajectories"][0]])),
+        ("commissioning on an unknown trajectory", put(["commissioning"], {"trajectory": "pick"})),
+        ("commissioning longer than the campaign", put(["commissioning"], {"trajectory": "exp1", "duration_s": 2})),
         ("trajectory beyond the joint's range", sine(amplitude_deg=200)),
         ("trajectory on joint 7 of a 3-joint robot", put(["trajectories", 0, "joints", "7"], {"type": "hold"})),
         ("fault on joint 7 of a 3-joint robot", kt_with(joint=7)),
