@@ -178,23 +178,20 @@ with tempfile.TemporaryDirectory(prefix="armfault_schema_test.") as tmp:
             d["faults"].append(entry)
         return edit
 
-    good = copy.deepcopy(BASE)
-    compound()(good)
-    good_path = os.path.join(tmp, "good-compound.json")
-    with open(good_path, "w") as f:
-        json.dump(good, f)
-    check("schema accepts a compound entry", not schema_errors(good), str(schema_errors(good)[:1]))
-    status, stderr = loader(good_path)
-    check("loader accepts a compound entry", status == 0, stderr[:300])
+    def accepted(what, edit, file_name):
+        """Both the schema and the loader accept BASE after `edit`."""
+        good = copy.deepcopy(BASE)
+        edit(good)
+        good_path = os.path.join(tmp, file_name)
+        with open(good_path, "w") as f:
+            json.dump(good, f)
+        check("schema accepts " + what, not schema_errors(good), str(schema_errors(good)[:1]))
+        status, stderr = loader(good_path)
+        check("loader accepts " + what, status == 0, stderr[:300])
 
-    good = copy.deepcopy(BASE)
-    good["commissioning"] = {"trajectory": "exp1", "duration_s": 1}
-    good_path = os.path.join(tmp, "good-commissioning.json")
-    with open(good_path, "w") as f:
-        json.dump(good, f)
-    check("schema accepts commissioning on a trajectory", not schema_errors(good), str(schema_errors(good)[:1]))
-    status, stderr = loader(good_path)
-    check("loader accepts commissioning on a trajectory", status == 0, stderr[:300])
+    accepted("a compound entry", compound(), "good-compound.json")
+    accepted("commissioning on a trajectory", put(["commissioning"], {"trajectory": "exp1", "duration_s": 1}),
+             "good-commissioning.json")
 
     both = [
         ("compound of one fault", compound(compound=[COMPOUND["compound"][0]])),
