@@ -64,16 +64,16 @@ UnitMonitor CommissionUnit(const Campaign& campaign, const CaseSpec& spec) {
     const StatedTolerances stated = StatedOf(campaign);
     run.ambient_C = 0.5 * (stated.ambient_min_C + stated.ambient_max_C);
     run.joints.resize(robot.modules.size());
-    for (const auto& [joint, trajectory] :
-         JointTrajectoriesFromJson(CommissioningMotion(robot), "/commissioning", robot, run.duration_s, context)) {
-      run.joints[joint - 1].trajectory = trajectory;
-    }
-    // Or on one of the campaign's trajectories, the work the unit does.
     const int on = campaign.commissioning_trajectory;
     if (on >= 0 && static_cast<size_t>(on) < campaign.loaded_trajectories.size()) {
+      // On one of the campaign's trajectories, the work the unit does.
       run.duration_s = campaign.commissioning_duration_s;
-      for (auto& joint : run.joints) joint.trajectory = nullptr;
       for (const auto& [joint, trajectory] : campaign.loaded_trajectories[on]) run.joints[joint - 1].trajectory = trajectory;
+    } else {
+      for (const auto& [joint, trajectory] :
+           JointTrajectoriesFromJson(CommissioningMotion(robot), "/commissioning", robot, run.duration_s, context)) {
+        run.joints[joint - 1].trajectory = trajectory;
+      }
     }
     // Streamed tick by tick to the monitor (CommissioningSink); one that learns nothing from it
     // (no sink) still has its unit commissioned, so a unit that cannot be fails its runs alike.
