@@ -63,6 +63,20 @@ constexpr double kMaxWindingResistanceRise = 0.393;  // 100 K of copper: beyond 
 // this time constant (a winding warms over minutes), so that the jump an abrupt K_T loss puts
 // into the joint electrical fit for a few seconds does not widen the K_T allowance.
 constexpr double kWindingThermometerTimeConstant_s = 60.0;
+// A warm magnet as a hypothesis the data must reject. In a warm unit's first strokes the
+// electrical fit's rotor and copper power are nearly collinear and it reads K_T and resistance
+// low together (a held-out elbow of a 35.5 degC warm start: K_T 0.920 and resistance 1.05 at
+// 1.9 s, their errors correlated +0.85, where a second later it read 0.948 and 1.11): a K_T
+// "loss" 0.064 past the warm magnet's allowance at 5 standard errors. So while a joint's K_T
+// has been judged for less than kWarmMagnetHypothesis_s, a K_T loss is no more significant than
+// the data's rejection of a magnet as warm as its winding: the fit held to the line
+// n = 1 - 0.305 (rho - 1), its rho at most kWarmMagnetReadingFactor times as far above 1 as the
+// winding reads (early readings err low: those elbows read 0.05-0.07 above 1 at 1.9 s and
+// 0.08-0.11 a second later, and the line's best fit put them 2.0-2.8 times as far; a winding
+// that reads no warmth gives no hypothesis), against the free fit, in chi-square units of its
+// residual. Afterwards the thermometer has read the warmth and the allowance alone counts.
+constexpr double kWarmMagnetHypothesis_s = kWindingThermometerTimeConstant_s;
+constexpr double kWarmMagnetReadingFactor = 3.0;
 // The friction the run finds (docs/monitor.md, "The friction the run finds"). A strain-wave
 // gear's lubricant thickens in the cold and thins when warm: the no-load running torque falls
 // by a factor of about 3 from -10 to +40 degC (strain-wave gear catalogues, docs/assumptions.md),
@@ -271,6 +285,24 @@ struct ElectricalFit {
     sse = e;
     return true;
   }
+  // How strongly the data reject a magnet as warm as a winding with resistance factor at most
+  // `rho_cap` (kWarmMagnetHypothesis_s): the residual sum of squares of the fit on the line
+  // n = 1 - s (rho - 1), rho <= rho_cap, over the free fit's, in units of the free fit's
+  // residual variance. Infinite where the line needs a winding over kMaxWindingResistanceRise.
+  double WarmMagnetRejection(double rho_cap) const {
+    ElectricalFit line = *this;
+    if (!line.FitOnColdMagnetBound() || !(line.rho <= 1.0 + kMaxWindingResistanceRise)) {
+      return std::numeric_limits<double>::infinity();
+    }
+    if (line.rho > rho_cap) {  // the residual is quadratic along the line: its bound is the best
+      const double tr = rho_cap, tn = 1.0 - kMagnetFluxPerCopperResistance * (tr - 1.0);
+      const double tq = (b[2] - tn * a[2] - tr * a[4]) / (a[5] + constant_prior);
+      line.sse = Sse(tn, tr, tq);
+    }
+    const double sigma2 = std::max(0.0, sse) / std::max(1.0, weight - 3.0);
+    if (!(sigma2 > 0)) return std::numeric_limits<double>::infinity();
+    return std::max(0.0, line.sse - sse) / sigma2;
+  }
   // Solves with prior weight `n_prior` on n = 1.
   bool Fit(double n_prior) {
     std::array<double, 6> m = a;
@@ -345,6 +377,7 @@ struct PowerEfficiencyMonitor::JointState {
   // The winding's resistance factor as a slow thermometer (kWindingThermometerTimeConstant_s).
   double winding_rho = 1;
   double winding_rho_judged_s = 0;  // time since the copper loss was first enough to judge it
+  double kt_judged_s = 0;           // time the rotor power has been enough to judge K_T
   double winding_reading = 1;  // the cold allowance's reading (kWindingReadingTimeConstant_s)
   // The friction the run finds: the friction statistic is the fast fit's factor over
   // friction_reference (UpdateFrictionReference: min(max(A, C), F), or min(max(W, P), E, F)
@@ -927,13 +960,25 @@ Candidate TickLevelCandidate(const MonitorConfig& c, const JointKnowledge& k, co
   return structural;
 }
 
+// The K_T statistic's significance: that of its deviation, and in a joint's first
+// kWarmMagnetHypothesis_s of K_T judged on a winding that reads warm, no more than the data's
+// rejection of a warm magnet.
+double KtSignificance(double deviation, double se, const JointState& s, bool judge_r) {
+  const double z = Significance(deviation, se);
+  if (!(z > 0) || !judge_r || !(s.winding_rho > 1.0) || s.kt_judged_s >= kWarmMagnetHypothesis_s) return z;
+  const double rho_cap = 1.0 + kWarmMagnetReadingFactor * (s.winding_rho - 1.0);
+  return std::min(z, std::sqrt(s.electrical.WarmMagnetRejection(rho_cap)));
+}
+
 // The parametric detectors: deviation statistics from the estimates, held over the debounce
 // time (s->readings); the magnitude fit starts where the friction or drift statistic first
 // crosses its limit. Returns whether the friction is far beyond wear: a brake dragging.
-bool UpdateReadings(const MonitorConfig& c, const JointKnowledge& k, const DetectorThresholds& thresholds, JointState* state) {
+bool UpdateReadings(const MonitorConfig& c, const JointKnowledge& k, const DetectorThresholds& thresholds, double dt,
+                    JointState* state) {
   JointState& s = *state;
   const PowerEfficiencyMonitor::Estimates& e = s.est;
   const bool judge_n = s.excitation_rotor_J >= c.min_rotor_energy_J;
+  if (judge_n) s.kt_judged_s += dt;
   const bool judge_r = s.excitation_copper_J >= c.min_copper_energy_J;
   const BalanceFit::Estimate& bal = s.balance.estimate();
   const BalanceFit::Estimate& slow = s.balance_slow.estimate();
@@ -952,7 +997,7 @@ bool UpdateReadings(const MonitorConfig& c, const JointKnowledge& k, const Detec
       judge_n ? 1 - e.kt_factor - thermal_kt_allowance : kNoStatistic, judge_r ? e.resistance_factor - 1 : kNoStatistic,
       judge_b ? bal.friction_factor / s.friction_reference - 1 : kNoStatistic, judge_d ? std::fabs(slow.offset_Nm - s.offset_base_Nm) : kNoStatistic};
   const std::array<double, kDetectorCount> significance = {
-      judge_n ? Significance(deviation[0], e.kt_factor_se) : kNoStatistic,
+      judge_n ? KtSignificance(deviation[0], e.kt_factor_se, s, judge_r) : kNoStatistic,
       judge_r ? Significance(deviation[1], e.resistance_factor_se) : kNoStatistic,
       judge_b ? Significance(deviation[2], bal.friction_factor_se / s.friction_reference) : kNoStatistic,
       judge_d ? Significance(deviation[3], slow.offset_se) : kNoStatistic};
@@ -1094,7 +1139,7 @@ void PowerEfficiencyMonitor::Observe(double t_s, const std::vector<JointSignals>
     if (!s.structural.structural && structural.structural) s.structural = structural;
 
     // --- parametric detectors: deviation statistics, held over the debounce time ---
-    const bool drag = UpdateReadings(c, k, model_.thresholds, &s);
+    const bool drag = UpdateReadings(c, k, model_.thresholds, dt, &s);
 
     // --- the joint's verdict ---
     EmitVerdict(ShownCandidate(c, k, model_.thresholds, drag, s), t_s, j + 1, &s, &output_.verdicts);

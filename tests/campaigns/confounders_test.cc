@@ -180,5 +180,43 @@ TEST(ConfoundersHeldOutB, AnElbowCommissionedOnItsWorkCycleIsNotThrownByItsLoadF
   EXPECT_LT(LargestHeldFriction(on_cycle, 3), 0.25);
 }
 
+// The largest K_T statistic the run held on `joint`, whatever its significance.
+double LargestHeldKtLoss(const RunRecord& r, int joint) {
+  double top = 0;
+  for (const nlohmann::json& t : r.decision.at("traces")) {
+    if (t.at("detector") != "kt_factor" || t.at("joint") != joint) continue;
+    for (const nlohmann::json& e : t.at("rise")) top = std::max(top, e.at(1).get<double>() * kStatisticQuantum);
+  }
+  return top;
+}
+
+// The same elbow's first seconds. In 4 of the bench's 40 healthy runs, warm starts at 32-36
+// degC, it raised a K_T alarm at 1.9 s: the electrical fit, its rotor and copper power nearly
+// collinear in the first strokes, read K_T 0.920 and resistance 1.05 (errors correlated +0.85),
+// a loss 0.064 past the warm magnet's allowance, where a second later it read 0.948 and 1.11.
+// A magnet as warm as its winding (on the line n = 1 - 0.305 (rho - 1), rho up to 3 times the
+// warmth read) explained the same data within 3.5 chi-square units of the free fit, and a K_T
+// loss in a joint's first minute is now no more significant than the data's rejection of one
+// (docs/monitor.md, "A warm magnet's K_T"). K_T 0.9 on the same warm unit from the start lies
+// off that line and is still found.
+TEST(ConfoundersHeldOutB, AWarmElbowsFirstKtReadingIsAWarmMagnetUntilTheDataRejectOne) {
+  Campaign campaign = ReadCampaignFile(std::string(ARMFAULT_SOURCE_DIR "/") + kHeldOutB);
+  CaseSpec spec;
+  const RunRecord healthy = FirstSecondsOf(campaign, "place/healthy/22", 10.0, &spec);
+  EXPECT_TRUE(spec.warm_start);
+  ASSERT_TRUE(healthy.ok) << healthy.failure_reason;
+  EXPECT_GT(LargestHeldKtLoss(healthy, 3), 0.05);  // the premise: past the K_T limit
+  EXPECT_FALSE(healthy.detected) << healthy.isolated_family << " on joint " << healthy.isolated_joint << " at "
+                                 << healthy.detection_time_s.value_or(-1) << " s";
+  campaign.duration_s = 10.0;
+  spec.fault = {{"family", "kt_degradation"}, {"joint", 3}, {"kt_factor", 0.9}, {"onset_s", 0.0}};
+  const RunRecord faulty = RunCase(campaign, spec);
+  ASSERT_TRUE(faulty.ok) << faulty.failure_reason;
+  ASSERT_TRUE(faulty.detected);
+  EXPECT_EQ(faulty.isolated_family, "kt_degradation");
+  EXPECT_EQ(faulty.isolated_joint, 3);
+  EXPECT_LT(faulty.detection_time_s.value_or(99), 3.0);  // 1.84 s
+}
+
 }  // namespace
 }  // namespace armfault
