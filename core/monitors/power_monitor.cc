@@ -961,12 +961,16 @@ Candidate TickLevelCandidate(const MonitorConfig& c, const JointKnowledge& k, co
 }
 
 // The K_T statistic's significance: that of its deviation, and in a joint's first
-// kWarmMagnetHypothesis_s of K_T judged on a winding that reads warm, no more than the data's
-// rejection of a warm magnet.
+// kWarmMagnetHypothesis_s of K_T judged on a winding that reads warm (and not beyond a
+// temperature, as the allowance), no more than the data's rejection of a warm magnet.
 double KtSignificance(double deviation, double se, const JointState& s, bool judge_r) {
   const double z = Significance(deviation, se);
-  if (!(z > 0) || !judge_r || !(s.winding_rho > 1.0) || s.kt_judged_s >= kWarmMagnetHypothesis_s) return z;
-  const double rho_cap = 1.0 + kWarmMagnetReadingFactor * (s.winding_rho - 1.0);
+  const double winding_rise = s.winding_rho - 1.0;  // beyond kMaxWindingResistanceRise, no temperature
+  if (!(z > 0) || !judge_r || !(winding_rise > 0.0 && winding_rise <= kMaxWindingResistanceRise) ||
+      s.kt_judged_s >= kWarmMagnetHypothesis_s) {
+    return z;
+  }
+  const double rho_cap = 1.0 + kWarmMagnetReadingFactor * winding_rise;
   return std::min(z, std::sqrt(s.electrical.WarmMagnetRejection(rho_cap)));
 }
 
