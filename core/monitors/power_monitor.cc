@@ -45,11 +45,15 @@ constexpr double kBrakeDragFrictionFactor = 4.0;
 constexpr double kSlowBalanceTimeConstant_s = 4.0;
 // Moving time each way in that fit before its offset is judged.
 constexpr double kMinOffsetMovingEachWay_s = 1.0;
-// The sensor's zero as the run finds it: taken from the slow fit when its offset is first
-// judged, then following it with this time constant while the offset stays within the worn
-// limit of it. A strain gauge's zero moves with its temperature (tens of minutes: the gearbox
-// it sits on); a drifting sensor moves it by the N m per second (docs/monitor.md, "Confounders").
+// The sensor's zero as the run finds it: taken from the zero fit (friction and offset,
+// forgetting kZeroBalanceTimeConstant_s) when it first holds kMinOffsetMovingEachWay_s of motion
+// each way, then following it with kOffsetBaseTimeConstant_s while it stays within the worn
+// limit. A strain gauge's zero moves with its temperature (tens of minutes: the gearbox it sits
+// on); a drifting sensor moves it by the N m per second (docs/monitor.md, "Confounders"). The
+// zero fit's memory spans a work cycle's strokes both ways where the slow fit's 4 s may not (an
+// elbow that lifts, dwells 4 s and lowers); the fast friction fit removes this zero.
 constexpr double kOffsetBaseTimeConstant_s = 120.0;
+constexpr double kZeroBalanceTimeConstant_s = 30.0;
 // A warm magnet gives less torque per ampere, and the winding beside it tells how warm: copper's
 // resistance rises 0.393 %/K, a permanent magnet's flux falls at most 0.12 %/K (NdFeB grades
 // 0.08-0.12 %/K, SmCo 0.03-0.05 %/K; material data, docs/assumptions.md). So a K_T factor
@@ -345,6 +349,8 @@ struct PowerEfficiencyMonitor::JointState {
       : balance_filter(c.balance_filter_s, dt, c.rest_velocity_rad_s, k.mechanical.stribeck_s2),
         balance({false, false}, c.balance_time_constant_s, dt, CorrelationTicks(c, dt), k.balance_sigma_Nm),
         balance_slow({false, true}, kSlowBalanceTimeConstant_s, dt, CorrelationTicks(c, dt), k.balance_sigma_Nm),
+        balance_zero({false, true}, kZeroBalanceTimeConstant_s, dt, CorrelationTicks(c, dt), k.balance_sigma_Nm),
+        balance_unfound_zero({false, false}, c.balance_time_constant_s, dt, CorrelationTicks(c, dt), k.balance_sigma_Nm),
         balance_since_alarm({false, true}, 0, dt, CorrelationTicks(c, dt), k.balance_sigma_Nm) {
     electrical.forget = std::exp(-dt / c.electrical_time_constant_s);
     electrical_fast.forget = std::exp(-dt / c.balance_time_constant_s);
@@ -364,12 +370,13 @@ struct PowerEfficiencyMonitor::JointState {
   // torque gain of the torque balance
   ElectricalFit electrical, electrical_fast;
   double excitation_rotor_J = 0, excitation_copper_J = 0;
-  // tick-rate torque balance: friction alone, fast (the friction detector); friction and the
-  // sensor offset, slow (the drift detector, and the offset the fast fit removes); and one
-  // that grows from the friction or drift statistic's first crossing (the magnitude, free of
-  // the data before the change)
+  // tick-rate torque balance: friction alone, fast (the friction detector; and its twin with
+  // the zero fit's offset until the sensor's zero is found); friction and the sensor offset,
+  // slow (the drift detector) and over a work cycle (the zero fit: the sensor's zero the fast
+  // fit removes); and one that grows from the friction or drift statistic's first crossing (the
+  // magnitude, free of the data before the change)
   BalanceFilter balance_filter;
-  BalanceFit balance, balance_slow, balance_since_alarm;
+  BalanceFit balance, balance_slow, balance_zero, balance_unfound_zero, balance_since_alarm;
   bool balance_crossed = false;
   // The sensor's zero as this run found it, relative to the calibration [N m].
   double offset_base_Nm = 0;
@@ -660,6 +667,14 @@ ArmAllowance FrictionAllowanceOfArm(const std::vector<std::unique_ptr<JointState
   return {arm_rho, cold_friction, SecondLargest(&read, n_read), warm_rho, shown_friction};
 }
 
+// The fast friction fit's estimate: with the sensor's zero the run found; before it is found,
+// the smaller friction of the calibrated zero's and the zero fit's (UpdateFits).
+const BalanceFit::Estimate& FastFriction(const JointKnowledge& k, const PowerEfficiencyMonitor::JointState& s) {
+  if (!k.torque_sensor || s.offset_base_set) return s.balance.estimate();
+  const BalanceFit::Estimate& unfound = s.balance_unfound_zero.estimate();
+  return unfound.friction_factor < s.balance.estimate().friction_factor ? unfound : s.balance.estimate();
+}
+
 // The friction the run finds, after the fast balance fit `b` has taken this tick (`usable`:
 // the tick was one the fit could use) (JointState).
 void UpdateFrictionReference(const MonitorConfig& c, const TickTerms& x, const BalanceFit::Estimate& b, bool usable,
@@ -783,23 +798,28 @@ void UpdateFits(const MonitorConfig& c, const JointKnowledge& k, const TickTerms
   const BalanceRow row = RowOf(k.mechanical, terms, coupling_torque);
   const double gain = std::min(1.0, s.electrical_fast.n);
   s.balance_slow.Add(row, gain, 0.0);
+  s.balance_zero.Add(row, gain, 0.0);
   // The sensor's zero as the run finds it (kOffsetBaseTimeConstant_s): an offset present when
   // it is first judged is the zero the unit starts with (its temperature against the
   // calibration's), not a drift, which is a change during operation.
-  const BalanceFit::Estimate& slow_now = s.balance_slow.estimate();
-  if (k.torque_sensor && std::min(slow_now.positive_s, slow_now.negative_s) >= kMinOffsetMovingEachWay_s) {
+  const BalanceFit::Estimate& zero_now = s.balance_zero.estimate();
+  if (k.torque_sensor && std::min(zero_now.positive_s, zero_now.negative_s) >= kMinOffsetMovingEachWay_s) {
     if (!s.offset_base_set) {
-      s.offset_base_Nm = slow_now.offset_Nm;
+      s.offset_base_Nm = zero_now.offset_Nm;
       s.offset_base_set = true;
-    } else if (std::fabs(slow_now.offset_Nm - s.offset_base_Nm) < c.sensor_drift_Nm.worn) {
-      s.offset_base_Nm += (slow_now.offset_Nm - s.offset_base_Nm) * dt / kOffsetBaseTimeConstant_s;
+    } else if (std::fabs(zero_now.offset_Nm - s.offset_base_Nm) < c.sensor_drift_Nm.worn) {
+      s.offset_base_Nm += (zero_now.offset_Nm - s.offset_base_Nm) * dt / kOffsetBaseTimeConstant_s;
     }
   }
-  // The fast fit keeps the calibrated offset: within one direction of motion an offset
-  // change cannot be told from friction, and friction is the commoner wear.
-  s.balance.Add(row, gain, 0.0);
+  // The fast fit removes that zero: within one direction of motion an offset cannot be told
+  // from friction, and a warm sensor's zero taken for friction swings the fit with the
+  // direction of motion. Until the zero is found, two hypotheses: the calibrated zero, and the
+  // zero fit's offset as it stands (the calibrated one until the joint has moved both ways);
+  // the friction read is the smaller (FastFriction).
+  s.balance.Add(row, gain, s.offset_base_set ? s.offset_base_Nm : 0.0);
+  if (k.torque_sensor && !s.offset_base_set) s.balance_unfound_zero.Add(row, gain, zero_now.offset_Nm);
   if (s.balance_crossed) s.balance_since_alarm.Add(row, std::min(1.0, s.electrical.n), 0.0);
-  const BalanceFit::Estimate& b = s.balance.estimate();
+  const BalanceFit::Estimate& b = FastFriction(k, s);
   UpdateFrictionReference(c, x, b, terms.usable, dt, arm, &s);
   const BalanceFit::Estimate& m = s.balance_since_alarm.estimate();
   const BalanceFit::Estimate& sl = s.balance_slow.estimate();
@@ -962,15 +982,21 @@ Candidate TickLevelCandidate(const MonitorConfig& c, const JointKnowledge& k, co
 
 // The K_T statistic's significance: that of its deviation, and in a joint's first
 // kWarmMagnetHypothesis_s of K_T judged on a winding that reads warm (and not beyond a
-// temperature, as the allowance), no more than the data's rejection of a warm magnet.
+// temperature, as the allowance), no more than the data's rejection of a warm magnet. A winding
+// whose copper loss has not yet been enough to read it could be as warm as the allowance admits
+// (a large drive's elbow on a warm start reads no resistance for its first 4 s).
 double KtSignificance(double deviation, double se, const JointState& s, bool judge_r) {
   const double z = Significance(deviation, se);
+  if (!(z > 0) || s.kt_judged_s >= kWarmMagnetHypothesis_s) return z;
   const double winding_rise = s.winding_rho - 1.0;  // beyond kMaxWindingResistanceRise, no temperature
-  if (!(z > 0) || !judge_r || !(winding_rise > 0.0 && winding_rise <= kMaxWindingResistanceRise) ||
-      s.kt_judged_s >= kWarmMagnetHypothesis_s) {
+  double rho_cap;
+  if (!judge_r) {
+    rho_cap = 1.0 + kMaxWindingResistanceRise;  // no reading yet: any warmth the allowance admits
+  } else if (winding_rise > 0.0 && winding_rise <= kMaxWindingResistanceRise) {
+    rho_cap = 1.0 + kWarmMagnetReadingFactor * winding_rise;
+  } else {
     return z;
   }
-  const double rho_cap = 1.0 + kWarmMagnetReadingFactor * winding_rise;
   return std::min(z, std::sqrt(s.electrical.WarmMagnetRejection(rho_cap)));
 }
 
@@ -984,7 +1010,7 @@ bool UpdateReadings(const MonitorConfig& c, const JointKnowledge& k, const Detec
   const bool judge_n = s.excitation_rotor_J >= c.min_rotor_energy_J;
   if (judge_n) s.kt_judged_s += dt;
   const bool judge_r = s.excitation_copper_J >= c.min_copper_energy_J;
-  const BalanceFit::Estimate& bal = s.balance.estimate();
+  const BalanceFit::Estimate& bal = FastFriction(k, s);
   const BalanceFit::Estimate& slow = s.balance_slow.estimate();
   const bool judge_b = bal.moving_s >= c.min_balance_moving_s;
   // An offset is told from friction only by motion both ways.

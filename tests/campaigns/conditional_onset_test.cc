@@ -180,7 +180,9 @@ TEST(ConditionalOnsetCampaign, ResultsAreIdenticalForAnyThreadCount) {
 // A campaign of ordinary onsets (fixed, uniform, an incipient ramp) gives the records the
 // armfault before conditional onsets wrote (tests/campaigns/golden/, written by commit
 // 2e3b4c9; the friction run's detection rewritten when the monitor's friction reference came,
-// and its magnitude when the cold magnet's bound came to the electrical fit, issue 28): every key of the golden line with the same value, and no conditional key.
+// and its magnitude when the cold magnet's bound came to the electrical fit, issue 28; its detection
+// 16 ms later when the fast friction fit came to remove the sensor's zero the run finds): every key
+// of the golden line with the same value, and no conditional key.
 TEST(ConditionalOnsetCampaign, OrdinaryOnsetsScoreExactlyAsBefore) {
   const std::string golden_dir = std::string(ARMFAULT_SOURCE_DIR) + "/tests/campaigns/golden/";
   const Campaign c = ReadCampaignFile(golden_dir + "ordinary_onsets.json");

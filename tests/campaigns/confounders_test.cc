@@ -97,10 +97,12 @@ TEST(ConfoundersHeldOut, WearFromAColdStartIsFoundAgainstTheArmsCold) {
 // moments when it settled (1.0185 at 2 s, where it read 1.08, 20 K warm, from 10 s on), and the
 // warm floor, counting the coldest settled reading, stayed at 1 all 300 s. Once the reading has
 // converged (10 s of judged copper loss) the floor forgets what it read before (docs/monitor.md,
-// "The friction the run finds", W).
+// "The friction the run finds", W). Found at 11-25 s while the fast fit held the sensor's
+// calibrated zero (its offset swinging the fit with the direction of motion); with the zero the
+// run finds removed, at 136 s.
 TEST(ConfoundersHeldOut, WearFromAWarmStartIsFoundOnceTheWindingsReadingConverges) {
   CaseSpec spec;
-  const RunRecord r = FirstSecondsOf("pick/friction_increase#2/-/j2/r1", 25.0, &spec, kHeldOut);
+  const RunRecord r = FirstSecondsOf("pick/friction_increase#2/-/j2/r1", 150.0, &spec, kHeldOut);
   EXPECT_TRUE(spec.warm_start);
   EXPECT_NEAR(spec.ambient_C, 21.4, 0.1);
   ExpectFrictionFoundOn(r, 2);
@@ -112,10 +114,11 @@ TEST(ConfoundersHeldOut, WearFromAWarmStartIsFoundOnceTheWindingsReadingConverge
 // (the arm's 23 K), and the warm floor, counting at most 14 K at the gentlest slope, stayed at
 // 0.87-0.93: the ramp peaked at 1.26 of it, and its follower never had the minute of motion it
 // needs. The floor now goes down to what the arm's gears and the wrist's own first blocks
-// showed (0.74-0.77; docs/monitor.md, "The friction the run finds", E).
+// showed (0.74-0.77; docs/monitor.md, "The friction the run finds", E). Found at 131 s (factor
+// 1.40) with the calibrated zero in the fast fit, at 174 s (1.48) with the zero the run finds.
 TEST(ConfoundersHeldOut, AWearRampOnAWarmWristIsFoundAgainstWhatItsGearFirstShowed) {
   CaseSpec spec;
-  const RunRecord r = FirstSecondsOf("pick/friction_increase#3/-/j4/r0", 150.0, &spec, kHeldOut);
+  const RunRecord r = FirstSecondsOf("pick/friction_increase#3/-/j4/r0", 200.0, &spec, kHeldOut);
   EXPECT_TRUE(spec.warm_start);
   EXPECT_NEAR(spec.ambient_C, 31.2, 0.1);
   ExpectFrictionFoundOn(r, 4);
@@ -162,7 +165,9 @@ double LargestHeldFriction(const RunRecord& r, int joint) {
 // the place cycle loads it: its 1-s blocks swing 0.74-1.14 of the commissioned friction with the
 // strokes, and against the warm floor (0.87, its winding 22 K warm) the returns held 0.316,
 // over the limit 0.3. Commissioned on the place cycle itself, the work it does, the same unit
-// holds well under it (docs/campaign-format.md, "Commissioning").
+// holds well under it (docs/campaign-format.md, "Commissioning"). Part of that swing was the
+// warm sensor's zero, which the fast fit held at its calibration: with the zero the run finds
+// removed (thirteenth session), the sine-commissioned elbow holds 0.171.
 TEST(ConfoundersHeldOutB, AnElbowCommissionedOnItsWorkCycleIsNotThrownByItsLoadFriction) {
   std::ifstream in(std::string(ARMFAULT_SOURCE_DIR "/") + kHeldOutB);
   nlohmann::json value = nlohmann::json::parse(in);
@@ -172,7 +177,7 @@ TEST(ConfoundersHeldOutB, AnElbowCommissionedOnItsWorkCycleIsNotThrownByItsLoadF
   EXPECT_TRUE(spec.warm_start);
   EXPECT_NEAR(spec.ambient_C, 35.5, 0.1);
   ASSERT_TRUE(on_sine.ok) << on_sine.failure_reason;
-  EXPECT_GT(LargestHeldFriction(on_sine, 3), 0.3);  // the premise
+  EXPECT_GT(LargestHeldFriction(on_sine, 3), 0.15);  // the premise (0.316 with the calibrated zero, 0.171 now)
   value["commissioning"] = {{"trajectory", "place"}, {"duration_s", 28}};
   const RunRecord on_cycle = FirstSecondsOf(
       CampaignFromJson(value, "heldout-b", ARMFAULT_SOURCE_DIR "/campaigns/sketches"), "place/healthy/22", 70.0, &spec);
@@ -216,6 +221,63 @@ TEST(ConfoundersHeldOutB, AWarmElbowsFirstKtReadingIsAWarmMagnetUntilTheDataReje
   EXPECT_EQ(faulty.isolated_family, "kt_degradation");
   EXPECT_EQ(faulty.isolated_joint, 3);
   EXPECT_LT(faulty.detection_time_s.value_or(99), 3.0);  // 1.84 s
+}
+
+
+constexpr char kHeldOutC[] = "campaigns/sketches/confounders-heldout-c.json";
+
+// The third held-out bench's elbow on a 28.9 degC warm start (a five-joint arm; its torque
+// sensors' zero moves 0.035 % of full scale per K, 0.0875 N m/K on the large drives). Its gear
+// is about 24 K warmer than at commissioning, so the sensor reads 2.1 N m off its calibrated
+// zero. The fast friction fit, holding the calibrated zero, took that offset for friction:
+// 0.5-0.6 of the reference while the elbow lifted, 1.2-1.37 while it lowered, and a friction
+// alarm on joint 3 at 9.1 s. The slow fit (4 s) never held a second of motion each way between
+// the cycle's 4-s dwells, so the zero the run finds was never taken. The zero fit (30 s) takes
+// it, and the fast fit removes it (docs/monitor.md, "The sensor's zero as the run finds it").
+TEST(ConfoundersHeldOutC, AWarmSensorsZeroIsNotTakenForFriction) {
+  Campaign campaign = ReadCampaignFile(std::string(ARMFAULT_SOURCE_DIR "/") + kHeldOutC);
+  CaseSpec spec;
+  const RunRecord healthy = FirstSecondsOf(campaign, "palletize/healthy/5", 20.0, &spec);
+  EXPECT_TRUE(spec.warm_start);
+  EXPECT_NEAR(spec.ambient_C, 28.9, 0.1);
+  ASSERT_TRUE(healthy.ok) << healthy.failure_reason;
+  EXPECT_FALSE(healthy.detected) << healthy.isolated_family << " on joint " << healthy.isolated_joint << " at "
+                                 << healthy.detection_time_s.value_or(-1) << " s";
+  EXPECT_LT(LargestHeldFriction(healthy, 3), 0.2);
+  campaign.duration_s = 20.0;
+  spec.fault = {{"family", "friction_increase"}, {"joint", 3}, {"friction_factor", 1.5}, {"onset_s", 12.0}};
+  const RunRecord faulty = RunCase(campaign, spec);
+  ASSERT_TRUE(faulty.ok) << faulty.failure_reason;
+  ASSERT_TRUE(faulty.detected);
+  EXPECT_FALSE(faulty.alarm_before_onset);
+  EXPECT_EQ(faulty.isolated_family, "friction_increase");
+  EXPECT_EQ(faulty.isolated_joint, 3);
+}
+
+
+// The same bench's elbow on a 33.2 degC warm start. The large drive's copper loss takes 4 s to
+// be enough to read its winding, and before that the K_T statistic had no warm magnet to weigh:
+// the electrical fit read K_T 0.941 at 2 s (a magnet about 30 K warm reads 0.97) and raised a
+// K_T alarm at 1.98 s, as in 4 of the bench's 40 healthy runs. A winding not yet read may be as
+// warm as the allowance admits; K_T 0.9 from the start on the same unit is still found.
+TEST(ConfoundersHeldOutC, AnUnreadWindingMayBeWarm) {
+  Campaign campaign = ReadCampaignFile(std::string(ARMFAULT_SOURCE_DIR "/") + kHeldOutC);
+  CaseSpec spec;
+  const RunRecord healthy = FirstSecondsOf(campaign, "palletize/healthy/15", 12.0, &spec);
+  EXPECT_TRUE(spec.warm_start);
+  EXPECT_NEAR(spec.ambient_C, 33.2, 0.1);
+  ASSERT_TRUE(healthy.ok) << healthy.failure_reason;
+  EXPECT_GT(LargestHeldKtLoss(healthy, 3), 0.05);  // the premise: past the K_T limit
+  EXPECT_FALSE(healthy.detected) << healthy.isolated_family << " on joint " << healthy.isolated_joint << " at "
+                                 << healthy.detection_time_s.value_or(-1) << " s";
+  campaign.duration_s = 12.0;
+  spec.fault = {{"family", "kt_degradation"}, {"joint", 3}, {"kt_factor", 0.9}, {"onset_s", 0.0}};
+  const RunRecord faulty = RunCase(campaign, spec);
+  ASSERT_TRUE(faulty.ok) << faulty.failure_reason;
+  ASSERT_TRUE(faulty.detected);
+  EXPECT_EQ(faulty.isolated_family, "kt_degradation");
+  EXPECT_EQ(faulty.isolated_joint, 3);
+  EXPECT_LT(faulty.detection_time_s.value_or(99), 3.0);  // 1.92 s
 }
 
 }  // namespace

@@ -639,8 +639,9 @@ TEST(PowerMonitorLubricant, AColdStartIsNoWearButWearOnItIs) {
   const MonitoredRun cold =
       RunMonitored(UrClassThermalRun(json::array(), 20), -1, false, 1, 0, 3, 5.0, ThermalStart::kCold, true);
   ASSERT_TRUE(cold.result.ok);
-  // the premise: the cold lubricant's friction against the calibration, near the 1.3 limit
-  EXPECT_GT(cold.top.friction_factor * cold.top.friction_reference, 1.2);
+  // the premise: the cold lubricant's friction against the calibration (1.14; 1.2-1.3 while the
+  // fast fit held the calibrated zero and the cold sensor's offset swung it)
+  EXPECT_GT(cold.top.friction_factor * cold.top.friction_reference, 1.1);
   EXPECT_GT(cold.top.friction_reference, 1.05);  // an allowance
   EXPECT_FALSE(cold.diagnosis.detected) << cold.diagnosis.family << " on joint " << cold.diagnosis.joint << " at "
                                         << cold.diagnosis.detection_time_s;
@@ -695,22 +696,25 @@ TEST(PowerMonitorLubricant, AWarmGearsFrictionIsTheReferenceForWear) {
 }
 
 // Wear present from a warm start at 40 degC: the thin lubricant hides friction 1.5x under the
-// calibrated curve, and the follower would take it for the unit's own friction. Every winding
-// that reads warm says the gear is warm too, and a warm gear's friction is at most the warm
-// floor (docs/monitor.md, "The friction the run finds"): the wear shows against it.
-TEST(PowerMonitorLubricant, WearFromAWarmStartShowsAgainstTheWarmFloor) {
+// calibrated curve. Every winding that reads warm says the gear is warm too, and a warm gear's
+// friction is at most the warm floor (docs/monitor.md, "The friction the run finds"), but at
+// the gentlest thinning the floor allows (0.92 here) the worn wrist reads 1.21 of it, under the
+// limit. It was found at 8-15 s while the fast fit held the sensor's calibrated zero: the warm
+// sensor's offset swung the fit with the direction of motion, and the swing's top crossed the
+// limit. With the zero the run finds removed, the wrist reads the same both ways, and this
+// wear is what the monitor cannot tell from a gear whose lubricant thins less (a limit,
+// docs/monitor.md, "The zero removed from the fast fit").
+TEST(PowerMonitorLubricant, WearFromAWarmStartIsHiddenByTheThinLubricant) {
   const MonitoredRun worn =
       RunMonitored(UrClassThermalRun(Fault({{"family", "friction_increase"}, {"friction_factor", 1.5}}, 6, 0.0), 30),
                    -1, false, 1, 0, 3, 40.0, ThermalStart::kWarm, true);
-  // Found once every winding that carries copper loss has settled (a wrist's after 8 s).
-  ASSERT_TRUE(worn.diagnosis.detected);
-  EXPECT_EQ(worn.diagnosis.family, "friction_increase");
-  EXPECT_EQ(worn.diagnosis.joint, 6);
-  EXPECT_LT(worn.diagnosis.detection_time_s, 15.0);
-  // the premise: against the calibration the worn wrist is under the 1.3 limit
   const PowerEfficiencyMonitor::Estimates& wrist = worn.all.at(5);
-  EXPECT_LT(wrist.friction_factor * wrist.friction_reference, 1.3);
   EXPECT_LT(wrist.friction_reference, 0.95);  // the floor
+  EXPECT_GT(wrist.friction_factor, 1.1);      // the wear shows against it
+  EXPECT_LT(wrist.friction_factor, 1.3);      // but under the limit
+  EXPECT_LT(wrist.friction_factor * wrist.friction_reference, 1.3);
+  EXPECT_FALSE(worn.diagnosis.detected) << worn.diagnosis.family << " on joint " << worn.diagnosis.joint << " at "
+                                        << worn.diagnosis.detection_time_s;
 }
 
 // A drive whose friction does not fall when warm (the plain drives: no lubricant law) is held
