@@ -983,20 +983,16 @@ Candidate TickLevelCandidate(const MonitorConfig& c, const JointKnowledge& k, co
 // The K_T statistic's significance: that of its deviation, and in a joint's first
 // kWarmMagnetHypothesis_s of K_T judged on a winding that reads warm (and not beyond a
 // temperature, as the allowance), no more than the data's rejection of a warm magnet. A winding
-// whose copper loss has not yet been enough to read it could be as warm as the allowance admits
-// (a large drive's elbow on a warm start reads no resistance for its first 4 s).
+// not yet read gives no hypothesis: letting it be as warm as the allowance admits removed the
+// third held-out bench's K_T alarms but cost the realistic fleet its K_T a90/95 (0.913 -> 0.897).
 double KtSignificance(double deviation, double se, const JointState& s, bool judge_r) {
   const double z = Significance(deviation, se);
-  if (!(z > 0) || s.kt_judged_s >= kWarmMagnetHypothesis_s) return z;
   const double winding_rise = s.winding_rho - 1.0;  // beyond kMaxWindingResistanceRise, no temperature
-  double rho_cap;
-  if (!judge_r) {
-    rho_cap = 1.0 + kMaxWindingResistanceRise;  // no reading yet: any warmth the allowance admits
-  } else if (winding_rise > 0.0 && winding_rise <= kMaxWindingResistanceRise) {
-    rho_cap = 1.0 + kWarmMagnetReadingFactor * winding_rise;
-  } else {
+  if (!(z > 0) || !judge_r || !(winding_rise > 0.0 && winding_rise <= kMaxWindingResistanceRise) ||
+      s.kt_judged_s >= kWarmMagnetHypothesis_s) {
     return z;
   }
+  const double rho_cap = 1.0 + kWarmMagnetReadingFactor * winding_rise;
   return std::min(z, std::sqrt(s.electrical.WarmMagnetRejection(rho_cap)));
 }
 
