@@ -81,6 +81,9 @@ constexpr double kWindingThermometerTimeConstant_s = 60.0;
 // residual. Afterwards the thermometer has read the warmth and the allowance alone counts.
 constexpr double kWarmMagnetHypothesis_s = kWindingThermometerTimeConstant_s;
 constexpr double kWarmMagnetReadingFactor = 3.0;
+// Standard errors of the fast friction fit a gear must read below its commissioned curve to show
+// warmth (GearShownRho).
+constexpr double kUnreadGearSe = 2.0;
 // The friction the run finds (docs/monitor.md, "The friction the run finds"). A strain-wave
 // gear's lubricant thickens in the cold and thins when warm: the no-load running torque falls
 // by a factor of about 3 from -10 to +40 degC (strain-wave gear catalogues, docs/assumptions.md),
@@ -386,6 +389,10 @@ struct PowerEfficiencyMonitor::JointState {
   double winding_rho_judged_s = 0;  // time since the copper loss was first enough to judge it
   double kt_judged_s = 0;           // time the rotor power has been enough to judge K_T
   double winding_reading = 1;  // the cold allowance's reading (kWindingReadingTimeConstant_s)
+  // The resistance factor a winding as warm as its gear shows would read
+  // (GearShownRho): its latest reading while the fast fit held enough motion (a
+  // lubricant does not cool between strokes); NaN until the first.
+  double gear_shown_rho = kNaN;
   // The friction the run finds: the friction statistic is the fast fit's factor over
   // friction_reference (UpdateFrictionReference: min(max(A, C), F), or min(max(W, P), E, F)
   // on a warm arm; docs/monitor.md). friction_cap: the cold allowance of the coldest the
@@ -605,6 +612,7 @@ struct ArmAllowance {
   double unsettled = 1.0;
   double warm_rho = 1.0;
   double shown_friction = std::numeric_limits<double>::infinity();
+  double gear_rho = 1.0;  // the lower median of the joints' gear_shown_rho, over two at least
 };
 
 double SecondLargest(std::array<double, 64>* values, size_t n) {
@@ -625,7 +633,10 @@ ArmAllowance FrictionAllowanceOfArm(const std::vector<std::unique_ptr<JointState
   size_t n_coldest = 0;
   std::array<double, 64> shown;
   size_t n_shown = 0;
+  std::array<double, 64> gear;
+  size_t n_gear = 0;
   for (const auto& j : joints) {
+    if (!std::isnan(j->gear_shown_rho) && n_gear < gear.size()) gear[n_gear++] = j->gear_shown_rho;
     if (j->friction_blocks >= kUnconvergedFrictionBlocks + kMinShownFrictionBlocks && n_shown < shown.size()) {
       shown[n_shown++] = j->friction_shown;
     }
@@ -664,7 +675,12 @@ ArmAllowance FrictionAllowanceOfArm(const std::vector<std::unique_ptr<JointState
     std::sort(shown.begin(), shown.begin() + n_shown);
     shown_friction = shown[n_shown / 2];
   }
-  return {arm_rho, cold_friction, SecondLargest(&read, n_read), warm_rho, shown_friction};
+  double gear_rho = 1.0;
+  if (n_gear >= 2) {
+    std::sort(gear.begin(), gear.begin() + n_gear);
+    gear_rho = gear[(n_gear - 1) / 2];
+  }
+  return {arm_rho, cold_friction, SecondLargest(&read, n_read), warm_rho, shown_friction, gear_rho};
 }
 
 // The fast friction fit's estimate: with the sensor's zero the run found; before it is found,
@@ -798,7 +814,7 @@ void UpdateFits(const MonitorConfig& c, const JointKnowledge& k, const TickTerms
   const BalanceRow row = RowOf(k.mechanical, terms, coupling_torque);
   const double gain = std::min(1.0, s.electrical_fast.n);
   s.balance_slow.Add(row, gain, 0.0);
-  s.balance_zero.Add(row, gain, 0.0);
+  if (k.torque_sensor) s.balance_zero.Add(row, gain, 0.0);  // a model's torque has no zero to find
   // The sensor's zero as the run finds it (kOffsetBaseTimeConstant_s): an offset present when
   // it is first judged is the zero the unit starts with (its temperature against the
   // calibration's), not a drift, which is a change during operation.
@@ -980,27 +996,48 @@ Candidate TickLevelCandidate(const MonitorConfig& c, const JointKnowledge& k, co
   return structural;
 }
 
+// The warmth a gear shows: a friction that reads below the unit's commissioned curve (by more
+// than kUnreadGearSe standard errors) is a lubricant warmer than at commissioning by at least
+// what the steepest slope of the class gives (wear and faults only raise friction), up to
+// kMaxWarmK. The resistance factor a winding that warm would read; 1 when the gear shows no
+// warmth; NaN when the fit has not held enough motion to say, or when there is no commissioned
+// curve (a datasheet's friction is known only within the unit's spread).
+double GearShownRho(const MonitorConfig& c, const JointKnowledge& k, const BalanceFit::Estimate& gear) {
+  if (!k.commissioned || gear.moving_s < c.min_balance_moving_s) return kNaN;
+  const double upper = gear.friction_factor + kUnreadGearSe * gear.friction_factor_se;
+  if (!(upper > 0.0 && upper < 1.0)) return 1.0;
+  const double warm_K = std::min(kMaxWarmK, -std::log(upper) / kLubricantFrictionSlopePerK);
+  return 1.0 + kCopperPerK * warm_K;
+}
+
 // The K_T statistic's significance: that of its deviation, and in a joint's first
-// kWarmMagnetHypothesis_s of K_T judged on a winding that reads warm (and not beyond a
-// temperature, as the allowance), no more than the data's rejection of a warm magnet. A winding
-// not yet read gives no hypothesis: letting it be as warm as the allowance admits removed the
-// third held-out bench's K_T alarms but cost the realistic fleet its K_T a90/95 (0.913 -> 0.897).
-double KtSignificance(double deviation, double se, const JointState& s, bool judge_r) {
+// kWarmMagnetHypothesis_s of K_T judged, no more than the data's rejection of a warm magnet
+// kWarmMagnetReadingFactor times as far above its commissioning as the evidence reads: its
+// winding's reading (judge_r), or, before the winding has ever been read, the warmth its gear
+// and the arm's gears show, whichever is less (GearShownRho; the arm's lower median, which a
+// fault on one joint does not move: a K_T loss the fast fit's gain has not yet followed can
+// make a gear's friction read low). A winding not yet read on a gear that shows no warmth
+// gives no hypothesis: letting it be as warm as the allowance admits removed the third held-out
+// bench's K_T alarms but cost the realistic fleet its K_T a90/95 (0.913 -> 0.897).
+double KtSignificance(double deviation, double se, const JointState& s, bool judge_r, const ArmAllowance& arm) {
   const double z = Significance(deviation, se);
-  const double winding_rise = s.winding_rho - 1.0;  // beyond kMaxWindingResistanceRise, no temperature
-  if (!(z > 0) || !judge_r || !(winding_rise > 0.0 && winding_rise <= kMaxWindingResistanceRise) ||
-      s.kt_judged_s >= kWarmMagnetHypothesis_s) {
-    return z;
+  if (!(z > 0) || s.kt_judged_s >= kWarmMagnetHypothesis_s) return z;
+  double rise = 0.0;
+  if (judge_r) {
+    rise = s.winding_rho - 1.0;  // beyond kMaxWindingResistanceRise, no temperature
+  } else if (s.winding_rho_judged_s == 0.0 && !std::isnan(s.gear_shown_rho)) {
+    rise = std::min(s.gear_shown_rho, arm.gear_rho) - 1.0;
   }
-  const double rho_cap = 1.0 + kWarmMagnetReadingFactor * winding_rise;
-  return std::min(z, std::sqrt(s.electrical.WarmMagnetRejection(rho_cap)));
+  if (!(rise > 0.0 && rise <= kMaxWindingResistanceRise)) return z;
+  return std::min(z, std::sqrt(s.electrical.WarmMagnetRejection(1.0 + kWarmMagnetReadingFactor * rise)));
 }
 
 // The parametric detectors: deviation statistics from the estimates, held over the debounce
 // time (s->readings); the magnitude fit starts where the friction or drift statistic first
-// crosses its limit. Returns whether the friction is far beyond wear: a brake dragging.
+// crosses its limit; `arm`: the arm's readings (the warmth its gears show). Returns whether the
+// friction is far beyond wear: a brake dragging.
 bool UpdateReadings(const MonitorConfig& c, const JointKnowledge& k, const DetectorThresholds& thresholds, double dt,
-                    JointState* state) {
+                    const ArmAllowance& arm, JointState* state) {
   JointState& s = *state;
   const PowerEfficiencyMonitor::Estimates& e = s.est;
   const bool judge_n = s.excitation_rotor_J >= c.min_rotor_energy_J;
@@ -1009,6 +1046,8 @@ bool UpdateReadings(const MonitorConfig& c, const JointKnowledge& k, const Detec
   const BalanceFit::Estimate& bal = FastFriction(k, s);
   const BalanceFit::Estimate& slow = s.balance_slow.estimate();
   const bool judge_b = bal.moving_s >= c.min_balance_moving_s;
+  const double gear_rho = GearShownRho(c, k, bal);
+  if (!std::isnan(gear_rho)) s.gear_shown_rho = gear_rho;
   // An offset is told from friction only by motion both ways.
   // A model's torque has no offset to drift.
   const bool judge_d = k.torque_sensor && std::min(slow.positive_s, slow.negative_s) >= kMinOffsetMovingEachWay_s;
@@ -1023,7 +1062,7 @@ bool UpdateReadings(const MonitorConfig& c, const JointKnowledge& k, const Detec
       judge_n ? 1 - e.kt_factor - thermal_kt_allowance : kNoStatistic, judge_r ? e.resistance_factor - 1 : kNoStatistic,
       judge_b ? bal.friction_factor / s.friction_reference - 1 : kNoStatistic, judge_d ? std::fabs(slow.offset_Nm - s.offset_base_Nm) : kNoStatistic};
   const std::array<double, kDetectorCount> significance = {
-      judge_n ? KtSignificance(deviation[0], e.kt_factor_se, s, judge_r) : kNoStatistic,
+      judge_n ? KtSignificance(deviation[0], e.kt_factor_se, s, judge_r, arm) : kNoStatistic,
       judge_r ? Significance(deviation[1], e.resistance_factor_se) : kNoStatistic,
       judge_b ? Significance(deviation[2], bal.friction_factor_se / s.friction_reference) : kNoStatistic,
       judge_d ? Significance(deviation[3], slow.offset_se) : kNoStatistic};
@@ -1152,7 +1191,8 @@ void PowerEfficiencyMonitor::Observe(double t_s, const std::vector<JointSignals>
         coupling_torque += k.coupling[l] * k.mechanical.rotor_coupling_kg_m2 * joints_[l]->balance_filter.terms().accel_rad_s2;
       }
     }
-    UpdateFits(c, k, x, terms, coupling_torque, dt, FrictionAllowanceOfArm(joints_), &s);
+    const ArmAllowance arm = FrictionAllowanceOfArm(joints_);
+    UpdateFits(c, k, x, terms, coupling_torque, dt, arm, &s);
 
     // --- windows bounded by zero velocity ---
     const double v = now.qd_est_rad_s;
@@ -1165,7 +1205,7 @@ void PowerEfficiencyMonitor::Observe(double t_s, const std::vector<JointSignals>
     if (!s.structural.structural && structural.structural) s.structural = structural;
 
     // --- parametric detectors: deviation statistics, held over the debounce time ---
-    const bool drag = UpdateReadings(c, k, model_.thresholds, dt, &s);
+    const bool drag = UpdateReadings(c, k, model_.thresholds, dt, arm, &s);
 
     // --- the joint's verdict ---
     EmitVerdict(ShownCandidate(c, k, model_.thresholds, drag, s), t_s, j + 1, &s, &output_.verdicts);

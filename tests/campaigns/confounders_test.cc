@@ -254,5 +254,33 @@ TEST(ConfoundersHeldOutC, AWarmSensorsZeroIsNotTakenForFriction) {
   EXPECT_EQ(faulty.isolated_joint, 3);
 }
 
+// The third held-out bench's elbow on a 33.2 degC warm start: its magnet about 40 K warmer than
+// at commissioning (its winding read 1.15-1.17 from 8 s on), its K_T read 0.937-0.947 from
+// 1.4 s, and a K_T alarm on joint 3 at 1.98 s, while its copper loss had not yet been enough to
+// read its winding (3.6 s) and so gave no warm-magnet hypothesis. Its gear's friction read
+// 0.49-0.59 of its commissioning: a lubricant at least 24-32 K warmer at the steepest slope of
+// the class. A winding not yet read now takes its gear's warmth as the warm magnet's hypothesis
+// (docs/monitor.md, "A warm magnet's K_T"); K_T 0.9 from the start on the same unit lies off
+// that line and is still found.
+TEST(ConfoundersHeldOutC, AWarmGearBesideAnUnreadWindingIsAWarmMagnetsHypothesis) {
+  Campaign campaign = ReadCampaignFile(std::string(ARMFAULT_SOURCE_DIR "/") + kHeldOutC);
+  CaseSpec spec;
+  const RunRecord healthy = FirstSecondsOf(campaign, "palletize/healthy/15", 8.0, &spec);
+  EXPECT_TRUE(spec.warm_start);
+  EXPECT_NEAR(spec.ambient_C, 33.2, 0.1);
+  ASSERT_TRUE(healthy.ok) << healthy.failure_reason;
+  EXPECT_GT(LargestHeldKtLoss(healthy, 3), 0.05);  // the premise: past the K_T limit
+  EXPECT_FALSE(healthy.detected) << healthy.isolated_family << " on joint " << healthy.isolated_joint << " at "
+                                 << healthy.detection_time_s.value_or(-1) << " s";
+  campaign.duration_s = 20.0;
+  spec.fault = {{"family", "kt_degradation"}, {"joint", 3}, {"kt_factor", 0.9}, {"onset_s", 0.0}};
+  const RunRecord faulty = RunCase(campaign, spec);
+  ASSERT_TRUE(faulty.ok) << faulty.failure_reason;
+  ASSERT_TRUE(faulty.detected);
+  EXPECT_EQ(faulty.isolated_family, "kt_degradation");
+  EXPECT_EQ(faulty.isolated_joint, 3);
+  EXPECT_LT(faulty.detection_time_s.value_or(99), 3.0);  // 1.92 s
+}
+
 }  // namespace
 }  // namespace armfault
