@@ -118,6 +118,10 @@ constexpr double kWindingReadingErrorK = 5.0;
 constexpr double kWarmLubricantSlopePerK = 0.01;
 constexpr double kMaxWarmCountedK = 14.0;
 constexpr double kMaxWarmK = 40.0;
+// The lowest W goes: what a gear whose friction does not fall when warm is held to. The
+// joint's first friction (E) counts only below it: above it, a first friction is as likely wear
+// present from the start as a gear that did not thin, and W's cap already holds the latter.
+const double kLowestWarmFloor = std::exp(-kWarmLubricantSlopePerK * kMaxWarmCountedK);
 // The floor is no lower than the friction the arm's other gears show: a warm gear whose
 // friction did not fall (no lubricant law, as the shipped plain drives: ur-class at 80 degC
 // read 1.0-1.2 on every joint) is not held to a floor its peers do not reach either, while
@@ -771,10 +775,11 @@ void UpdateFrictionReference(const MonitorConfig& c, const TickTerms& x, const B
   // ran at 0.71 of its commissioning, the floor at 0.87, and wear ramping from 30 s hid under
   // it). Down to the arm's reading at the steepest slope, no lower than what the arm's gears
   // show (P) or than what this joint first showed: a gear whose friction did not fall shows
-  // it from its first blocks on.
+  // it from its first blocks on. That first friction counts only below kLowestWarmFloor: a
+  // full-bench base yaw worn 1.5x from a 32.4 degC warm start first showed 1.22 and hid.
   if (warm < 1.0) {
     warm = std::min(warm, std::max({WarmFrictionFloor(arm.warm_rho, kLubricantFrictionSlopePerK, kMaxWarmK),
-                                    arm.shown_friction, s.friction_first_top}));
+                                    arm.shown_friction, std::min(s.friction_first_top, kLowestWarmFloor)}));
   }
   s.friction_reference = std::min(warm < 1.0 ? warm : allowance, s.friction_follow);
 }
