@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "app/commands.h"
+#include "app/commands/commands.h"
 #include "app/suggest.h"
 #include "core/base/json_input.h"
 #include "core/monitors/monitor.h"

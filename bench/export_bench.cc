@@ -1,4 +1,4 @@
-// `armfault export` against `armfault run` on the same runs (issue 27: export as fast as run),
+// `armfault export` against `armfault run` on the same runs (export as fast as run),
 // one thread: every 26th case of campaigns/files/five-families.json (8 runs of 10 s, mrr-config1,
 // 5001 ticks x 3 joints each), run as `run` runs them (RunCase: the monitor in the loop, its
 // record) and exported as `export` writes them (ExportCampaign: no monitor, runs/*.csv.gz at
@@ -11,10 +11,10 @@
 
 #include <filesystem>
 
-#include "campaigns/campaign.h"
-#include "campaigns/export.h"
-#include "campaigns/run_pipeline.h"
-#include "campaigns/runner.h"
+#include "campaigns/spec/campaign.h"
+#include "campaigns/data/export.h"
+#include "campaigns/running/run_pipeline.h"
+#include "campaigns/running/runner.h"
 
 namespace armfault {
 namespace {

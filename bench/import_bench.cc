@@ -1,5 +1,5 @@
-// `armfault import` speed (issue 29: at least a million rows a second). A synthetic log in the
-// stand-in layout (tests/campaigns/import_standin.py): 1 kHz with jitter, time in ms, three
+// `armfault import` speed (at least a million rows a second). A synthetic log in the
+// stand-in layout (tests/campaigns/data/import_standin.py): 1 kHz with jitter, time in ms, three
 // joints with six mapped columns each (degrees, deg/s, mN m, mA) and a text column, 19 numbers
 // parsed per row, resampled to 500 Hz and written as runs/000000.csv.gz.
 //   build/armfault_import_bench --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
@@ -17,7 +17,7 @@
 #include <random>
 #include <string>
 
-#include "campaigns/import.h"
+#include "campaigns/data/import.h"
 #include "core/base/json_input.h"
 
 namespace armfault {

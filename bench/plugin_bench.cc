@@ -1,4 +1,4 @@
-// The plugin path's cost per run (issue 14; docs/monitor-api.md, "C plugin"): one healthy 8-s
+// The plugin path's cost per run (docs/monitor-api.md, "C plugin"): one healthy 8-s
 // run of tests/core/monitors/data/plugin_campaign.json (exp1, mrr-config1, 4001 ticks x 3
 // joints) with the built-in power-efficiency monitor, with a no-op C plugin (the call path
 // alone: signals copied to C structs, step and verdicts called at every tick) and with the
@@ -7,8 +7,8 @@
 // Goal: the example plugin adds less than 5 % to a run over the built-in path.
 #include <benchmark/benchmark.h>
 
-#include "campaigns/campaign.h"
-#include "campaigns/runner.h"
+#include "campaigns/spec/campaign.h"
+#include "campaigns/running/runner.h"
 #include "core/monitors/monitor.h"
 
 namespace armfault {

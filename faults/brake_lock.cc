@@ -1,7 +1,7 @@
 // brake_lock: the power-off brake drags or fails to release: a brake torque on the motor
 // shaft of drag_fraction x the holding torque; at 1.0 the joint cannot move (the drive's
 // peak torque is below the holding torque). Effect: brake torque applied, link side.
-#include "faults/family_support.h"
+#include "faults/family_support.h"  // the shared pieces; registry.cc lists this family
 
 namespace armfault {
 
@@ -28,12 +28,13 @@ class BrakeLock : public Fault {
 
 }  // namespace
 
-std::unique_ptr<Fault> MakeBrakeLock(ObjectReader& reader, const RobotConfig& robot) {
+std::unique_ptr<Fault> MakeBrakeLock(ObjectReader& reader, const RobotConfig& robot,
+                                     const FaultMagnitudeSpec& magnitude) {
   ErrorList errors;  // the common keys and this family's, each on its own
   const FaultCommon common = ReadFaultCommon(reader, robot, {"drag_fraction"}, &errors);
   double f = 1.0;
   errors.Try([&] {
-    ReadMagnitude(reader, "brake_lock", &f);
+    ReadMagnitude(reader, magnitude, &f);
   });
   errors.ThrowIfAny();
   return std::make_unique<BrakeLock>(common, f, robot.modules[common.joint_index].brake.holding_torque_Nm);

@@ -1,5 +1,8 @@
-// Shared pieces of the fault families: the common JSON fields and the effect meters.
-// Only the family files and registry.cc include this.
+// Shared pieces of the fault families: the common JSON fields, the magnitude reader and the
+// effect meters (defined in fault.cc). Only the family files, onset_condition.cc and registry.cc
+// include this. Dependencies go one way: registry.cc (the table of families) uses the family
+// files and these pieces, the family files use these pieces, and these never call back into
+// registry.cc.
 #pragma once
 
 #include <functional>
@@ -29,10 +32,19 @@ FaultCommon ReadFaultCommon(ObjectReader& reader, const RobotConfig& robot, std:
 // the pointer and the robot's joints otherwise.
 int ReadJointIndex(ObjectReader& reader, const RobotConfig& robot);
 
-// Reads `family`'s magnitude key (registry.cc's table names the key and its range) into *value,
-// checking the range (a missing key: an error when `required`, else *value stays): "0 must be greater
-// than 0" for an excluded minimum, then "1.7 is outside [0, 1]", "0 is no change" for an excluded zero.
-void ReadMagnitude(ObjectReader& reader, const char* family, double* value, bool required = true);
+// A family's magnitude as its line in registry.cc's table states it. MakeFault hands it to the
+// family's factory, so a family reads its magnitude without looking the table up.
+struct FaultMagnitudeSpec {
+  const char* family;
+  const char* key;  // "" for a family without a magnitude
+  FaultMagnitudeRange range;
+};
+
+// Reads the magnitude's key into *value, checking the range (a missing key: an error when
+// `required`, else *value stays): "0 must be greater than 0" for an excluded minimum, then
+// "1.7 is outside [0, 1]", "0 is no change" for an excluded zero. Throws std::logic_error for a
+// family without a magnitude.
+void ReadMagnitude(ObjectReader& reader, const FaultMagnitudeSpec& magnitude, double* value, bool required = true);
 
 // Ticks after onset + settle_s count as "faulty"; before onset as "healthy".
 constexpr double kEffectSettle_s = 0.05;
@@ -64,15 +76,23 @@ std::unique_ptr<EffectMeter> MakeFlatnessMeter(std::string measure, double onset
 // Either meter's evidence: the first that took effect, else the first's result.
 std::unique_ptr<EffectMeter> MakeEitherMeter(std::unique_ptr<EffectMeter> first, std::unique_ptr<EffectMeter> second);
 
-// Factory signature of a family (registry.cc).
-using FaultFactory = std::unique_ptr<Fault> (*)(ObjectReader& reader, const RobotConfig& robot);
+// Factory signature of a family (registry.cc); `magnitude` is the family's line in the table.
+using FaultFactory = std::unique_ptr<Fault> (*)(ObjectReader& reader, const RobotConfig& robot,
+                                                const FaultMagnitudeSpec& magnitude);
 
-std::unique_ptr<Fault> MakeKtDegradation(ObjectReader& reader, const RobotConfig& robot);
-std::unique_ptr<Fault> MakeFrictionIncrease(ObjectReader& reader, const RobotConfig& robot);
-std::unique_ptr<Fault> MakeBrakeLock(ObjectReader& reader, const RobotConfig& robot);
-std::unique_ptr<Fault> MakeTorqueSensorStuck(ObjectReader& reader, const RobotConfig& robot);
-std::unique_ptr<Fault> MakeInverterShort(ObjectReader& reader, const RobotConfig& robot);
-std::unique_ptr<Fault> MakeWindingResistance(ObjectReader& reader, const RobotConfig& robot);
-std::unique_ptr<Fault> MakeTorqueSensorDrift(ObjectReader& reader, const RobotConfig& robot);
+std::unique_ptr<Fault> MakeKtDegradation(ObjectReader& reader, const RobotConfig& robot,
+                                         const FaultMagnitudeSpec& magnitude);
+std::unique_ptr<Fault> MakeFrictionIncrease(ObjectReader& reader, const RobotConfig& robot,
+                                            const FaultMagnitudeSpec& magnitude);
+std::unique_ptr<Fault> MakeBrakeLock(ObjectReader& reader, const RobotConfig& robot,
+                                     const FaultMagnitudeSpec& magnitude);
+std::unique_ptr<Fault> MakeTorqueSensorStuck(ObjectReader& reader, const RobotConfig& robot,
+                                             const FaultMagnitudeSpec& magnitude);
+std::unique_ptr<Fault> MakeInverterShort(ObjectReader& reader, const RobotConfig& robot,
+                                         const FaultMagnitudeSpec& magnitude);
+std::unique_ptr<Fault> MakeWindingResistance(ObjectReader& reader, const RobotConfig& robot,
+                                             const FaultMagnitudeSpec& magnitude);
+std::unique_ptr<Fault> MakeTorqueSensorDrift(ObjectReader& reader, const RobotConfig& robot,
+                                             const FaultMagnitudeSpec& magnitude);
 
 }  // namespace armfault

@@ -1,6 +1,10 @@
+// The shared pieces of the fault families (faults/family_support.h): the timing, the common
+// JSON fields, the magnitude reader and the effect meters, plus the schedule and the recorder
+// of fault.h. Dependencies go one way: the family files and registry.cc (the table of
+// families) use these; nothing here calls into registry.cc or a family file.
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
+#include <stdexcept>
 #include <vector>
 
 #include "faults/family_support.h"
@@ -249,19 +253,6 @@ std::vector<FaultEffect> EffectRecorder::Results() const {
   return out;
 }
 
-std::string NotExcitedReason(const Fault& fault, const FaultEffect& effect) {
-  if (FaultNeedsMotion(fault.family()) && effect.joint_travel_rad < kMinTravelToExcite_rad) {
-    char travel[32];
-    std::snprintf(travel, sizeof travel, "%.3g", effect.joint_travel_rad);
-    return "joint " + std::to_string(fault.joint_index() + 1) + " was asked to move " + travel + " rad after the onset (less than " +
-           FormatNumber(kMinTravelToExcite_rad) + " rad), and " + fault.family() + " shows only in motion";
-  }
-  if (!effect.took_effect && (!effect.measured || FaultIsDiscrete(fault.family()))) {
-    return "the fault took no effect: " + effect.note;
-  }
-  return "";
-}
-
 int ReadJointIndex(ObjectReader& reader, const RobotConfig& robot) {
   const int n = static_cast<int>(robot.modules.size());
   const int joint = reader.RequireInt("joint");
@@ -343,6 +334,18 @@ FaultCommon ReadFaultCommon(ObjectReader& reader, const RobotConfig& robot, std:
     });
   }
   return c;
+}
+
+void ReadMagnitude(ObjectReader& reader, const FaultMagnitudeSpec& magnitude, double* value, bool required) {
+  if (*magnitude.key == '\0') throw std::logic_error(std::string(magnitude.family) + " has no magnitude");
+  const FaultMagnitudeRange& r = magnitude.range;
+  const std::string key = magnitude.key;
+  if (required ? !reader.ShouldRead(key) : !reader.Has(key)) return;
+  const double x = reader.RequireNumber(key);
+  if (r.min_exclusive) RequireAbove(x, r.min, reader.PointerTo(key));
+  RequireInRange(x, r.min, r.max, reader.PointerTo(key));
+  if (r.zero_excluded && x == 0.0) throw InputError("", reader.PointerTo(key), "0 is no change");
+  *value = x;
 }
 
 std::unique_ptr<EffectMeter> MakeRatioMeter(std::string measure, double onset_s, double nominal, double threshold,

@@ -2,6 +2,9 @@
 // joint) over time, never to the monitor.
 //
 // One family = one file in faults/ implementing Fault + one line in the table in registry.cc.
+// Dependencies go one way: registry.cc (the table, and what reads it: MakeFault, the
+// Fault* queries by family, NotExcitedReason) uses the family files, and both use the shared
+// pieces (fault.cc, onset_condition.cc, family_support.h), which never call back into the table.
 // JSON shape (campaign files, run files, `armfault trace --fault`):
 //   {"family": "kt_degradation", "joint": 3, "kt_factor": 0.6,
 //    "onset_s": 2.0, "profile": "abrupt" | "incipient" | "intermittent",

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "core/plant/friction.h"
-#include "faults/family_support.h"
+#include "faults/family_support.h"  // the shared pieces; registry.cc lists this family
 
 namespace armfault {
 
@@ -37,12 +37,13 @@ class FrictionIncrease : public Fault {
 
 }  // namespace
 
-std::unique_ptr<Fault> MakeFrictionIncrease(ObjectReader& reader, const RobotConfig& robot) {
+std::unique_ptr<Fault> MakeFrictionIncrease(ObjectReader& reader, const RobotConfig& robot,
+                                            const FaultMagnitudeSpec& magnitude) {
   ErrorList errors;  // the common keys and this family's, each on its own
   const FaultCommon common = ReadFaultCommon(reader, robot, {"friction_factor"}, &errors);
   double f = 1.0;
   errors.Try([&] {
-    ReadMagnitude(reader, "friction_increase", &f);
+    ReadMagnitude(reader, magnitude, &f);
   });
   errors.ThrowIfAny();
   return std::make_unique<FrictionIncrease>(common, f);

@@ -5,7 +5,7 @@
 // Effect: peak phase current after onset against before, and the protection tripping.
 #include <algorithm>
 
-#include "faults/family_support.h"
+#include "faults/family_support.h"  // the shared pieces; registry.cc lists this family
 
 namespace armfault {
 
@@ -60,7 +60,8 @@ class InverterShort : public Fault {
 
 }  // namespace
 
-std::unique_ptr<Fault> MakeInverterShort(ObjectReader& reader, const RobotConfig& robot) {
+std::unique_ptr<Fault> MakeInverterShort(ObjectReader& reader, const RobotConfig& robot,
+                                         const FaultMagnitudeSpec& magnitude) {
   ErrorList errors;  // the common keys and this family's, each on its own
   const FaultCommon common = ReadFaultCommon(reader, robot, {"kind", "resistance_ohm"}, &errors);
   std::string kind;
@@ -75,7 +76,7 @@ std::unique_ptr<Fault> MakeInverterShort(ObjectReader& reader, const RobotConfig
   });
   double ohm = 0.1;
   errors.Try([&] {
-    ReadMagnitude(reader, "inverter_short", &ohm, /*required=*/false);
+    ReadMagnitude(reader, magnitude, &ohm, /*required=*/false);
   });
   errors.ThrowIfAny();
   return std::make_unique<InverterShort>(common, value, kind, ohm);

@@ -2,7 +2,7 @@
 // become n K_T. Magnitude: kt_factor n in (0, 1]. Effect: torque per ampere actually produced.
 #include <cmath>
 
-#include "faults/family_support.h"
+#include "faults/family_support.h"  // the shared pieces; registry.cc lists this family
 
 namespace armfault {
 
@@ -31,12 +31,13 @@ class KtDegradation : public Fault {
 
 }  // namespace
 
-std::unique_ptr<Fault> MakeKtDegradation(ObjectReader& reader, const RobotConfig& robot) {
+std::unique_ptr<Fault> MakeKtDegradation(ObjectReader& reader, const RobotConfig& robot,
+                                         const FaultMagnitudeSpec& magnitude) {
   ErrorList errors;  // the common keys and this family's, each on its own
   const FaultCommon common = ReadFaultCommon(reader, robot, {"kt_factor"}, &errors);
   double n = 1.0;
   errors.Try([&] {
-    ReadMagnitude(reader, "kt_degradation", &n);
+    ReadMagnitude(reader, magnitude, &n);
   });
   errors.ThrowIfAny();
   return std::make_unique<KtDegradation>(common, n);

@@ -1,3 +1,5 @@
+// Conditional onsets (onset_condition.h): one of the shared pieces of the fault families, like
+// fault.cc; it uses fault.cc's ReadJointIndex and calls nothing in registry.cc or a family file.
 #include "faults/onset_condition.h"
 
 #include <cmath>

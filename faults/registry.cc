@@ -1,5 +1,8 @@
 // The fault families: one line each. A new family is a new file plus a line here.
-#include <stdexcept>
+// Dependencies go one way: this table uses the family files and the shared pieces (fault.cc,
+// onset_condition.cc, family_support.h); they never call back into it. A family gets its
+// magnitude's key and range from its line here as a parameter of its factory (MakeFault).
+#include <cstdio>
 
 #include "core/base/suggest.h"
 #include "faults/family_support.h"
@@ -83,18 +86,6 @@ std::string FaultMagnitudeRangeText(const std::string& family) {
          number(r.max) + (r.zero_excluded ? ", ≠ 0" : "");
 }
 
-void ReadMagnitude(ObjectReader& reader, const char* family, double* value, bool required) {
-  FaultMagnitudeRange r;
-  if (!FaultMagnitudeRangeOf(family, &r)) throw std::logic_error(std::string(family) + " has no magnitude");
-  const std::string key = FaultMagnitudeKey(family);
-  if (required ? !reader.ShouldRead(key) : !reader.Has(key)) return;
-  const double x = reader.RequireNumber(key);
-  if (r.min_exclusive) RequireAbove(x, r.min, reader.PointerTo(key));
-  RequireInRange(x, r.min, r.max, reader.PointerTo(key));
-  if (r.zero_excluded && x == 0.0) throw InputError("", reader.PointerTo(key), "0 is no change");
-  *value = x;
-}
-
 std::string FaultMagnitudeUnit(const std::string& magnitude_key) {
   const Family* f = FamilyOfMagnitude(magnitude_key);
   return f ? f->magnitude_unit : "";
@@ -143,13 +134,26 @@ bool FaultIsDiscrete(const std::string& family) {
   return false;
 }
 
+std::string NotExcitedReason(const Fault& fault, const FaultEffect& effect) {
+  if (FaultNeedsMotion(fault.family()) && effect.joint_travel_rad < kMinTravelToExcite_rad) {
+    char travel[32];
+    std::snprintf(travel, sizeof travel, "%.3g", effect.joint_travel_rad);
+    return "joint " + std::to_string(fault.joint_index() + 1) + " was asked to move " + travel + " rad after the onset (less than " +
+           FormatNumber(kMinTravelToExcite_rad) + " rad), and " + fault.family() + " shows only in motion";
+  }
+  if (!effect.took_effect && (!effect.measured || FaultIsDiscrete(fault.family()))) {
+    return "the fault took no effect: " + effect.note;
+  }
+  return "";
+}
+
 std::unique_ptr<Fault> MakeFault(const nlohmann::json& spec, const std::string& pointer, const RobotConfig& robot) {
   ObjectReader reader(spec, pointer);
   const std::string family = reader.RequireString("family");
   for (const Family& f : kFamilies) {
     if (family != f.name) continue;
     try {
-      std::unique_ptr<Fault> fault = f.make(reader, robot);
+      std::unique_ptr<Fault> fault = f.make(reader, robot, FaultMagnitudeSpec{f.name, f.magnitude_key, f.range});
       const int j = fault->joint_index();
       if (f.needs_torque_sensor && j >= 0 && j < static_cast<int>(robot.modules.size()) &&
           !robot.modules[j].torque_sensor.present) {

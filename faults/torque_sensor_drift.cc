@@ -2,7 +2,7 @@
 // offset growing at drift_Nm_per_s from onset. Effect: RMS of the reading's error.
 #include <cmath>
 
-#include "faults/family_support.h"
+#include "faults/family_support.h"  // the shared pieces; registry.cc lists this family
 
 namespace armfault {
 
@@ -26,12 +26,13 @@ class TorqueSensorDrift : public Fault {
 
 }  // namespace
 
-std::unique_ptr<Fault> MakeTorqueSensorDrift(ObjectReader& reader, const RobotConfig& robot) {
+std::unique_ptr<Fault> MakeTorqueSensorDrift(ObjectReader& reader, const RobotConfig& robot,
+                                             const FaultMagnitudeSpec& magnitude) {
   ErrorList errors;  // the common keys and this family's, each on its own
   const FaultCommon common = ReadFaultCommon(reader, robot, {"drift_Nm_per_s"}, &errors);
   double rate = 1.0;
   errors.Try([&] {
-    ReadMagnitude(reader, "torque_sensor_drift", &rate);
+    ReadMagnitude(reader, magnitude, &rate);
   });
   errors.ThrowIfAny();
   return std::make_unique<TorqueSensorDrift>(common, rate);

@@ -3,7 +3,7 @@
 // or holds its last sample. Magnitude: lead = supply | ground | open. Effect: the reading
 // goes flat (its standard deviation, noise included, collapses) or, when the lead comes and
 // goes (intermittent), the reading's error against the true torque jumps.
-#include "faults/family_support.h"
+#include "faults/family_support.h"  // the shared pieces; registry.cc lists this family
 
 namespace armfault {
 
@@ -31,7 +31,8 @@ class TorqueSensorStuck : public Fault {
 
 }  // namespace
 
-std::unique_ptr<Fault> MakeTorqueSensorStuck(ObjectReader& reader, const RobotConfig& robot) {
+std::unique_ptr<Fault> MakeTorqueSensorStuck(ObjectReader& reader, const RobotConfig& robot,
+                                             const FaultMagnitudeSpec&) {
   ErrorList errors;  // the common keys and this family's, each on its own
   const FaultCommon common = ReadFaultCommon(reader, robot, {"lead"}, &errors);
   std::string lead;

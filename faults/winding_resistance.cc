@@ -1,6 +1,6 @@
 // winding_resistance: an overheating winding; the phase resistance becomes
 // resistance_factor x R (>= 1). Effect: copper loss per ampere squared, i.e. R itself.
-#include "faults/family_support.h"
+#include "faults/family_support.h"  // the shared pieces; registry.cc lists this family
 
 namespace armfault {
 
@@ -25,12 +25,13 @@ class WindingResistance : public Fault {
 
 }  // namespace
 
-std::unique_ptr<Fault> MakeWindingResistance(ObjectReader& reader, const RobotConfig& robot) {
+std::unique_ptr<Fault> MakeWindingResistance(ObjectReader& reader, const RobotConfig& robot,
+                                             const FaultMagnitudeSpec& magnitude) {
   ErrorList errors;  // the common keys and this family's, each on its own
   const FaultCommon common = ReadFaultCommon(reader, robot, {"resistance_factor"}, &errors);
   double f = 1.0;
   errors.Try([&] {
-    ReadMagnitude(reader, "winding_resistance", &f);
+    ReadMagnitude(reader, magnitude, &f);
   });
   errors.ThrowIfAny();
   return std::make_unique<WindingResistance>(common, f);

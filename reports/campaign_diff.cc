@@ -13,7 +13,7 @@
 
 #include <boost/math/distributions/hypergeometric.hpp>
 
-#include "campaigns/run_dir.h"
+#include "campaigns/running/run_dir.h"
 #include "core/base/distributions.h"
 #include "core/base/json_input.h"
 

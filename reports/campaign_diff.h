@@ -65,7 +65,7 @@
 #include <string>
 #include <vector>
 
-#include "campaigns/campaign_summary.h"
+#include "campaigns/scoring/campaign_summary.h"
 
 namespace armfault {
 

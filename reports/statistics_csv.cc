@@ -3,6 +3,8 @@
 #include <charconv>
 #include <cmath>
 
+#include "core/base/csv.h"
+
 namespace armfault {
 
 namespace {
@@ -12,14 +14,6 @@ void AppendNumber(std::string* line, double x) {
   char buffer[32];
   auto result = std::to_chars(buffer, buffer + sizeof(buffer), x);
   line->append(buffer, result.ptr);
-}
-
-// A name as one CSV field: quoted when it holds a comma, a quote or a line break.
-std::string CsvField(const std::string& text) {
-  if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
-  std::string out = "\"";
-  for (char c : text) out += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return out + "\"";
 }
 
 }  // namespace
@@ -36,7 +30,7 @@ void StatisticsCsvWriter::Declare(const std::vector<PublishedStatistic>& statist
   fixed_.clear();
   thresholds_.clear();
   for (const PublishedStatistic& s : statistics_) {
-    fixed_.push_back("," + CsvField(s.name) + "," + CsvField(s.family) + ",");
+    fixed_.push_back("," + CsvText(s.name) + "," + CsvText(s.family) + ",");
     std::string t;
     AppendNumber(&t, s.threshold);
     thresholds_.push_back(std::move(t));

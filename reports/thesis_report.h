@@ -10,7 +10,7 @@
 
 #include <string>
 
-#include "campaigns/thesis.h"
+#include "campaigns/thesis/thesis.h"
 
 namespace armfault {
 

@@ -9,7 +9,7 @@
 #include <string_view>
 #include <vector>
 
-#include "campaigns/channels.h"
+#include "campaigns/data/channels.h"
 #include "core/plant/simulation.h"
 
 namespace armfault {
@@ -29,7 +29,7 @@ class TraceCsvWriter {
 };
 
 // The columns, in order, for `joint_count` joints: "t_s", then per joint "q_ref_rad_j1", ...
-// (campaigns/channels.h: the names `armfault export` uses, with units); what channels.json
+// (campaigns/data/channels.h: the names `armfault export` uses, with units); what channels.json
 // beside the trace describes.
 std::vector<Channel> TraceCsvChannels(int joint_count);
 std::vector<std::string> TraceCsvColumns(int joint_count);  // their names

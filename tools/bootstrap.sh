@@ -39,8 +39,8 @@ python_packages=(python3-dev pybind11-dev python3-pybind11 python3-numpy python3
 # Test-only: GoogleTest and GoogleMock (the unit tests), Google Benchmark (bench/),
 # chromium (report page), slurm-wlm and munge (tools/slurm_check.sh runs a real Slurm; their
 # packages enable slurmctld and munged as services), python3-yaml (tests/deploy/deploy_test.sh
-# parses the Kubernetes YAML), python3-jsonschema (tests/campaigns/schema_test.py checks
-# campaigns/campaign.schema.json), python3-pytest (the Python package's tests), clang and
+# parses the Kubernetes YAML), python3-jsonschema (tests/campaigns/spec/schema_test.py checks
+# campaigns/spec/campaign.schema.json), python3-pytest (the Python package's tests), clang and
 # libclang-rt-14-dev (libFuzzer, only a Recommends of clang-14) for the parsers' fuzzing test
 # (tests/fuzz/fuzz_test.sh, docs/fuzzing.md), jupyter-nbconvert, python3-ipykernel (the python3
 # kernel) and python3-matplotlib to execute examples/notebooks/first-campaign.ipynb

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 16's boundary benchmark (a benchmark script, not a timed test): K_T degradation of
+# The boundary benchmark (a benchmark script, not a timed test): K_T degradation of
 # joint 3 on two trajectories (campaigns/files/boundary-bench.json).
 #  1. the 400-run grid (kt_factor 0.900 ... 0.995 in 20 steps x 10 repetitions x 2 trajectories)
 #     with `armfault run`, and its a90/95 per trajectory by the same fit (`boundary --from`);

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Prints issue 12's targets for a campaign output directory (armfault run ... -o DIR).
+"""Prints the realistic fleet's targets for a campaign output directory (armfault run ... -o DIR).
 
 Usage: tools/realistic_targets.py DIR [--check-a90-95 FAMILY:BOUND:min|max ...]
 

@@ -21,8 +21,8 @@
 #
 # Why the dependencies are rebuilt: Debian's libtbb and libode are not instrumented. TSan does
 # not see the synchronisation inside libtbb, so it reports every hand-over of a run between the
-# pipeline's stages (campaigns/runner.cc) as a race (8 reports on ci.json, 69 on the fleet with
-# this build; 38 and 7 in issue 24's first measurement), and it does not see ODE's memory at
+# pipeline's stages (campaigns/running/runner.cc) as a race (8 reports on ci.json, 69 on the fleet with
+# this build), and it does not see ODE's memory at
 # all, so a race inside ODE would go unnoticed. With both instrumented there are none left
 # (no suppressions). Only Debian's package registry is used: `apt-get source` through a private
 # deb-src list and package lists (nothing under /etc/apt is changed).

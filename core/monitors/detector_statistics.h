@@ -82,8 +82,7 @@ struct DetectorReading {
 };
 using DetectorReadings = std::array<DetectorReading, kDetectorCount>;
 
-// The compact record of one run, stored as "decision" in its line of decisions.jsonl
-// (inline in results.jsonl before issue 13).
+// The compact record of one run, stored as "decision" in its line of decisions.jsonl.
 struct DecisionStats {
   struct Point {
     long quanta = 0;               // held deviation

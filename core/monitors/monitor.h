@@ -166,7 +166,7 @@ class HealthMonitor {
   virtual const MonitorOutput& output() const = 0;
   // Whether output().windows keeps every window (true, the default: trace, the report's run,
   // thesis) or none (false: a campaign's runs, whose scoring reads the verdicts only), so that a
-  // campaign's run holds nothing that grows with its length (issue 25). Called before the first
+  // campaign's run holds nothing that grows with its length. Called before the first
   // Observe(); a monitor that keeps no windows may ignore it.
   virtual void KeepWindows(bool keep) { (void)keep; }
   // A monitor that publishes the statistics behind its alarms returns a tap on them; nullptr

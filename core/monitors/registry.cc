@@ -116,7 +116,7 @@ std::shared_ptr<const MonitorModel> BuildPythonModel(const nlohmann::json& setti
 // given on the command line, and the SHA-256 of its bytes (64 lowercase hex digits), so that
 // two scorings of different verdicts are different campaigns (campaign hash, `diff`). Such a
 // monitor is a record of where verdicts came from, not code: it cannot be built to run, and
-// `tune` refuses it (campaigns/tuning.cc).
+// `tune` refuses it (campaigns/tuning/tuning.cc).
 nlohmann::json ParseVerdictsSettings(const nlohmann::json& object, const std::string& pointer, const InputContext& context) {
   try {
     ObjectReader reader(object, pointer);

@@ -37,7 +37,7 @@ class MonitorModel;
 // whole recording at once): made by MonitorModel::BeginCommissioning,
 // given every controller tick in time order, then End once. Used by one thread. What the
 // monitor learned becomes the unit's model, which the framework keeps once per unit and shares
-// read-only by every run of that unit on any thread (campaigns/run_pipeline.h, UnitMonitors).
+// read-only by every run of that unit on any thread (campaigns/running/run_pipeline.h, UnitMonitors).
 // A monitor's failure (its code raising, returning an error) throws MonitorFailure; the unit's
 // runs then fail with it.
 class CommissioningSink {

@@ -1,4 +1,4 @@
-// The strain-wave gear's thermal side (issue 28): a gearbox thermal node beside the winding's,
+// The strain-wave gear's thermal side: a gearbox thermal node beside the winding's,
 // the lubricant's viscosity law that scales the joint friction with the gearbox temperature,
 // and the torque sensor's thermal drift (the sensor sits on the gear output, so the gearbox
 // node sets its temperature). Off unless a drive gives its "gearbox" group (ModuleParams::gearbox,

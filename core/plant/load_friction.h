@@ -1,4 +1,4 @@
-// Load-dependent friction of the strain-wave gear (issue 28): grows with the transmitted
+// Load-dependent friction of the strain-wave gear: grows with the transmitted
 // torque and depends on the direction of power flow,
 //   F_load = mu |tau| / ratio   [N m, motor side],  mu = load_friction_driving     if tau qd > 0
 //                                                       = load_friction_backdriven  if tau qd < 0

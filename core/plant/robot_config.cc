@@ -1,3 +1,6 @@
+// A robot from JSON and back (robot_config.h): the field tables that drive parsing, validation
+// and output, the link and body checks, and Validate. The presets and the drive catalogue:
+// robot_presets.cc.
 #include "core/plant/robot_config.h"
 
 #include <cmath>
@@ -5,8 +8,8 @@
 
 #include "core/base/json_input.h"
 #include "core/plant/mass_properties.h"
+#include "core/plant/robot_config_internal.h"
 #include "core/plant/urdf_robot.h"
-#include "core/plant/ur_class_urdf.h"
 
 namespace armfault {
 
@@ -522,210 +525,7 @@ nlohmann::json BodyToJson(const JointBody& b) {
           {"frame_origin_m", b.frame_origin_m}, {"frame_rotation", b.frame_rotation}};
 }
 
-std::string Known(const std::vector<std::string>& names) {
-  std::string out;
-  for (const auto& n : names) out += (out.empty() ? "" : ", ") + n;
-  return out;
-}
-
-RobotConfig MrrConfig1() {
-  RobotConfig r;
-  r.name = "mrr-config1";
-  r.modules = {ModuleDefaults("MRR1", ""), ModuleDefaults("MRR2", ""), ModuleDefaults("MRR2", "")};
-  // Base module: vertical axis; upper modules: horizontal axes; at the zero pose link 2 stands
-  // upright and link 3 is horizontal, so the top joint lifts its link and tool against
-  // gravity as in the thesis experiments.
-  LinkParams l1;
-  l1.mass_kg = 2.5;   // link + MRR2 module 2 mounted on it (assumption)
-  l1.length_m = 0.20;
-  l1.radius_m = 0.05;
-  l1.direction = {0, 0, 1};
-  l1.joint_axis = {0, 0, 1};
-  LinkParams l2;
-  l2.mass_kg = 1.8;   // link + MRR2 module 3 (assumption)
-  l2.length_m = 0.30;
-  l2.radius_m = 0.045;
-  l2.direction = {0, 0, 1};  // upright: joint 2 carries the top link's moment, not its own
-  l2.joint_axis = {0, -1, 0};  // positive angles lift the link
-  LinkParams l3;
-  l3.mass_kg = 1.0;   // end link with flange (assumption)
-  l3.length_m = 0.25;
-  l3.radius_m = 0.035;
-  l3.direction = {1, 0, 0};
-  l3.joint_axis = {0, -1, 0};
-  r.links = {l1, l2, l3};
-  r.base_position_m = {0, 0, 0.15};
-  r.payload_kg = 2.0;  // tool at the flange: the top joint's load is mostly gravity (docs/assumptions.md)
-  return r;
-}
-
-// One hanging link, motor disconnected by the caller: the analytic-pendulum check.
-RobotConfig Pendulum() {
-  RobotConfig r;
-  r.name = "pendulum";
-  r.modules = {ModuleDefaults("MRR2", "")};
-  LinkParams l;
-  l.mass_kg = 1.0;
-  l.length_m = 0.5;
-  l.radius_m = 0.02;
-  l.direction = {0, 0, -1};
-  l.joint_axis = {0, 1, 0};
-  r.links = {l};
-  r.base_position_m = {0, 0, 1.0};
-  return r;
-}
-
-// Drives of a 48 V industrial arm (UR-class: wrist joints of 28 N m, shoulder and elbow of
-// 150 N m). Strain-wave gears and frameless motors sized from public catalogues; the values,
-// their sources and the gain rule: docs/assumptions.md, "Industrial drive types".
-ModuleParams IndustrialDrive(const std::string& type) {
-  ModuleParams m;
-  const bool small = type == "industrial-small";
-  m.type = type;
-  m.min_angle_deg = -360;
-  m.max_angle_deg = 360;
-  MotorParams& mo = m.motor;
-  mo.kt_Nm_per_A = small ? 0.044 : 0.10;
-  mo.phase_resistance_ohm = small ? 0.5 : 0.15;
-  mo.phase_inductance_H = small ? 0.3e-3 : 0.15e-3;
-  mo.pole_pairs = small ? 5 : 7;
-  // Motor rotor plus the wave generator (CSF-14: 0.033 kg cm^2; CSG-25: 0.282 kg cm^2).
-  mo.rotor_inertia_kg_m2 = small ? 1.5e-5 : 1.1e-4;
-  mo.thermal_resistance_K_per_W = small ? 4.0 : 1.5;
-  mo.thermal_time_constant_s = small ? 600 : 1200;
-  InverterParams& in = m.inverter;
-  in.bus_voltage_V = 48.0;
-  in.command_limit_A = small ? 10.0 : 16.0;
-  in.current_per_volt_A_per_V = in.command_limit_A / 1.5;  // the DAC's +-1.5 V span the range
-  in.switch_resistance_ohm = small ? 0.02 : 0.01;
-  in.quiescent_power_W = small ? 2.0 : 3.0;
-  in.overcurrent_trip_A = small ? 30.0 : 45.0;
-  m.drive.ratio = small ? 100.0 : 120.0;
-  m.drive.mesh_loss_fraction = 0.2;  // about 80 % efficiency at rated torque, 20 degC
-  // Motor side, as functions of the link velocity: link-side Coulomb about 1.5 and 5 N m.
-  m.friction = small ? FrictionParams{0.0008, 0.015, 0.017, 15.0} : FrictionParams{0.0042, 0.042, 0.046, 15.0};
-  m.brake.holding_torque_Nm = small ? 0.6 : 2.5;  // above the motor's peak torque
-  TorqueSensorParams& ts = m.torque_sensor;
-  ts.full_scale_Nm = small ? 60.0 : 250.0;
-  ts.offset_Nm = 0;
-  ts.adc_bits = 14;
-  ts.noise_Nm = small ? 0.05 : 0.15;
-  m.encoder.counts_per_rev = 16384;
-  ControllerParams& c = m.controller;
-  // The gain rule (docs/assumptions.md): the controller's model is the datasheet's, its
-  // robust gain the motor-side Coulomb friction; lambda and K_P as the thesis's.
-  c.kt_hat_Nm_per_A = mo.kt_Nm_per_A;
-  c.b_hat = m.friction.viscous_Nm_s_per_rad;
-  c.fc_hat_Nm = m.friction.coulomb_Nm;
-  c.fs_hat_Nm = m.friction.static_Nm;
-  c.ft_hat = m.friction.stribeck_s2_per_rad2;
-  c.im_hat_kg_m2 = mo.rotor_inertia_kg_m2;
-  c.ku_robust_Nm = m.friction.coulomb_Nm;
-  return m;
-}
-
-// The industrial drives with their "gearbox" group on (issue 28): a gearbox node, the
-// lubricant's Vogel law, direction-dependent load friction and sensor drift. Values and their
-// sources: docs/assumptions.md, "Gearbox temperature, load and sensor drift".
-ModuleParams IndustrialThermalDrive(const std::string& type) {
-  const bool small = type == "industrial-small-thermal";
-  ModuleParams m = IndustrialDrive(small ? "industrial-small" : "industrial-large");
-  m.type = type;
-  GearboxParams& g = m.gearbox;
-  g.present = true;
-  g.thermal_resistance_K_per_W = small ? 3.0 : 1.2;
-  g.thermal_time_constant_s = small ? 1800 : 3000;
-  g.winding_coupling_W_per_K = small ? 0.5 : 1.5;
-  g.reference_C = 20;
-  g.vogel_B_K = 277;
-  g.vogel_C_C = -100;
-  g.coulomb_exponent = 0.5;
-  g.load_friction_driving = 0.05;
-  g.load_friction_backdriven = 0.10;
-  // 0.02 %FS/K zero drift, 0.01 %/K span drift of a temperature-compensated strain-gauge sensor.
-  g.sensor_offset_Nm_per_K = 0.0002 * m.torque_sensor.full_scale_Nm;
-  g.sensor_gain_per_K = 1e-4;
-  g.warm_copper_loss_W = small ? 3.0 : 10.0;
-  g.warm_friction_loss_W = small ? 4.0 : 15.0;
-  return m;
-}
-
-// A six-joint UR5e-class arm from its URDF (campaigns/files/robots/ur-class.urdf, built in):
-// shoulder and elbow joints on the large industrial drive, the wrists on the small one.
-RobotConfig UrClass() {
-  const nlohmann::json drives = {{"shoulder_pan", "industrial-large"}, {"shoulder_lift", "industrial-large"},
-                                 {"elbow", "industrial-large"},        {"wrist_1", "industrial-small"},
-                                 {"wrist_2", "industrial-small"},      {"wrist_3", "industrial-small"}};
-  RobotConfig r = RobotFromUrdfText(kUrClassUrdf, "ur-class.urdf (built in)", drives, "/drives");
-  r.name = "ur-class";
-  r.payload_kg = 0.5;  // a light gripper at the flange
-  return r;
-}
-
-struct Preset {
-  const char* name;
-  RobotConfig (*make)();
-};
-const std::vector<Preset>& Presets() {
-  static const std::vector<Preset> presets = {{"mrr-config1", &MrrConfig1}, {"pendulum", &Pendulum}, {"ur-class", &UrClass}};
-  return presets;
-}
-
-// Whether drive type `type`'s defaults carry a gearbox group (false for an unknown type).
-bool TypeHasGearbox(const std::string& type) {
-  return type == "industrial-small-thermal" || type == "industrial-large-thermal";
-}
-
 }  // namespace
-
-ModuleParams ModuleDefaults(const std::string& type, const std::string& pointer) {
-  ModuleParams m;  // struct defaults are the MRR2 values
-  if (type == "MRR2") return m;
-  if (type == "MRR1") {
-    // Moog BN-42-33EU-03 frameless motor (peak 8.82 N m, 697 W): parameters not printed in the
-    // thesis are chosen for a 48 V-class winding of that size (docs/assumptions.md).
-    m.type = "MRR1";
-    m.min_angle_deg = -60;
-    m.max_angle_deg = 60;
-    m.motor.kt_Nm_per_A = 0.12;
-    m.motor.phase_resistance_ohm = 0.15;
-    m.motor.phase_inductance_H = 0.2e-3;
-    m.motor.pole_pairs = 4;
-    m.motor.thermal_resistance_K_per_W = 3.1;  // rated 42 W of copper loss heats it by 130 K
-    m.motor.thermal_time_constant_s = 1200;
-    m.motor.rotor_inertia_kg_m2 = 1.5e-4;
-    m.inverter.command_limit_A = 6.0;
-    m.friction = {0.0025, 0.05, 0.054, 15.0};
-    m.brake.holding_torque_Nm = 10.0;  // above the motor's 8.82 N m peak
-    m.encoder.counts_per_rev = 5000;
-    m.controller.kt_hat_Nm_per_A = 0.12;
-    m.controller.b_hat = 0.0055;
-    m.controller.fc_hat_Nm = 0.05;
-    m.controller.fs_hat_Nm = 0.054;
-    m.controller.im_hat_kg_m2 = 1.5e-4;
-    return m;
-  }
-  if (type == "industrial-small" || type == "industrial-large") return IndustrialDrive(type);
-  if (type == "industrial-small-thermal" || type == "industrial-large-thermal") return IndustrialThermalDrive(type);
-  throw InputError("", pointer, "unknown module type \"" + type + "\" (known: " + Known(ModuleTypeNames()) + ")");
-}
-
-std::vector<std::string> ModuleTypeNames() {
-  return {"MRR1", "MRR2", "industrial-small", "industrial-large", "industrial-small-thermal", "industrial-large-thermal"};
-}
-
-std::vector<std::string> RobotPresetNames() {
-  std::vector<std::string> names;
-  for (const auto& p : Presets()) names.push_back(p.name);
-  return names;
-}
-
-RobotConfig RobotPreset(const std::string& name, const std::string& pointer) {
-  for (const auto& p : Presets()) {
-    if (name == p.name) return p.make();
-  }
-  throw InputError("", pointer, "unknown robot preset \"" + name + "\" (known: " + Known(RobotPresetNames()) + ")");
-}
 
 RobotConfig RobotFromJson(const nlohmann::json& value, const std::string& pointer, const std::string& base_dir) {
   if (value.is_string()) {
@@ -811,23 +611,137 @@ RobotConfig RobotFromJson(const nlohmann::json& value, const std::string& pointe
   return r;
 }
 
+namespace {
+
+// Validate's checks: each records its errors in `errors`, in the order Validate reports them.
+
+// One link, or one body, per joint module.
+void CheckJointCounts(const RobotConfig& r, const std::string& pointer, ErrorList* errors) {
+  if (!r.bodies.empty()) {
+    if (!r.links.empty()) {
+      errors->Add(InputError("", PointerJoin(pointer, "links"), "give links or bodies, not both"));
+    }
+    if (r.bodies.size() != r.modules.size()) {
+      errors->Add(InputError("", PointerJoin(pointer, "bodies"),
+                             std::to_string(r.bodies.size()) + " bodies for " + std::to_string(r.modules.size()) +
+                                 " modules: give one body per joint module"));
+    }
+  } else if (r.links.size() != r.modules.size()) {
+    errors->Add(InputError("", PointerJoin(pointer, "links"),
+                           std::to_string(r.links.size()) + " links for " + std::to_string(r.modules.size()) +
+                               " modules: give one link per joint module"));
+  }
+}
+
+// Module i: its joint range, its rotor body, its optional groups and its controller rate.
+// `rate_ok`: the robot's physics rate is in range (the gearbox and rate checks need it).
+void CheckModule(const RobotConfig& r, size_t i, bool rate_ok, const std::string& pointer, ErrorList* errors) {
+  const ModuleParams& m = r.modules[i];
+  const std::string mp = PointerJoin(PointerJoin(pointer, "modules"), i);
+  // An empty range makes the bounds' own checks moot: one error for the pair.
+  if (!(m.min_angle_deg < m.max_angle_deg)) {
+    errors->Add(InputError("", PointerJoin(mp, "max_angle_deg"),
+                           "the joint range [" + FormatNumber(m.min_angle_deg) + ", " +
+                               FormatNumber(m.max_angle_deg) + "] deg is empty"));
+  } else {
+    // A range need not contain 0 (URDF arms have joints limited to one side of it).
+    errors->Try([&] { RequireInRange(m.min_angle_deg, -360, 360, PointerJoin(mp, "min_angle_deg")); });
+    errors->Try([&] { RequireInRange(m.max_angle_deg, -360, 360, PointerJoin(mp, "max_angle_deg")); });
+  }
+  // The rotor body ODE gets: its inertia after any tolerance draw (a campaign's unit), which
+  // the field table's floor does not see.
+  const double im = m.motor.rotor_inertia_kg_m2;
+  const std::string rotor_problem = BodyMassProblem(kRotorMass_kg, im * Eigen::Matrix3d::Identity());
+  if (!rotor_problem.empty()) {
+    errors->Add(InputError("", PointerJoin(PointerJoin(mp, "motor"), "rotor_inertia_kg_m2"),
+                           "the rotor body's " + rotor_problem));
+  }
+  if (m.ripple.enabled) errors->Try([&] { CheckFields(RippleFields(), m.ripple, PointerJoin(mp, "ripple")); });
+  if (m.gearbox.present) CheckGearbox(m, rate_ok ? r.physics_rate_Hz : 0.0, PointerJoin(mp, "gearbox"), errors);
+  // The controller runs every k physics steps: the rates must divide (needs a valid physics rate).
+  double k = r.physics_rate_Hz / m.controller.rate_Hz;
+  if (rate_ok && (std::fabs(k - std::round(k)) > 1e-9 || k < 1)) {
+    errors->Add(InputError("", PointerJoin(PointerJoin(mp, "controller"), "rate_Hz"),
+                           FormatNumber(m.controller.rate_Hz) + " Hz must divide the physics rate " +
+                               FormatNumber(r.physics_rate_Hz) + " Hz"));
+  }
+}
+
+// Every link's values (a robot built in code has not been through LinkFromJson), then its
+// body as ODE gets it (the payload lumped into the last): mass and inertia above the floors.
+// `payload_ok`: the payload is in range (else the last body is checked without it).
+void CheckLinks(const RobotConfig& r, bool payload_ok, const std::string& pointer, ErrorList* errors) {
+  for (size_t i = 0; i < r.links.size(); ++i) {
+    const LinkParams& l = r.links[i];
+    const std::string lp = PointerJoin(PointerJoin(pointer, "links"), i);
+    bool ok = errors->Try([&] { CheckLinkMass(l.mass_kg, PointerJoin(lp, "mass_kg")); });
+    ok &= errors->Try([&] { CheckLinkLength(l.length_m, PointerJoin(lp, "length_m")); });
+    ok &= errors->Try([&] { CheckLinkRadius(l.radius_m, PointerJoin(lp, "radius_m")); });
+    ok &= errors->Try([&] { CheckComFraction(l.com_fraction, PointerJoin(lp, "com_fraction")); });
+    ok &= errors->Try([&] { CheckVector(l.direction, PointerJoin(lp, "direction"), "link direction"); });
+    ok &= errors->Try([&] { CheckVector(l.joint_axis, PointerJoin(lp, "joint_axis"), "joint axis"); });
+    if (l.has_inertia && ok) ok &= errors->Try([&] { CheckMoments(l.inertia_kg_m2, l.mass_kg, PointerJoin(lp, "inertia_kg_m2")); });
+    if (!ok) continue;
+    const bool last = i + 1 == r.links.size();
+    const double payload = last && payload_ok ? r.payload_kg : 0.0;
+    const Eigen::Vector3d dir = Eigen::Vector3d(l.direction[0], l.direction[1], l.direction[2]).normalized();
+    const Eigen::Vector3d axis = Eigen::Vector3d(l.joint_axis[0], l.joint_axis[1], l.joint_axis[2]).normalized();
+    const BodyMass body = LinkBody(l, Eigen::Vector3d::Zero(), dir, axis, payload);
+    const std::string problem = BodyMassProblem(body.mass_kg, body.inertia_kg_m2);
+    if (problem.empty()) continue;
+    // Only the cylinder's moments can fall below the floor when every value is in range.
+    const std::string what = l.has_inertia ? "the given principal moments"
+                                           : "a solid cylinder of " + FormatNumber(l.mass_kg) + " kg, radius " +
+                                                 FormatNumber(l.radius_m) + " m and length " + FormatNumber(l.length_m) + " m";
+    errors->Add(InputError("", PointerJoin(lp, l.has_inertia ? "inertia_kg_m2" : "radius_m"),
+                           "link " + std::to_string(i + 1) + "'s body (" + what + (payload > 0 ? ", with the payload" : "") +
+                               "): " + problem));
+  }
+}
+
+// The general form's bodies as ODE gets them (the payload lumped into the last).
+// `payload_ok`: the payload is in range (else the last body is checked without it).
+void CheckBodies(const RobotConfig& r, bool payload_ok, const std::string& pointer, ErrorList* errors) {
+  for (size_t k = 0; k < 3 && !r.bodies.empty(); ++k) {
+    errors->Try([&] {
+      RequireInRange(r.payload_point_m[k], -kMaxBasePosition_m, kMaxBasePosition_m,
+                     PointerJoin(PointerJoin(pointer, "payload_point_m"), k));
+    });
+  }
+  for (size_t i = 0; i < r.bodies.size(); ++i) {
+    const std::string bp = PointerJoin(PointerJoin(pointer, "bodies"), i);
+    const bool last = i + 1 == r.bodies.size();
+    const JointBody& jb = r.bodies[i];
+    bool in_range = errors->Try([&] { CheckVector(jb.axis, PointerJoin(bp, "axis"), "joint axis"); });
+    in_range &= errors->Try([&] { CheckLinkMass(jb.mass_kg, PointerJoin(bp, "mass_kg")); });
+    for (size_t k = 0; k < 3; ++k) {
+      in_range &= errors->Try([&] {
+        RequireInRange(jb.anchor_m[k], -kMaxBasePosition_m, kMaxBasePosition_m, PointerJoin(PointerJoin(bp, "anchor_m"), k));
+      });
+      in_range &= errors->Try([&] {
+        RequireInRange(jb.com_m[k], -kMaxBasePosition_m, kMaxBasePosition_m, PointerJoin(PointerJoin(bp, "com_m"), k));
+      });
+    }
+    for (size_t k = 0; k < 6; ++k) {
+      in_range &= errors->Try([&] {
+        RequireInRange(jb.inertia_kg_m2[k], -kMaxMoment_kg_m2, kMaxMoment_kg_m2, PointerJoin(PointerJoin(bp, "inertia_kg_m2"), k));
+      });
+    }
+    if (!in_range) continue;
+    const BodyMass body = BodyOfJoint(r, static_cast<int>(i), last && payload_ok ? r.payload_kg : 0.0);
+    const std::string problem = BodyMassProblem(body.mass_kg, body.inertia_kg_m2);
+    if (!problem.empty()) {
+      errors->Add(InputError("", bp, "the body joint \"" + r.bodies[i].joint_name + "\" moves: its " + problem));
+    }
+  }
+}
+
+}  // namespace
+
 void Validate(const RobotConfig& r, const std::string& pointer) {
   if (r.modules.empty()) throw InputError("", PointerJoin(pointer, "modules"), "the robot has no modules");
   ErrorList errors;  // the checks below are independent, except where noted
-  if (!r.bodies.empty()) {
-    if (!r.links.empty()) {
-      errors.Add(InputError("", PointerJoin(pointer, "links"), "give links or bodies, not both"));
-    }
-    if (r.bodies.size() != r.modules.size()) {
-      errors.Add(InputError("", PointerJoin(pointer, "bodies"),
-                            std::to_string(r.bodies.size()) + " bodies for " + std::to_string(r.modules.size()) +
-                                " modules: give one body per joint module"));
-    }
-  } else if (r.links.size() != r.modules.size()) {
-    errors.Add(InputError("", PointerJoin(pointer, "links"),
-                          std::to_string(r.links.size()) + " links for " + std::to_string(r.modules.size()) +
-                              " modules: give one link per joint module"));
-  }
+  CheckJointCounts(r, pointer, &errors);
   const bool payload_ok = errors.Try([&] { RequireInRange(r.payload_kg, 0, 100, PointerJoin(pointer, "payload_kg")); });
   for (size_t i = 0; i < 3; ++i) {
     errors.Try([&] {
@@ -841,98 +755,9 @@ void Validate(const RobotConfig& r, const std::string& pointer) {
   // Above 1e-6 the gear rows go soft enough to move accelerations by tens of percent (2.6x of the
   // largest at 1e-5 on ur-class); 0 is exact and solvable since no constraint is redundant.
   errors.Try([&] { RequireInRange(r.constraint_force_mixing, 0, 1e-6, PointerJoin(pointer, "constraint_force_mixing")); });
-  for (size_t i = 0; i < r.modules.size(); ++i) {
-    const ModuleParams& m = r.modules[i];
-    const std::string mp = PointerJoin(PointerJoin(pointer, "modules"), i);
-    // An empty range makes the bounds' own checks moot: one error for the pair.
-    if (!(m.min_angle_deg < m.max_angle_deg)) {
-      errors.Add(InputError("", PointerJoin(mp, "max_angle_deg"),
-                            "the joint range [" + FormatNumber(m.min_angle_deg) + ", " +
-                                FormatNumber(m.max_angle_deg) + "] deg is empty"));
-    } else {
-      // A range need not contain 0 (URDF arms have joints limited to one side of it).
-      errors.Try([&] { RequireInRange(m.min_angle_deg, -360, 360, PointerJoin(mp, "min_angle_deg")); });
-      errors.Try([&] { RequireInRange(m.max_angle_deg, -360, 360, PointerJoin(mp, "max_angle_deg")); });
-    }
-    // The rotor body ODE gets: its inertia after any tolerance draw (a campaign's unit), which
-    // the field table's floor does not see.
-    const double im = m.motor.rotor_inertia_kg_m2;
-    const std::string rotor_problem = BodyMassProblem(kRotorMass_kg, im * Eigen::Matrix3d::Identity());
-    if (!rotor_problem.empty()) {
-      errors.Add(InputError("", PointerJoin(PointerJoin(mp, "motor"), "rotor_inertia_kg_m2"),
-                            "the rotor body's " + rotor_problem));
-    }
-    if (m.ripple.enabled) errors.Try([&] { CheckFields(RippleFields(), m.ripple, PointerJoin(mp, "ripple")); });
-    if (m.gearbox.present) CheckGearbox(m, rate_ok ? r.physics_rate_Hz : 0.0, PointerJoin(mp, "gearbox"), &errors);
-    // The controller runs every k physics steps: the rates must divide (needs a valid physics rate).
-    double k = r.physics_rate_Hz / m.controller.rate_Hz;
-    if (rate_ok && (std::fabs(k - std::round(k)) > 1e-9 || k < 1)) {
-      errors.Add(InputError("", PointerJoin(PointerJoin(mp, "controller"), "rate_Hz"),
-                            FormatNumber(m.controller.rate_Hz) + " Hz must divide the physics rate " +
-                                FormatNumber(r.physics_rate_Hz) + " Hz"));
-    }
-  }
-  // Every link's values (a robot built in code has not been through LinkFromJson), then its
-  // body as ODE gets it (the payload lumped into the last): mass and inertia above the floors.
-  for (size_t i = 0; i < r.links.size(); ++i) {
-    const LinkParams& l = r.links[i];
-    const std::string lp = PointerJoin(PointerJoin(pointer, "links"), i);
-    bool ok = errors.Try([&] { CheckLinkMass(l.mass_kg, PointerJoin(lp, "mass_kg")); });
-    ok &= errors.Try([&] { CheckLinkLength(l.length_m, PointerJoin(lp, "length_m")); });
-    ok &= errors.Try([&] { CheckLinkRadius(l.radius_m, PointerJoin(lp, "radius_m")); });
-    ok &= errors.Try([&] { CheckComFraction(l.com_fraction, PointerJoin(lp, "com_fraction")); });
-    ok &= errors.Try([&] { CheckVector(l.direction, PointerJoin(lp, "direction"), "link direction"); });
-    ok &= errors.Try([&] { CheckVector(l.joint_axis, PointerJoin(lp, "joint_axis"), "joint axis"); });
-    if (l.has_inertia && ok) ok &= errors.Try([&] { CheckMoments(l.inertia_kg_m2, l.mass_kg, PointerJoin(lp, "inertia_kg_m2")); });
-    if (!ok) continue;
-    const bool last = i + 1 == r.links.size();
-    const double payload = last && payload_ok ? r.payload_kg : 0.0;
-    const Eigen::Vector3d dir = Eigen::Vector3d(l.direction[0], l.direction[1], l.direction[2]).normalized();
-    const Eigen::Vector3d axis = Eigen::Vector3d(l.joint_axis[0], l.joint_axis[1], l.joint_axis[2]).normalized();
-    const BodyMass body = LinkBody(l, Eigen::Vector3d::Zero(), dir, axis, payload);
-    const std::string problem = BodyMassProblem(body.mass_kg, body.inertia_kg_m2);
-    if (problem.empty()) continue;
-    // Only the cylinder's moments can fall below the floor when every value is in range.
-    const std::string what = l.has_inertia ? "the given principal moments"
-                                           : "a solid cylinder of " + FormatNumber(l.mass_kg) + " kg, radius " +
-                                                 FormatNumber(l.radius_m) + " m and length " + FormatNumber(l.length_m) + " m";
-    errors.Add(InputError("", PointerJoin(lp, l.has_inertia ? "inertia_kg_m2" : "radius_m"),
-                          "link " + std::to_string(i + 1) + "'s body (" + what + (payload > 0 ? ", with the payload" : "") +
-                              "): " + problem));
-  }
-  // The general form's bodies as ODE gets them (the payload lumped into the last).
-  for (size_t k = 0; k < 3 && !r.bodies.empty(); ++k) {
-    errors.Try([&] {
-      RequireInRange(r.payload_point_m[k], -kMaxBasePosition_m, kMaxBasePosition_m,
-                     PointerJoin(PointerJoin(pointer, "payload_point_m"), k));
-    });
-  }
-  for (size_t i = 0; i < r.bodies.size(); ++i) {
-    const std::string bp = PointerJoin(PointerJoin(pointer, "bodies"), i);
-    const bool last = i + 1 == r.bodies.size();
-    const JointBody& jb = r.bodies[i];
-    bool in_range = errors.Try([&] { CheckVector(jb.axis, PointerJoin(bp, "axis"), "joint axis"); });
-    in_range &= errors.Try([&] { CheckLinkMass(jb.mass_kg, PointerJoin(bp, "mass_kg")); });
-    for (size_t k = 0; k < 3; ++k) {
-      in_range &= errors.Try([&] {
-        RequireInRange(jb.anchor_m[k], -kMaxBasePosition_m, kMaxBasePosition_m, PointerJoin(PointerJoin(bp, "anchor_m"), k));
-      });
-      in_range &= errors.Try([&] {
-        RequireInRange(jb.com_m[k], -kMaxBasePosition_m, kMaxBasePosition_m, PointerJoin(PointerJoin(bp, "com_m"), k));
-      });
-    }
-    for (size_t k = 0; k < 6; ++k) {
-      in_range &= errors.Try([&] {
-        RequireInRange(jb.inertia_kg_m2[k], -kMaxMoment_kg_m2, kMaxMoment_kg_m2, PointerJoin(PointerJoin(bp, "inertia_kg_m2"), k));
-      });
-    }
-    if (!in_range) continue;
-    const BodyMass body = BodyOfJoint(r, static_cast<int>(i), last && payload_ok ? r.payload_kg : 0.0);
-    const std::string problem = BodyMassProblem(body.mass_kg, body.inertia_kg_m2);
-    if (!problem.empty()) {
-      errors.Add(InputError("", bp, "the body joint \"" + r.bodies[i].joint_name + "\" moves: its " + problem));
-    }
-  }
+  for (size_t i = 0; i < r.modules.size(); ++i) CheckModule(r, i, rate_ok, pointer, &errors);
+  CheckLinks(r, payload_ok, pointer, &errors);
+  CheckBodies(r, payload_ok, pointer, &errors);
   errors.ThrowIfAny();
 }
 
@@ -961,8 +786,8 @@ nlohmann::json RobotToJson(const RobotConfig& r) {
     jm["encoder"] = WriteFields(EncoderFields(), m.encoder);
     jm["controller"] = WriteFields(ControllerFields(), m.controller);
     jm["winding_temperature_sensor"] = m.winding_temperature_sensor;
-    if (m.ripple.enabled) jm["ripple"] = WriteFields(RippleFields(), m.ripple);  // absent: off, as before
-    // Absent: as before issue 28; null where the type's own group was switched off, so it reads back off.
+    if (m.ripple.enabled) jm["ripple"] = WriteFields(RippleFields(), m.ripple);  // absent: off
+    // Absent for a type without the group; null where the type's own group is switched off, so it reads back off.
     if (m.gearbox.present) jm["gearbox"] = WriteFields(GearboxFields(), m.gearbox);
     else if (TypeHasGearbox(m.type)) jm["gearbox"] = nullptr;
     out["modules"].push_back(jm);

@@ -131,9 +131,9 @@ struct ModuleParams {
   ControllerParams controller;
   bool winding_temperature_sensor = false;  // a sensor the monitor may read (JointSignals::winding_temp_C)
   RippleParams ripple;  // optional "ripple" group: gear kinematic error and cogging (core/plant/torque_ripple.h)
-  // Optional "gearbox" group (core/plant/gear_thermal.h, issue 28): the gearbox thermal node,
-  // friction against lubricant temperature, load-dependent friction, torque sensor drift.
-  // Absent (present = false): today's plant.
+  // Optional "gearbox" group (core/plant/gear_thermal.h): the gearbox thermal node, friction
+  // against lubricant temperature, load-dependent friction, torque sensor drift. Absent
+  // (present = false): all of these off.
   GearboxParams gearbox;
 };
 

@@ -30,7 +30,7 @@ constexpr TrajectoryType kTypes[] = {
     {"csv", MakeCsv},
 };
 
-// A repeating work cycle (issue 28): the inner trajectory's first `period_s` seconds, again and
+// A repeating work cycle: the inner trajectory's first `period_s` seconds, again and
 // again: At(t) = inner.At(t mod period).
 class Cycle final : public Trajectory {
  public:

@@ -21,11 +21,11 @@
 #include <thread>
 
 #include "app/cli.h"
-#include "campaigns/campaign.h"
-#include "campaigns/campaign_summary.h"
-#include "campaigns/run_dir.h"
-#include "campaigns/run_record.h"
-#include "campaigns/runner.h"
+#include "campaigns/spec/campaign.h"
+#include "campaigns/scoring/campaign_summary.h"
+#include "campaigns/running/run_dir.h"
+#include "campaigns/scoring/run_record.h"
+#include "campaigns/running/runner.h"
 #include "core/base/json_input.h"
 #include "core/base/suggest.h"
 #include "faults/fault.h"
@@ -204,7 +204,7 @@ std::pair<std::vector<std::string>, std::vector<std::string>> RunCases(const PyC
 
 // What `armfault run` writes: campaign.json, results.jsonl and decisions.jsonl from the runs'
 // lines, then the outputs of results.jsonl from the run directory's table
-// (campaigns/run_dir.h, WriteRecordOutputs), as every command writes them.
+// (campaigns/running/run_dir.h, WriteRecordOutputs), as every command writes them.
 void WriteOutputs(const std::string& dir_name, const PyCampaign& pc, const std::vector<std::string>& lines,
                   const std::vector<std::string>& decision_lines) {
   const Campaign& campaign = *pc.campaign;
@@ -239,7 +239,7 @@ std::string SummaryOf(const std::vector<std::string>& lines, std::optional<PyCam
   }
   nlohmann::json summary = pc ? builder.Build(pc->campaign->floors, pc->campaign->resolved, ARMFAULT_VERSION)
                               : builder.Build(Floors{}, nullptr, ARMFAULT_VERSION);
-  // as `run` writes it (campaigns/run_dir.cc): the hours need the campaign's duration
+  // as `run` writes it (campaigns/running/run_dir.cc): the hours need the campaign's duration
   if (pc) summary["healthy_operation"] = HealthyOperationOf(builder, pc->campaign->duration_s).ToJson();
   return summary.dump();
 }

@@ -56,7 +56,7 @@ campaigns_and_schema() {
     n=$((n + 1))
   done
   [[ $n -ge 6 ]] || { echo "only $n shipped campaigns"; return 1; }
-  same "$src/campaigns/campaign.schema.json" "$prefix/share/armfault/schema/campaign.schema.json"
+  same "$src/campaigns/spec/campaign.schema.json" "$prefix/share/armfault/schema/campaign.schema.json"
 }
 check campaigns_and_schema campaigns_and_schema
 

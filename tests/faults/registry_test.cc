@@ -85,7 +85,7 @@ TEST(FaultMagnitudeRange, DocsFaultsMdStatesEachFamilysRange) {
 }
 
 TEST(FaultMagnitudeRange, TheSchemaStatesEachFamilysRange) {
-  std::ifstream in(std::string(ARMFAULT_SOURCE_DIR) + "/campaigns/campaign.schema.json");
+  std::ifstream in(std::string(ARMFAULT_SOURCE_DIR) + "/campaigns/spec/campaign.schema.json");
   ASSERT_TRUE(in);
   const json schema = json::parse(in);
   for (const std::string& family : FaultFamilyNames()) {

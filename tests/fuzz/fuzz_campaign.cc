@@ -2,8 +2,8 @@
 // CampaignFromJson: spec, trajectories, monitor model), then what validate prints from it
 // (case count, warnings) and the first and last case with their robot. Files named inside
 // (a csv trajectory, a monitor file) resolve against a directory that cannot exist.
-#include "campaigns/campaign.h"
-#include "campaigns/cases.h"
+#include "campaigns/spec/campaign.h"
+#include "campaigns/spec/cases.h"
 #include "core/plant/simulation.h"
 #include "tests/fuzz/fuzz_common.h"
 

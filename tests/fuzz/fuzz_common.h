@@ -2,7 +2,7 @@
 // bytes as the text of one input file, parses it as armfault does, and returns 0 when the
 // input is rejected with an InputError (the clean rejection a user sees as exit status 2).
 // Anything else that escapes (another exception, an abort inside ODE, a sanitizer report) is a
-// crash for libFuzzer: the bug class issue 24 is about.
+// crash for libFuzzer: the bug class this fuzzing is for.
 #pragma once
 
 #include <cstddef>

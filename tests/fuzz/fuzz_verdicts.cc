@@ -1,12 +1,12 @@
 // Fuzz target: a verdicts file's text, as `armfault score DIR VERDICTS.jsonl` reads it
-// (campaigns/export.h ReadVerdicts: JSON Lines, each line a verdict checked against a
+// (campaigns/data/export.h ReadVerdicts: JSON Lines, each line a verdict checked against a
 // three-joint, 4-s run), then every run's verdicts in time order scored as a live monitor's
 // are (ScoreVerdicts, onset at 1 s). Every run_id but "unknown" is taken as a known run.
 #include <algorithm>
 #include <map>
 #include <sstream>
 
-#include "campaigns/export.h"
+#include "campaigns/data/export.h"
 #include "core/monitors/monitor.h"
 #include "faults/fault.h"
 #include "tests/fuzz/fuzz_common.h"

@@ -3,7 +3,7 @@
 // Byte-level mutation of a JSON file mostly breaks its syntax, so the parsers' checks deep
 // inside a valid document (a link mass, a trajectory period, a monitor window) are rarely
 // reached: two minutes of plain libFuzzer on the robot target did not find the tiny-mass abort
-// issue 24 reports. Three times in four this mutator parses the input (the whole text, else one
+// at ODE's step. Three times in four this mutator parses the input (the whole text, else one
 // line of it, as in a JSON Lines file), changes one value of the document and writes it back:
 // a number becomes an edge value (0, -0, the smallest subnormal, 1e300, the largest double, 2^31 ...),
 // is scaled by a power of ten or negated; a string becomes another string of the document or

@@ -10,8 +10,8 @@
 #include <map>
 #include <sstream>
 
-#include "campaigns/campaign.h"
-#include "campaigns/run_pipeline.h"
+#include "campaigns/spec/campaign.h"
+#include "campaigns/running/run_pipeline.h"
 #include "core/monitors/threshold_statistics.h"
 
 namespace armfault {
@@ -55,6 +55,20 @@ TEST(StatisticsCsvTest, WritesOneRowPerTickJointAndStatisticBesideItsThreshold) 
             "0.002,1,z,unknown,3,3,1\n"  // inclusive: value >= threshold passes
             "0.002,2,kt_deficit,kt_degradation,0.25,0.2,1\n"
             "0.002,2,z,unknown,,3,\n");
+}
+
+TEST(StatisticsCsvTest, ANameASpreadsheetWouldTakeForAFormulaIsWrittenAsText) {
+  // A plugin names its statistics: "=HYPERLINK(...)" must open as the text it is (the
+  // formula-injection guard of core/base/csv.h), and a comma in a name stays in one cell.
+  std::string out;
+  StatisticsCsvWriter writer([&](std::string_view text) { out += text; });
+  writer.Declare({{"=HYPERLINK(\"x\")", "-1+1", 1, false}, {"a,b", "@sum", 1, false}}, 1);
+  const double values[] = {0.5, 2};
+  writer.Values(0.002, values);
+  EXPECT_EQ(out,
+            "t_s,joint,statistic,family,value,threshold,above\n"
+            "0.002,1,\"'=HYPERLINK(\"\"x\"\")\",'-1+1,0.5,1,0\n"
+            "0.002,1,\"a,b\",'@sum,2,1,1\n");
 }
 
 TEST(StatisticsCsvTest, AMonitorPublishingNoneGivesTheHeaderAlone) {

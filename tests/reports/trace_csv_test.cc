@@ -7,7 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "campaigns/export.h"
+#include "campaigns/data/export.h"
 
 namespace armfault {
 namespace {

@@ -12,11 +12,11 @@
 #include <fstream>
 #include <sstream>
 
-#include "campaigns/campaign.h"
-#include "campaigns/run_record.h"
-#include "campaigns/run_pipeline.h"
-#include "campaigns/runner.h"
-#include "campaigns/tuning.h"
+#include "campaigns/spec/campaign.h"
+#include "campaigns/scoring/run_record.h"
+#include "campaigns/running/run_pipeline.h"
+#include "campaigns/running/runner.h"
+#include "campaigns/tuning/tuning.h"
 #include "core/monitors/plugin_monitor.h"
 #include "core/monitors/threshold_statistics.h"
 #include "core/monitors/registry.h"

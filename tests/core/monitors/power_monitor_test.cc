@@ -295,7 +295,7 @@ TEST(PowerMonitorDetects, EveryStuckLeadWithTheStuckReading) {
 }
 
 // A torque beyond the sensor's range holds the reading on its rail: saturation, which the
-// monitor must not call a stuck sensor (it did: issue 23); a stuck lead on the same joint and
+// monitor must not call a stuck sensor; a stuck lead on the same joint and
 // motion still is one. Joint 3 lowers its link and 2 kg tool to horizontal over 3 s, where the
 // load (about 6.5 N m) lies beyond a 2.3 N m sensor's top (5.81 N m with the 3.5 N m offset).
 json SaturatingRun(json faults = json::array()) {

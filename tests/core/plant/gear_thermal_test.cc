@@ -1,4 +1,4 @@
-// Issue 28's plant: the gearbox thermal node, friction against the lubricant's temperature
+// The confounders' plant: the gearbox thermal node, friction against the lubricant's temperature
 // (Vogel), load- and direction-dependent gear friction, the torque sensor's thermal drift,
 // cold and warm starts and repeating work cycles. Each law against its equation, then in the
 // simulation; the energy balance with all of it on; a neutral gearbox group changes nothing.

@@ -465,8 +465,7 @@ TEST(RobotConfigErrors, ValidateChecksAHandBuiltConfig) {
   EXPECT_EQ(ErrorOf([&] { Validate(r, ""); }).pointer(), "/modules/2/controller/rate_Hz");
 }
 
-// Values inside the old ranges that aborted the process inside ODE (issue 24): each is now an
-// error naming its field and value, with a physical floor or ceiling (docs/assumptions.md).
+// Values that would abort the process inside ODE: each is an error naming its field and value, with a physical floor or ceiling (docs/assumptions.md).
 TEST(RobotConfigErrors, PhysicalLimitsOfLinksAndBase) {
   const struct {
     json link;
@@ -838,7 +837,7 @@ TEST(RobotConfigRipple, ValidateChecksRippleBuiltInCode) {
   EXPECT_EQ(ErrorOf([&] { Validate(r, ""); }).message(), "expected a whole number, got 2.5");
 }
 
-// ---------------------------------------------------------------- gearbox group (issue 28)
+// ---------------------------------------------------------------- gearbox group
 
 TEST(RobotConfigGearbox, AbsentIsOffAndNotWrittenAThermalTypeIsOnAndNullSwitchesItOff) {
   const RobotConfig plain = RobotFromJson(TwoJoints(), "");

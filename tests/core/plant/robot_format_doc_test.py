@@ -144,9 +144,9 @@ for g in groups:
             check("%s/%s default" % (g, key), same(both, mrr2[g][key]) and mrr1[g][key] == mrr2[g][key],
                   "doc %s, code MRR2 %s MRR1 %s" % (both, mrr2[g][key], mrr1[g][key]))
 
-# The allowed ranges of the module groups, as the schema states them (which tests/campaigns/
+# The allowed ranges of the module groups, as the schema states them (which tests/campaigns/spec/
 # schema_test.py holds to the loader).
-with open(os.path.join(SRC, "campaigns", "campaign.schema.json")) as f:
+with open(os.path.join(SRC, "campaigns", "spec", "campaign.schema.json")) as f:
     module_schema = json.load(f)["$defs"]["module"]["properties"]
 for g in groups:
     for key, row in tables.get(g, {}).items():
@@ -165,7 +165,7 @@ for g in groups:
 # The allowed ranges of the top-level and link values, as the schema states them: the first
 # "[a, b]" or "(a, b]" of the row (of each number for a 3-number key) against the schema's
 # minimum and maximum (of its items for an array). Rows without a range are skipped.
-defs = json.load(open(os.path.join(SRC, "campaigns", "campaign.schema.json")))["$defs"]
+defs = json.load(open(os.path.join(SRC, "campaigns", "spec", "campaign.schema.json")))["$defs"]
 for section, schema_props in (("Top level", defs["robotObject"]["properties"]), ("Link", defs["link"]["properties"])):
     for key, row in tables.get(section, {}).items():
         m = re.search(r"([\[(])([^,\]]+), ([^\]]+)\]", row.get("allowed", ""))
