@@ -3,7 +3,7 @@
 //   {"robot": "mrr-config1", "duration_s": 10, "seed": 1,
 //    "joints": {"3": {"type": "sine_pair", "amplitude_deg": 25, "omega_rad_s": 1.2732}}}
 // Optional "start": "cold" (default: every thermal node at ambient) or "warm" (at the steady
-// state of each drive's stated duty, core/plant/gear_thermal.h).
+// state of each drive's stated duty, core/plant/parts/gear_thermal.h).
 // Joints are numbered from 1 at the base; a joint without a trajectory holds its angle.
 #pragma once
 
@@ -14,9 +14,9 @@
 #include <string>
 
 #include "core/monitors/registry.h"
-#include "core/plant/robot_config.h"
+#include "core/plant/robot/robot_config.h"
 #include "core/plant/simulation.h"
-#include "core/plant/trajectory.h"
+#include "core/plant/motion/trajectory.h"
 
 namespace armfault {
 

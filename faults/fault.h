@@ -19,9 +19,9 @@
 #include <string>
 #include <vector>
 
-#include "core/plant/hardware_condition.h"
+#include "core/plant/parts/hardware_condition.h"
 #include "core/base/json_input.h"
-#include "core/plant/robot_config.h"
+#include "core/plant/robot/robot_config.h"
 #include "core/plant/simulation.h"
 #include "faults/onset_condition.h"
 

@@ -3,7 +3,7 @@
 // friction power against what the healthy friction model gives on the same motion.
 #include <cmath>
 
-#include "core/plant/friction.h"
+#include "core/plant/drive/friction.h"
 #include "faults/family_support.h"  // the shared pieces; registry.cc lists this family
 
 namespace armfault {

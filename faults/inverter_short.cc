@@ -1,7 +1,7 @@
 // inverter_short: a short in the driver, of resistance_ohm: between phases a and b at the
 // motor terminals (phase_phase), phase a to ground (phase_ground), or phase a's high-side
 // switch shorted (switch). The over-current it causes trips the driver's protection, which
-// opens all switches for the rest of the run; the short itself stays (core/plant/motor.h).
+// opens all switches for the rest of the run; the short itself stays (core/plant/drive/motor.h).
 // Effect: peak phase current after onset against before, and the protection tripping.
 #include <algorithm>
 

@@ -12,7 +12,7 @@
 
 #include <string>
 
-#include "core/plant/robot_config.h"
+#include "core/plant/robot/robot_config.h"
 #include "core/plant/simulation.h"
 
 namespace armfault {

@@ -22,7 +22,7 @@
 #include "campaigns/running/runner.h"
 #include "core/monitors/detector_statistics.h"
 #include "core/monitors/power_monitor.h"
-#include "core/plant/robot_config.h"
+#include "core/plant/robot/robot_config.h"
 #include "core/plant/simulation.h"
 
 namespace armfault {

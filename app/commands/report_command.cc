@@ -6,7 +6,7 @@
 
 #include "app/commands/commands.h"
 #include "core/base/json_input.h"
-#include "core/plant/robot_config.h"
+#include "core/plant/robot/robot_config.h"
 #include "reports/page/campaign_report.h"
 
 namespace armfault {

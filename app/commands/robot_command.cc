@@ -8,8 +8,8 @@
 #include "app/commands/commands.h"
 #include "core/base/json_input.h"
 #include "core/base/output_file.h"
-#include "core/plant/robot_config.h"
-#include "core/plant/urdf_robot.h"
+#include "core/plant/robot/robot_config.h"
+#include "core/plant/robot/urdf_robot.h"
 
 namespace armfault {
 

@@ -14,7 +14,7 @@
 #include "core/base/rng.h"
 #include "core/monitors/power_monitor.h"
 #include "core/monitors/torque_balance.h"
-#include "core/plant/rigid_body_dynamics.h"
+#include "core/plant/robot/rigid_body_dynamics.h"
 #include "core/plant/simulation.h"
 
 namespace armfault {

@@ -30,7 +30,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/plant/robot_config.h"
+#include "core/plant/robot/robot_config.h"
 
 namespace armfault {
 

@@ -6,7 +6,7 @@
 
 #include "core/base/json_input.h"
 #include "core/plant/simulation.h"
-#include "core/plant/trajectory.h"
+#include "core/plant/motion/trajectory.h"
 #include "core/run_config.h"
 
 namespace armfault {

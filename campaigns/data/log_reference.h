@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "core/plant/robot_config.h"
+#include "core/plant/robot/robot_config.h"
 #include "core/signals/joint_signals.h"
 
 namespace armfault {

@@ -25,7 +25,7 @@
 
 #include "campaigns/spec/campaign.h"
 #include "campaigns/scoring/provenance.h"
-#include "core/plant/robot_config.h"
+#include "core/plant/robot/robot_config.h"
 #include "core/signals/joint_signals.h"
 
 namespace armfault {

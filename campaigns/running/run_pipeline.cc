@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "core/plant/torque_sensor.h"
+#include "core/plant/drive/torque_sensor.h"
 
 #include <algorithm>
 #include <cmath>
@@ -20,7 +20,7 @@ constexpr double kCommissioningDuration_s = 16.0;
 
 // The model of a unit's or a run's robot: the campaign's robot (checked when the campaign was
 // read) with draws applied, `what` naming them. A draw can take a body below a floor (a rotor
-// inertia drawn under core/plant/mass_properties.h's): the InputError then fails this run
+// inertia drawn under core/plant/robot/mass_properties.h's): the InputError then fails this run
 // alone, and says that the draws did it.
 std::shared_ptr<const ArmModel> DrawnModel(const RobotConfig& robot, const std::string& what) {
   try {

@@ -20,8 +20,8 @@
 
 #include "core/base/json_input.h"
 #include "core/monitors/registry.h"
-#include "core/plant/robot_config.h"
-#include "core/plant/trajectory.h"
+#include "core/plant/robot/robot_config.h"
+#include "core/plant/motion/trajectory.h"
 
 namespace armfault {
 

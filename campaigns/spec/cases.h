@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "core/monitors/registry.h"
-#include "core/plant/robot_config.h"
+#include "core/plant/robot/robot_config.h"
 #include "campaigns/spec/campaign_spec.h"
 
 namespace armfault {

@@ -7,7 +7,7 @@
 #include <limits>
 
 #include "core/base/distributions.h"
-#include "core/plant/torque_sensor.h"
+#include "core/plant/drive/torque_sensor.h"
 
 namespace armfault {
 

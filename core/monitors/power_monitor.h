@@ -28,7 +28,7 @@
 #include "core/monitors/detector_statistics.h"
 #include "core/base/json_input.h"
 #include "core/monitors/monitor.h"
-#include "core/plant/robot_config.h"
+#include "core/plant/robot/robot_config.h"
 #include "core/monitors/torque_balance.h"
 #include "core/monitors/virtual_torque_sensor.h"
 
@@ -78,7 +78,7 @@ struct MonitorConfig {
 };
 
 // The limits a monitor without commissioning must use on a unit known only within `tol`
-// (StatedTolerances, core/plant/robot_config.h):
+// (StatedTolerances, core/plant/robot/robot_config.h):
 // each swept detector's worn and defective limits move out by the bias the stated tolerances
 // can put on its statistic (docs/monitor.md, "Without commissioning"). `robot` gives the
 // nominal scales (quiescent power, bus voltage, resistance, friction).

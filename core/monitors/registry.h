@@ -16,7 +16,7 @@
 #include "core/base/json_input.h"
 #include "core/monitors/monitor.h"
 #include "core/monitors/power_monitor.h"
-#include "core/plant/robot_config.h"
+#include "core/plant/robot/robot_config.h"
 
 namespace armfault {
 

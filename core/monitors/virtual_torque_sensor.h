@@ -1,5 +1,5 @@
 // The torque sensor a monitor computes where a joint has none (UR-class arms): the robot
-// model's transmitted torque (core/plant/rigid_body_dynamics.h, the nominal robot's bodies and
+// model's transmitted torque (core/plant/robot/rigid_body_dynamics.h, the nominal robot's bodies and
 // payload) in place of the reading, so the power monitor's balances run unchanged.
 //
 // Inputs per tick: every joint's JointSignals now and at the previous tick, the period dt [s].
@@ -16,7 +16,7 @@
 
 #include <vector>
 
-#include "core/plant/rigid_body_dynamics.h"
+#include "core/plant/robot/rigid_body_dynamics.h"
 #include "core/signals/joint_signals.h"
 
 namespace armfault {

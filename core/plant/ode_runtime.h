@@ -4,7 +4,7 @@
 // implementation (see simulation.cc): the shared default crashes with two worlds stepping
 // at once.
 //
-// ODE's errors as a last resort (the robot's checks, core/plant/mass_properties.h, are meant to
+// ODE's errors as a last resort (the robot's checks, core/plant/robot/mass_properties.h, are meant to
 // keep ODE from ever asserting): InitOde() installs ODE's error, debug and message handlers.
 // ODE calls the debug handler for a failed internal assertion and aborts if it returns, and the
 // error handler for a usage error and exits if it returns; both handlers therefore throw

@@ -7,18 +7,18 @@
 #include <mutex>
 #include <sstream>
 
-#include "core/plant/brake.h"
-#include "core/plant/encoder.h"
-#include "core/plant/friction.h"
-#include "core/plant/gear_thermal.h"
-#include "core/plant/load_friction.h"
-#include "core/plant/mass_properties.h"
+#include "core/plant/drive/brake.h"
+#include "core/plant/drive/encoder.h"
+#include "core/plant/drive/friction.h"
+#include "core/plant/parts/gear_thermal.h"
+#include "core/plant/parts/load_friction.h"
+#include "core/plant/robot/mass_properties.h"
 #include "core/base/json_input.h"
 #include "core/plant/ode_runtime.h"
 #include "core/base/rng.h"
-#include "core/plant/rigid_body_dynamics.h"
-#include "core/plant/torque_ripple.h"
-#include "core/plant/torque_sensor.h"
+#include "core/plant/robot/rigid_body_dynamics.h"
+#include "core/plant/parts/torque_ripple.h"
+#include "core/plant/drive/torque_sensor.h"
 
 namespace armfault {
 
@@ -482,7 +482,7 @@ void DriveJoint(const JointModel& jm, const HardwareCondition& cond, int substep
   r.axis = ToEigen(axis);
   double couple_Nm = dout.torque_Nm - r.viscous_torque;
   if (jm.params.ripple.enabled) {
-    // Position-dependent ripple (core/plant/torque_ripple.h) at the step's mid-point angle.
+    // Position-dependent ripple (core/plant/parts/torque_ripple.h) at the step's mid-point angle.
     r.ripple_torque = RippleTorqueNm(jm.params.ripple, jm.ratio, jm.ratio * r.q + 0.5 * dt * r.rotor_rate, r.rotor_rate, 1.0 / dt);
     couple_Nm += r.ripple_torque;
   }

@@ -24,10 +24,10 @@
 //   - motor torque K_T-based tau_m on the rotor, reaction on the parent (stator);
 //   - viscous motor friction b(q_dot) on the rotor shaft, reaction on the parent;
 //   - with a "ripple" group: the gear's kinematic-error torque and the motor's cogging, functions
-//     of the rotor angle (core/plant/torque_ripple.h), on the rotor, reaction on the parent;
+//     of the rotor angle (core/plant/parts/torque_ripple.h), on the rotor, reaction on the parent;
 //   - one bounded velocity row (an AMotor, rotor relative to parent, target 0) with limit
 //     Coulomb/Stribeck + brake + mesh loss mu |tau_link| / gamma: exact stiction. With a drive's
-//     gearbox group (core/plant/gear_thermal.h) the friction follows the gearbox node's
+//     gearbox group (core/plant/parts/gear_thermal.h) the friction follows the gearbox node's
 //     temperature and the row adds the direction-dependent load friction (load_friction.h);
 //     both take the previous physics step's tau_link and q_dot (no iteration). The brake
 //     and the mesh are before the torque sensor, so all dry friction sits on the rotor shaft.
@@ -42,12 +42,12 @@
 #include <string>
 #include <vector>
 
-#include "core/plant/controller.h"
-#include "core/plant/hardware_condition.h"
-#include "core/plant/motor.h"
-#include "core/plant/rigid_body_dynamics.h"
-#include "core/plant/robot_config.h"
-#include "core/plant/trajectory.h"
+#include "core/plant/motion/controller.h"
+#include "core/plant/parts/hardware_condition.h"
+#include "core/plant/drive/motor.h"
+#include "core/plant/robot/rigid_body_dynamics.h"
+#include "core/plant/robot/robot_config.h"
+#include "core/plant/motion/trajectory.h"
 #include "core/signals/joint_signals.h"
 
 namespace armfault {
@@ -78,7 +78,7 @@ class ArmModel {
   double physics_dt_s() const { return physics_dt_s_; }
   double control_dt_s() const { return physics_dt_s_ * steps_per_tick_; }
   int steps_per_tick() const { return steps_per_tick_; }
-  // The same bodies outside ODE (core/plant/rigid_body_dynamics.h), payload included.
+  // The same bodies outside ODE (core/plant/robot/rigid_body_dynamics.h), payload included.
   const RigidBodyModel& rigid_bodies() const { return rigid_; }
 
  private:
@@ -107,7 +107,7 @@ struct JointRunOptions {
 };
 
 // How a run's thermal nodes start: at ambient ("cold", today's), or at the steady state of
-// each drive's stated duty ("warm": GearboxParams warm_*_loss_W, core/plant/gear_thermal.h;
+// each drive's stated duty ("warm": GearboxParams warm_*_loss_W, core/plant/parts/gear_thermal.h;
 // a drive without a gearbox group starts at ambient either way).
 enum class ThermalStart { kCold, kWarm };
 
@@ -130,7 +130,7 @@ struct JointTick {
   JointSignals signals;  // reference and sensors, what a monitor sees (core/signals/joint_signals.h)
   // truth
   double winding_temp_C = 20;   // winding temperature (signals.winding_temp_C: the sensor's, if declared)
-  double gear_temp_C = 0;       // gearbox node (core/plant/gear_thermal.h); NaN without a gearbox group
+  double gear_temp_C = 0;       // gearbox node (core/plant/parts/gear_thermal.h); NaN without a gearbox group
   double q_rad = 0, qd_rad_s = 0;
   double tau_true_Nm = 0;       // torque the harmonic drive passes to the link (sensor truth)
   double i_phase_a_A = 0;
@@ -161,7 +161,7 @@ using TickObserver = std::function<void(const Tick&)>;
 struct JointEnergy {
   double supply_J = 0, copper_J = 0, inverter_J = 0, quiescent_J = 0, friction_J = 0;
   double mech_out_J = 0, emf_J = 0, magnetic_J = 0;
-  double ripple_J = 0;  // work of the torque ripple on the rotors: its potential's drop (core/plant/torque_ripple.h)
+  double ripple_J = 0;  // work of the torque ripple on the rotors: its potential's drop (core/plant/parts/torque_ripple.h)
 };
 
 struct RunResult {
@@ -187,7 +187,7 @@ double StepBareOde(const ArmModel& model, double duration_s, bool friction_rows)
 
 // Where ODE puts each link body at the joint angles `q` (at rest): its centre of mass and its
 // rotation from the zero pose, world frame. For cross-checks of a robot's kinematics against an
-// independent chain of transforms (tests/core/plant/urdf_robot_test.cc).
+// independent chain of transforms (tests/core/plant/robot/urdf_robot_test.cc).
 struct BodyPose {
   Eigen::Vector3d com_m;
   Eigen::Matrix3d rotation;

@@ -1,6 +1,6 @@
-# Shared by the command-line checks (cli_test.sh, cli_runs_test.sh): sourced after their usage
-# line. Sets armfault, src (the source tree), tmp (a temp dir, removed on exit, with work/ as the
-# current directory) and the check helpers run, expect_*, pass, fail.
+# Shared by the command-line checks (cli_test.sh, cli_runs_test.sh, provenance_cli_test.sh):
+# sourced after their usage line. Sets armfault, src (the source tree), tmp (a temp dir, removed
+# on exit, with work/ as the current directory) and the check helpers run, expect_*, pass, fail.
 set -u
 
 if [[ $# -ne 1 || ! -x "$1" ]]; then

@@ -50,7 +50,7 @@ printf '{"duration_s": 1, "robot": {"modules": [{}, {"motor": {"kt_Nm_per_A": -1
   >"$tmp/bad_robot.json"
 run bad_robot_value "$armfault" trace "$tmp/bad_robot.json" -q -o "$tmp/x.csv"
 expect_input_error "$tmp/bad_robot.json: /robot/modules/1/motor/kt_Nm_per_A: -1 must be greater than 0"
-# The optional ripple group (core/plant/torque_ripple.h): out of range, beyond a double, wrong type.
+# The optional ripple group (core/plant/parts/torque_ripple.h): out of range, beyond a double, wrong type.
 printf '{"duration_s": 1, "robot": {"modules": [{}, {"ripple": {"phase_2x_deg": 400}}], "links": [{}, {}]}}\n' \
   >"$tmp/bad_ripple.json"
 run bad_ripple_value "$armfault" trace "$tmp/bad_ripple.json" -q -o "$tmp/x.csv"

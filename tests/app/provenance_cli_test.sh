@@ -4,37 +4,8 @@
 # another one; `armfault report` and `armfault tune` exit 2, naming both files and what to run,
 # when a directory mixes files of two campaigns. Usage: provenance_cli_test.sh path/to/armfault
 # Prints one line per failed check and a final "N passed, M failed"; exits non-zero on failure.
-set -u
+source "$(dirname "$0")/cli_common.sh"
 
-if [[ $# -ne 1 || ! -x "$1" ]]; then
-  echo "usage: $0 path/to/armfault" >&2
-  exit 2
-fi
-armfault=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
-
-tmp=$(mktemp -d "${TMPDIR:-/tmp}/armfault_provenance_test.XXXXXX") || exit 2
-trap 'rm -rf "$tmp"' EXIT
-
-passed=0
-failed=0
-status=0
-pass() { passed=$((passed + 1)); }
-fail() {
-  failed=$((failed + 1))
-  echo "FAIL: $current: $*"
-}
-run() {
-  current=$1
-  shift
-  "$@" >"$tmp/stdout" 2>"$tmp/stderr"
-  status=$?
-}
-expect_status() {
-  if [[ $status -eq $1 ]]; then pass; else fail "exit status $status, expected $1; stderr: $(head -c 600 "$tmp/stderr")"; fi
-}
-expect_stderr_contains() {
-  if grep -qF -- "$1" "$tmp/stderr"; then pass; else fail "stderr lacks '$1'; stderr: $(head -c 600 "$tmp/stderr")"; fi
-}
 # The "campaign_hash" of a JSON file written with indentation.
 hash_of() { sed -n 's/^ *"campaign_hash": "\(sha256:[0-9a-f]*\)".*/\1/p' "$1"; }
 

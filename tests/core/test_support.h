@@ -16,6 +16,13 @@
 
 namespace armfault::testing_support {
 
+// The text of each error an InputError holds ("source: /pointer: message"), in order.
+inline std::vector<std::string> ErrorTexts(const InputError& e) {
+  std::vector<std::string> out;
+  for (const InputError& one : e.errors()) out.push_back(one.text());
+  return out;
+}
+
 // Runs `f`, which must throw an InputError, and returns it (a test failure if it does not).
 template <class F>
 InputError ErrorOf(F&& f) {

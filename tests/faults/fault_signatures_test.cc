@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/plant/motor.h"
+#include "core/plant/drive/motor.h"
 #include "core/run_config.h"
 #include "faults/fault.h"
 #include "tests/core/test_support.h"

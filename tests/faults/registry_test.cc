@@ -8,7 +8,7 @@
 #include <limits>
 #include <sstream>
 
-#include "core/plant/robot_config.h"
+#include "core/plant/robot/robot_config.h"
 #include "faults/fault.h"
 #include "tests/core/test_support.h"
 

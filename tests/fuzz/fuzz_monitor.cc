@@ -6,9 +6,9 @@
 #include <vector>
 
 #include "core/monitors/registry.h"
-#include "core/plant/robot_config.h"
+#include "core/plant/robot/robot_config.h"
 #include "core/plant/simulation.h"
-#include "core/plant/trajectory.h"
+#include "core/plant/motion/trajectory.h"
 #include "tests/fuzz/fuzz_common.h"
 
 namespace {

@@ -5,7 +5,7 @@
 // target is for: a robot must be rejected with an InputError before ODE sees it.
 #include "core/monitors/registry.h"
 #include "core/observe.h"
-#include "core/plant/robot_config.h"
+#include "core/plant/robot/robot_config.h"
 #include "core/plant/simulation.h"
 #include "tests/fuzz/fuzz_common.h"
 

@@ -57,7 +57,7 @@ def main():
     write("robot", "docs-two-joint.json", json.dumps(
         {"name": "two-joint", "modules": [{"type": "MRR1"}, {"motor": {"kt_Nm_per_A": 0.17}}],
          "links": [{"mass_kg": 2, "direction": [0, 0, 1], "joint_axis": [0, 0, 1]}, {}], "payload_kg": 1}))
-    # The optional ripple group (core/plant/torque_ripple.h): one module with its defaults, one with some keys.
+    # The optional ripple group (core/plant/parts/torque_ripple.h): one module with its defaults, one with some keys.
     write("robot", "ripple-two-joint.json", json.dumps(
         {"name": "ripple", "modules": [{"type": "MRR1", "ripple": {}},
                                        {"ripple": {"cogging_Nm": 0.02, "cogging_periods_per_rev": 36, "phase_2x_deg": 30}}],

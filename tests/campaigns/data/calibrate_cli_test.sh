@@ -10,7 +10,7 @@ trap 'rm -rf "$tmp"' EXIT
 failures=0
 fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
 
-"$armfault" export "$src/tests/campaigns/calibrate_cli.json" -o "$tmp/x" -q -j 2 > "$tmp/export.out" 2>&1 || fail "export: $(cat "$tmp/export.out")"
+"$armfault" export "$src/tests/campaigns/data/calibrate_cli.json" -o "$tmp/x" -q -j 2 > "$tmp/export.out" 2>&1 || fail "export: $(cat "$tmp/export.out")"
 healthy=$(python3 -c "import json,sys; print([l['run_id'] for l in map(json.loads, open(sys.argv[1])) if l['family'] is None][0])" "$tmp/x/manifest.jsonl")
 faulty=$(python3 -c "import json,sys; print([l['run_id'] for l in map(json.loads, open(sys.argv[1])) if l['family']][0])" "$tmp/x/manifest.jsonl")
 
@@ -33,7 +33,7 @@ drawn += p["nominal"]  # the campaign draws a payload on top of the robot's own
 assert p["low_95"] <= drawn <= p["high_95"], (drawn, p)
 assert len(cal["joints"]) == 3
 twin = json.load(open(tmp + "/unit.json"))
-camp = json.load(open(src + "/tests/campaigns/calibrate_cli.json"))
+camp = json.load(open(src + "/tests/campaigns/data/calibrate_cli.json"))
 camp["robot"] = twin
 camp["faults"] = []; camp["duration_s"] = 4
 camp["variation"] = {}

@@ -13,7 +13,7 @@ trap 'rm -rf "$tmp"' EXIT
 failures=0
 fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
 
-"$armfault" export "$src/tests/campaigns/calibrate_cli.json" -o "$tmp/x" -q -j 2 > "$tmp/export.out" 2>&1 || fail "export: $(cat "$tmp/export.out")"
+"$armfault" export "$src/tests/campaigns/data/calibrate_cli.json" -o "$tmp/x" -q -j 2 > "$tmp/export.out" 2>&1 || fail "export: $(cat "$tmp/export.out")"
 healthy=$(python3 -c "import json,sys; print([l['run_id'] for l in map(json.loads, open(sys.argv[1])) if l['family'] is None][0])" "$tmp/x/manifest.jsonl")
 faulty=$(python3 -c "import json,sys; print([l['run_id'] for l in map(json.loads, open(sys.argv[1])) if l['family']][0])" "$tmp/x/manifest.jsonl")
 "$armfault" calibrate "$tmp/x" --run "$healthy" -o "$tmp/unit.json" > "$tmp/cal.out" 2>&1 || fail "calibrate: $(tail -3 "$tmp/cal.out")"

@@ -35,7 +35,7 @@ if len(sys.argv) != 3:
 ARMFAULT = os.path.abspath(sys.argv[1])
 SRC = os.path.abspath(sys.argv[2])
 
-with open(os.path.join(SRC, "campaigns", "campaign.schema.json")) as f:
+with open(os.path.join(SRC, "campaigns", "spec", "campaign.schema.json")) as f:
     SCHEMA = json.load(f)
 jsonschema.Draft202012Validator.check_schema(SCHEMA)
 VALIDATOR = jsonschema.Draft202012Validator(SCHEMA)

@@ -7,7 +7,7 @@
 #include <limits>
 
 #include "core/monitors/registry.h"
-#include "core/plant/robot_config.h"
+#include "core/plant/robot/robot_config.h"
 #include "tests/core/test_support.h"
 
 namespace armfault {

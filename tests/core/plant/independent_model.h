@@ -8,7 +8,7 @@
 
 #include <vector>
 
-#include "core/plant/mass_properties.h"
+#include "core/plant/robot/mass_properties.h"
 #include "core/plant/simulation.h"
 
 namespace armfault {
