@@ -1,8 +1,9 @@
 // The joint-space engine (core/plant/engine/joint_space_dynamics.h) against the plant's own
 // recursive Newton-Euler (core/plant/robot/rigid_body_dynamics.h), against itself (forward then
 // inverse dynamics), against the bodies' kinetic energy computed here from their velocities,
-// against a two-joint chain's mass matrix written down by hand, and along the free motion of an
-// unforced, frictionless chain (its energy kept).
+// against the independent model of tests/core/plant/independent_model.h, against a two-joint
+// chain's mass matrix written down by hand, and along the free motion of an unforced,
+// frictionless chain (its energy kept).
 #include "core/plant/engine/joint_space_dynamics.h"
 
 #include <gtest/gtest.h>
@@ -15,6 +16,7 @@
 #include <vector>
 
 #include "core/plant/robot/robot_config.h"
+#include "tests/core/plant/independent_model.h"
 
 namespace armfault {
 namespace {
@@ -161,6 +163,31 @@ TEST(JointSpaceDynamicsTest, InverseDynamicsIsThePlantsOnChainsOfOneToSevenJoint
       VectorXd b(n);
       Bias(model, s.q.data(), s.qd.data(), b.data());
       EXPECT_LT((Mass(model, s.q) * s.qdd + b - ref).norm(), 1e-9 * ref.norm()) << n << " joints, state " << k;
+    }
+  }
+}
+
+// The independent model's mass matrix, gravity and free-motion accelerations (its Coriolis and
+// centrifugal terms from M's derivatives by central differences), on the plant's own ArmModel.
+TEST(JointSpaceDynamicsTest, MatchesTheIndependentModel) {
+  std::mt19937 rng(57);
+  for (const char* preset : {"mrr-config1", "ur-class"}) {
+    const ArmModel arm(RobotPreset(preset));
+    const JointSpaceModel model = MakeJointSpaceModel(arm.rigid_bodies());
+    const int n = model.joint_count;
+    for (int k = 0; k < 6; ++k) {
+      const State s = RandomState(n, &rng);
+      const testing_support::RigidModel ref =
+          testing_support::Independent(arm, std::vector<double>(s.q.data(), s.q.data() + n));
+      EXPECT_LT((Mass(model, s.q) - ref.mass).norm(), 1e-9 * ref.mass.norm()) << preset;
+      VectorXd hold(n), qdd(n);
+      const VectorXd zero = VectorXd::Zero(n);
+      Bias(model, s.q.data(), zero.data(), hold.data());
+      EXPECT_LT((hold + ref.gravity).norm(), 1e-9 * ref.gravity.norm()) << preset;
+      ForwardDynamics(model, s.q.data(), s.qd.data(), zero.data(), qdd.data());
+      const VectorXd expected = testing_support::Accelerations(arm, s.q, s.qd);
+      EXPECT_LT((qdd - expected).norm(), 1e-6 * expected.norm()) << preset << "\n" << qdd.transpose() << "\n"
+                                                                 << expected.transpose();
     }
   }
 }
