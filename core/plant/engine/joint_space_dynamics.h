@@ -39,7 +39,10 @@
 // joint moves some inertia (γ_i² I_m,i > 0 suffices).
 //
 // Cost: O(n) for Bias and InverseDynamics, O(n²) for MassMatrix, O(n³) for the solve, n ≤ 7;
-// no heap: fixed-size storage (at most 7 joints) on the stack. Thread-safe: the model is
+// the pose (a sine and cosine and the bodies' inertias turned to the world a joint) is most of
+// it. Measured (bench/engine_bench.cc, a shared 2-core machine): ForwardDynamics 0.36 us on
+// mrr-config1 (3 joints), 0.76 us on ur-class (6); issue 52 measured ODE's step at 4.6 us.
+// No heap: fixed-size storage (at most 7 joints) on the stack. Thread-safe: the model is
 // immutable and read-only, a call keeps its state on its own stack.
 #pragma once
 
