@@ -1,7 +1,7 @@
 // Cost of one call of the joint-space engine (core/plant/engine/joint_space_dynamics.h) on the
 // presets' chains, with the plant's own Newton-Euler (rigid_body_dynamics.h) for reference.
 //   build/armfault_engine_bench --benchmark_min_time=1
-// Issue 52: a hand-written joint-space step of a three-link arm took 0.21 us, ODE's 4.6 us.
+// For scale on this machine: ODE's step of a three-joint arm takes about 4.6 us.
 #include <benchmark/benchmark.h>
 
 #include <vector>
