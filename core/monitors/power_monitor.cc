@@ -339,6 +339,18 @@ struct MechanicalWindow {
   double rotor_J, out_J, mesh_loss_J, friction_J, dq_rad, sigma_J;
 };
 
+// What one joint's estimators take from one tick: the motion and the powers over the control
+// period just ended, from this tick's signals and the previous tick's.
+struct TickTerms {
+  double dq = 0;            // encoder travel over the period [rad]
+  double i = 0;             // the command held over the period [A]
+  double tau_mean = 0;      // mean torque-sensor reading over the period [N m]
+  double rotor_torque = 0;  // rotor torque the command gives, as perceived at the link [N m]
+  double p_supply = 0;      // U_d I_d [W]
+  double p_rotor = 0, p_copper = 0, p_fixed = 0;  // the calibration's terms of the supply power [W]
+  double winding_above_K = kNaN;  // a declared winding sensor's reading over the calibration's [K]
+};
+
 // A candidate verdict before debounce.
 struct Candidate {
   HealthState state = HealthState::kHealthy;
@@ -369,6 +381,10 @@ struct PowerEfficiencyMonitor::JointState {
     for (SlidingMin& h : held) h = SlidingMin(hold_span);
     for (SlidingMin& h : held_significance) h = SlidingMin(hold_span);
   }
+  // this tick (Observe's phases): its terms, whether it closed the window, the verdict shown
+  TickTerms tick;
+  bool window_closed = false;
+  Candidate shown;
   // current window
   bool in_window = false;
   EfficiencyWindow window;
@@ -553,18 +569,6 @@ void FinishWindow(EfficiencyWindow* w) {
     w->flow = "mixed";
   }
 }
-
-// What one joint's estimators take from one tick: the motion and the powers over the control
-// period just ended, from this tick's signals and the previous tick's.
-struct TickTerms {
-  double dq = 0;            // encoder travel over the period [rad]
-  double i = 0;             // the command held over the period [A]
-  double tau_mean = 0;      // mean torque-sensor reading over the period [N m]
-  double rotor_torque = 0;  // rotor torque the command gives, as perceived at the link [N m]
-  double p_supply = 0;      // U_d I_d [W]
-  double p_rotor = 0, p_copper = 0, p_fixed = 0;  // the calibration's terms of the supply power [W]
-  double winding_above_K = kNaN;  // a declared winding sensor's reading over the calibration's [K]
-};
 
 TickTerms TermsOf(const JointKnowledge& k, const JointSignals& now, const JointSignals& prev, double dt) {
   TickTerms x;
@@ -890,9 +894,8 @@ void FitMechanicalWindows(const MonitorConfig& c, const EfficiencyWindow& w, dou
 // (opening one at t_prev_s when the joint starts to move, `dir` its direction, 0 at rest) and
 // closes it when the direction changes; a closed window goes to `windows` (unless null), and into the
 // mechanical fit when it is used. `v`: the velocity estimate [rad/s].
-void UpdateWindow(const MonitorConfig& c, const JointKnowledge& k, const TickTerms& x, double coupling_torque, double v,
-                  int dir, int joint, double t_prev_s, double t_s, double dt, JointState* state,
-                  std::vector<EfficiencyWindow>* windows) {
+bool UpdateWindow(const MonitorConfig& c, const JointKnowledge& k, const TickTerms& x, double coupling_torque, double v,
+                  int dir, int joint, double t_prev_s, double t_s, double dt, JointState* state) {
   JointState& s = *state;
   bool close = false;
   if (s.in_window || dir != 0) {
@@ -921,9 +924,9 @@ void UpdateWindow(const MonitorConfig& c, const JointKnowledge& k, const TickTer
     FinishWindow(&w);
     w.used = w.t_end_s - w.t_start_s >= c.min_window_s && std::fabs(w.out_J) >= c.min_window_energy_J &&
              std::fabs(w.mesh_in_J) >= c.min_window_energy_J && w.flow != "mixed";
-    if (windows) windows->push_back(w);
     if (w.used) FitMechanicalWindows(c, w, s.window_dq, &s);
   }
+  return close;
 }
 
 // The tick-level detectors: their timers after this tick, and the candidate of the first one
@@ -1179,31 +1182,40 @@ void PowerEfficiencyMonitor::Observe(double t_s, const std::vector<JointSignals>
   const double dt = t_s - t_prev_;
   if (!(dt > 0)) return;
 
+  // 1. Every joint's tick terms and filtered balance terms, before any joint's fits move.
   for (int j = 0; j < n; ++j) {
+    JointState& s = *joints_[j];
+    s.tick = TermsOf(model_.joints[j], signals[j], previous_[j], dt);
+    s.balance_filter.Push(s.tick.rotor_torque, s.tick.dq / dt, s.tick.tau_mean);
+  }
+  // 2. The arm's readings, once per tick, from every joint's state after the last tick.
+  const ArmAllowance arm = FrictionAllowanceOfArm(joints_);
+  // 3. Each joint's estimators and detectors. A joint reads the others only through 1 and 2,
+  // so the order of this loop changes nothing (test PowerMonitorOrder).
+  for (int i = 0; i < n; ++i) {
+    const int j = reverse_joint_order_ ? n - 1 - i : i;
     const JointKnowledge& k = model_.joints[j];
     JointState& s = *joints_[j];
     const JointSignals& now = signals[j];
     const JointSignals& prev = previous_[j];
-    const TickTerms x = TermsOf(k, now, prev, dt);
+    const TickTerms& x = s.tick;
 
     // --- tick-rate torque balance (core/monitors/torque_balance.h) ---
     // Coupling (eq 4-14, 4-15): the rotor turns with the parallel lower joints, so their
     // acceleration I_m γ c_l q̈_l is rotor torque the sensor never sees.
-    const FilteredTerms& terms = s.balance_filter.Push(x.rotor_torque, x.dq / dt, x.tau_mean);
+    const FilteredTerms& terms = s.balance_filter.terms();
     double coupling_torque = 0;
     for (int l = 0; l < j; ++l) {
       if (k.coupling[l] != 0) {
         coupling_torque += k.coupling[l] * k.mechanical.rotor_coupling_kg_m2 * joints_[l]->balance_filter.terms().accel_rad_s2;
       }
     }
-    const ArmAllowance arm = FrictionAllowanceOfArm(joints_);
     UpdateFits(c, k, x, terms, coupling_torque, dt, arm, &s);
 
     // --- windows bounded by zero velocity ---
     const double v = now.qd_est_rad_s;
     const int dir = std::fabs(v) < c.rest_velocity_rad_s ? 0 : (v > 0 ? 1 : -1);
-    UpdateWindow(c, k, x, coupling_torque, v, dir, j + 1, t_prev_, t_s, dt, &s,
-                 keep_windows_ ? &output_.windows : nullptr);
+    s.window_closed = UpdateWindow(c, k, x, coupling_torque, v, dir, j + 1, t_prev_, t_s, dt, &s);
 
     // --- tick-level detectors, latched once one fires ---
     const Candidate structural = TickLevelCandidate(c, k, x, now, prev, dir, dt, &s);
@@ -1211,9 +1223,13 @@ void PowerEfficiencyMonitor::Observe(double t_s, const std::vector<JointSignals>
 
     // --- parametric detectors: deviation statistics, held over the debounce time ---
     const bool drag = UpdateReadings(c, k, model_.thresholds, dt, arm, &s);
-
-    // --- the joint's verdict ---
-    EmitVerdict(ShownCandidate(c, k, model_.thresholds, drag, s), t_s, j + 1, &s, &output_.verdicts);
+    s.shown = ShownCandidate(c, k, model_.thresholds, drag, s);
+  }
+  // 4. The outputs, in joint order: closed windows, then the joints' verdicts.
+  for (int j = 0; j < n; ++j) {
+    JointState& s = *joints_[j];
+    if (s.window_closed && keep_windows_) output_.windows.push_back(s.window);
+    EmitVerdict(s.shown, t_s, j + 1, &s, &output_.verdicts);
   }
   previous_ = signals;
   t_prev_ = t_s;

@@ -159,6 +159,9 @@ class PowerEfficiencyMonitor : public HealthMonitor {
   void Finish(double t_end_s) override;
   const MonitorOutput& output() const override { return output_; }
   void KeepWindows(bool keep) override { keep_windows_ = keep; }
+  // Updates the joints' estimators last joint first within each tick (for the test that the
+  // order changes nothing); the outputs are the same either way.
+  void UpdateJointsInReverseOrder(bool reverse) { reverse_joint_order_ = reverse; }
   // Its swept detectors' held statistics (DecisionStats, core/monitors/detector_statistics.h).
   std::unique_ptr<DecisionTap> NewDecisionTap(double onset_s) const override;
 
@@ -191,6 +194,7 @@ class PowerEfficiencyMonitor : public HealthMonitor {
   double t_prev_ = 0;
   long ticks_ = 0;
   bool keep_windows_ = true;
+  bool reverse_joint_order_ = false;
   MonitorOutput output_;
 };
 
