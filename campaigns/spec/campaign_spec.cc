@@ -215,7 +215,7 @@ void ParseCommissioningOnTrajectory(const nlohmann::json& v, const std::string& 
 void ParseVariation(const nlohmann::json& v, const std::string& pointer, Variation* out, ErrorList* errors) {
   ObjectReader vr(v, pointer);
   errors->Try([&] { vr.AllowOnly({"payload_kg", "torque_noise_Nm", "friction_spread", "tolerances", "ambient_C", "units",
-                                       "warm_start_fraction"}); });
+                                       "warm_start_fraction", "confounders"}); });
   errors->Try([&] { out->payload_kg = VariationSweep(vr, "payload_kg", 0, 100); });
   errors->Try([&] { out->torque_noise_Nm = VariationSweep(vr, "torque_noise_Nm", 0, 100); });
   errors->Try([&] {
@@ -226,6 +226,12 @@ void ParseVariation(const nlohmann::json& v, const std::string& pointer, Variati
     if (const auto* t = vr.Find("tolerances")) {
       out->tolerances = ParseTolerances(*t, vr.PointerTo("tolerances"));
       out->has_tolerances = true;
+    }
+  });
+  errors->Try([&] {
+    if (const auto* t = vr.Find("confounders")) {
+      out->confounders = ParseConfounderRanges(*t, vr.PointerTo("confounders"));
+      out->has_confounders = true;
     }
   });
   errors->Try([&] { out->ambient_C = VariationSweep(vr, "ambient_C", -40, 120); });
@@ -385,6 +391,9 @@ CampaignSpec CampaignSpecFromJson(const nlohmann::json& value, const std::string
     });
     errors.Try([&] {
       if (const auto* v = reader.Find("variation")) ParseVariation(*v, reader.PointerTo("variation"), &c.variation, &errors);
+      if (c.variation.has_confounders && robot_ok) {
+        errors.Try([&] { RequireGearboxGroups(c.robot, "/variation/confounders"); });
+      }
     });
     c.commissioning = c.variation.has_tolerances;
     errors.Try([&] {

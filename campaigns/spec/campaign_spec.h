@@ -18,6 +18,7 @@
 #include <utility>
 #include <vector>
 
+#include "campaigns/spec/confounders.h"
 #include "core/base/json_input.h"
 #include "core/monitors/registry.h"
 #include "core/plant/robot/robot_config.h"
@@ -80,6 +81,9 @@ struct Variation {
   // other draws; negative (absent): every run starts cold and nothing is drawn.
   double warm_start_fraction = -1;
   int units = 0;           // a fleet of this many robot units; 0: every run is its own unit
+  // Each unit draws its gearbox group and ripple over these ranges (campaigns/spec/confounders.h).
+  bool has_confounders = false;
+  ConfounderRanges confounders;
 };
 
 // One run of a boundary search (`armfault boundary`, campaigns/tuning/boundary.h): fault entry

@@ -58,6 +58,7 @@ nlohmann::json CaseSpec::VariationJson() const {
     }
     j["tolerances"] = drawn;
   }
+  if (!confounder_draws.empty()) j["confounders"] = ConfounderDrawsToJson(confounder_draws);
   return j;
 }
 
@@ -65,6 +66,10 @@ RobotConfig UnitRobot(const CampaignSpec& c, const CaseSpec& cs) {
   RobotConfig r = c.robot;
   for (size_t j = 0; j < r.modules.size(); ++j) {
     ModuleParams& m = r.modules[j];
+    if (j < cs.confounder_draws.size()) {
+      m.gearbox = cs.confounder_draws[j].gearbox;
+      m.ripple = cs.confounder_draws[j].ripple;
+    }
     const double f = j < cs.friction_factors.size() ? cs.friction_factors[j] : 1.0;
     m.friction.viscous_Nm_s_per_rad *= f;
     m.friction.coulomb_Nm *= f;
@@ -159,6 +164,13 @@ void DrawVariation(const CampaignSpec& c, Rng* rng, CaseSpec* cs) {
   cs->ambient_C = draw(c.variation.ambient_C, 20.0);
   cs->warm_start = false;
   if (c.variation.warm_start_fraction >= 0) cs->warm_start = rng->Uniform() < c.variation.warm_start_fraction;
+  // The unit's confounders from a stream of their own, so that no other draw moves.
+  cs->confounder_draws.clear();
+  if (c.variation.has_confounders) {
+    Rng confounder_rng(c.variation.units > 0 ? MixSeed(c.seed, 0x636f6e66ULL + static_cast<uint64_t>(cs->unit))
+                                             : MixSeed(cs->seed, 0x636f6e66ULL));
+    cs->confounder_draws = DrawConfounders(c.variation.confounders, c.robot, &confounder_rng);
+  }
 }
 
 // Runs of one fault entry: its value combinations x joints x repetitions.

@@ -33,6 +33,7 @@ struct CaseSpec {
   double ambient_C = 20;
   bool warm_start = false;                 // the run's thermal nodes start warm (RunSpec::start)
   std::vector<std::vector<double>> tolerance_draws;  // [joint][ToleranceKeys() order]; empty: none
+  std::vector<ConfounderDraw> confounder_draws;      // per joint (variation/confounders); empty: none
   nlohmann::json VariationJson() const;
 };
 
