@@ -892,8 +892,9 @@ void FitMechanicalWindows(const MonitorConfig& c, const EfficiencyWindow& w, dou
 
 // Windows bounded by zero velocity: extends the joint's window by the tick that ends at t_s
 // (opening one at t_prev_s when the joint starts to move, `dir` its direction, 0 at rest) and
-// closes it when the direction changes; a closed window goes to `windows` (unless null), and into the
-// mechanical fit when it is used. `v`: the velocity estimate [rad/s].
+// closes it when the direction changes; a closed window goes into the mechanical fit when it is
+// used. Returns whether it closed the window at this tick (Observe then emits s.window).
+// `v`: the velocity estimate [rad/s].
 bool UpdateWindow(const MonitorConfig& c, const JointKnowledge& k, const TickTerms& x, double coupling_torque, double v,
                   int dir, int joint, double t_prev_s, double t_s, double dt, JointState* state) {
   JointState& s = *state;

@@ -82,7 +82,9 @@ TEST(RandomizedConfounders, AUnitsRunsShareItsDrawAndOtherDrawsDoNotMove) {
     const CaseSpec cs = CaseAt(c, i);
     const json drawn = cs.VariationJson().at("confounders");
     auto [it, fresh] = by_unit.emplace(cs.unit, drawn);
-    if (!fresh) EXPECT_EQ(it->second, drawn) << cs.run_id;
+    if (!fresh) {
+      EXPECT_EQ(it->second, drawn) << cs.run_id;
+    }
     // the same run without the key draws the same fault, payload, tolerances, ambient and start
     json without = cs.VariationJson();
     without.erase("confounders");
