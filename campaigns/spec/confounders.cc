@@ -87,12 +87,6 @@ ConfounderRanges ParseConfounderRanges(const nlohmann::json& value, const std::s
   return r;
 }
 
-nlohmann::json ConfounderRangesToJson(const ConfounderRanges& ranges) {
-  nlohmann::json j = {{"arrhenius_fraction", ranges.arrhenius_fraction}};
-  for (const RangeKey& k : RangeKeys()) j[k.name] = {(ranges.*k.member).low, (ranges.*k.member).high};
-  return j;
-}
-
 void RequireGearboxGroups(const RobotConfig& robot, const std::string& pointer) {
   for (size_t j = 0; j < robot.modules.size(); ++j) {
     if (!robot.modules[j].gearbox.present) {

@@ -62,7 +62,6 @@ ConfounderRanges DocumentedConfounderRanges();
 // (optionally with "preset": "documented" and "arrhenius_fraction"); unknown keys, ranges
 // outside the plant's accepted values, low > high: InputError at `pointer`'s key.
 ConfounderRanges ParseConfounderRanges(const nlohmann::json& value, const std::string& pointer);
-nlohmann::json ConfounderRangesToJson(const ConfounderRanges& ranges);
 
 // Every module of `robot` must carry a gearbox group (the draw scales its thermal values):
 // InputError at `pointer` naming the first joint without one.
