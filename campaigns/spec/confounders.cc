@@ -42,6 +42,14 @@ const std::vector<RangeKey>& RangeKeys() {
 double Draw(const ConfounderRange& r, Rng* rng) { return r.low + (r.high - r.low) * rng->Uniform(); }
 double Sign(Rng* rng) { return rng->Uniform() < 0.5 ? -1.0 : 1.0; }
 
+// One drawn value per joint: draws[j].*group.*member.
+template <class Group>
+nlohmann::json PerJoint(const std::vector<ConfounderDraw>& draws, Group ConfounderDraw::*group, double Group::*member) {
+  nlohmann::json per_joint = nlohmann::json::array();
+  for (const ConfounderDraw& d : draws) per_joint.push_back(d.*group.*member);
+  return per_joint;
+}
+
 }  // namespace
 
 ConfounderRanges DocumentedConfounderRanges() { return ConfounderRanges{}; }
@@ -158,11 +166,7 @@ nlohmann::json ConfounderDrawsToJson(const std::vector<ConfounderDraw>& draws) {
       {"warm_copper_loss_W", &GearboxParams::warm_copper_loss_W},
       {"warm_friction_loss_W", &GearboxParams::warm_friction_loss_W},
   };
-  for (const auto& [name, member] : gear) {
-    nlohmann::json per_joint = nlohmann::json::array();
-    for (const ConfounderDraw& d : draws) per_joint.push_back(d.gearbox.*member);
-    j[name] = per_joint;
-  }
+  for (const auto& [name, member] : gear) j[name] = PerJoint(draws, &ConfounderDraw::gearbox, member);
   const std::vector<std::pair<const char*, double RippleParams::*>> ripple = {
       {"kinematic_error_2x_arcmin", &RippleParams::kinematic_error_2x_arcmin},
       {"kinematic_error_1x_arcmin", &RippleParams::kinematic_error_1x_arcmin},
@@ -171,11 +175,7 @@ nlohmann::json ConfounderDrawsToJson(const std::vector<ConfounderDraw>& draws) {
       {"phase_1x_deg", &RippleParams::phase_1x_deg},
       {"cogging_phase_deg", &RippleParams::cogging_phase_deg},
   };
-  for (const auto& [name, member] : ripple) {
-    nlohmann::json per_joint = nlohmann::json::array();
-    for (const ConfounderDraw& d : draws) per_joint.push_back(d.ripple.*member);
-    j[name] = per_joint;
-  }
+  for (const auto& [name, member] : ripple) j[name] = PerJoint(draws, &ConfounderDraw::ripple, member);
   return j;
 }
 
