@@ -4,7 +4,9 @@
 #include <limits>
 #include <set>
 
-#include "core/monitors/power_monitor.h"
+#include "core/monitors/monitor_config.h"
+
+#include "core/base/json_input.h"
 
 namespace armfault {
 
@@ -53,11 +55,54 @@ const std::vector<NumberField>& NumberFields() {
       {"balance_time_constant_s", &MonitorConfig::balance_time_constant_s, 0.01, 1e3},
       {"min_balance_moving_s", &MonitorConfig::min_balance_moving_s, 0, 1e3},
       {"constant_power_uncertainty_W", &MonitorConfig::constant_power_uncertainty_W, 1e-3, 1e4},
+      {"window_friction_prior", &MonitorConfig::window_friction_prior, 0, 1e6},
+      {"window_drift_prior", &MonitorConfig::window_drift_prior, 0, 1e6},
+      {"window_noise_fraction", &MonitorConfig::window_noise_fraction, 0, 10},
+      {"window_noise_floor_J", &MonitorConfig::window_noise_floor_J, 1e-6, 1e6},
+      {"electrical_prior_W2", &MonitorConfig::electrical_prior_W2, 1e-6, 1e9},
+      {"electrical_tick_sigma_W", &MonitorConfig::electrical_tick_sigma_W, 1e-6, 1e4},
+      {"copper_resistance_per_K", &MonitorConfig::copper_resistance_per_K, 1e-4, 0.1},
+      {"magnet_kt_loss_per_K", &MonitorConfig::magnet_kt_loss_per_K, 0, 0.01},
+      {"max_magnet_kt_loss_per_K", &MonitorConfig::max_magnet_kt_loss_per_K, 0, 0.01},
+      {"max_winding_rise_K", &MonitorConfig::max_winding_rise_K, 0, 1e3},
+      {"winding_thermometer_time_constant_s", &MonitorConfig::winding_thermometer_time_constant_s, 0.01, 1e5},
+      {"winding_reading_time_constant_s", &MonitorConfig::winding_reading_time_constant_s, 0.01, 1e5},
+      {"winding_settle_s", &MonitorConfig::winding_settle_s, 0, 1e5},
+      {"winding_unsettled_se", &MonitorConfig::winding_unsettled_se, 0, 100},
+      {"winding_reading_converged_s", &MonitorConfig::winding_reading_converged_s, 0, 1e5},
+      {"winding_reading_error_K", &MonitorConfig::winding_reading_error_K, 0, 100},
+      {"warm_magnet_hypothesis_s", &MonitorConfig::warm_magnet_hypothesis_s, 0, 1e5},
+      {"warm_magnet_reading_factor", &MonitorConfig::warm_magnet_reading_factor, 0, 100},
+      {"max_lubricant_slope_per_K", &MonitorConfig::max_lubricant_slope_per_K, 0, 1},
+      {"min_lubricant_slope_per_K", &MonitorConfig::min_lubricant_slope_per_K, 0, 1},
+      {"cold_held_by_limit_K", &MonitorConfig::cold_held_by_limit_K, 0, 200},
+      {"max_cold_K", &MonitorConfig::max_cold_K, 0, 200},
+      {"max_warm_counted_K", &MonitorConfig::max_warm_counted_K, 0, 200},
+      {"max_warm_K", &MonitorConfig::max_warm_K, 0, 200},
+      {"gear_warmth_se", &MonitorConfig::gear_warmth_se, 0, 100},
+      {"friction_block_s", &MonitorConfig::friction_block_s, 1e-3, 1e3},
+      {"friction_reference_time_constant_s", &MonitorConfig::friction_reference_time_constant_s, 0.01, 1e6},
+      {"min_friction_reference", &MonitorConfig::min_friction_reference, 0, 1},
+      {"brake_drag_friction_factor", &MonitorConfig::brake_drag_friction_factor, 1, 1e6},
+      {"drift_balance_time_constant_s", &MonitorConfig::drift_balance_time_constant_s, 0.01, 1e5},
+      {"min_offset_moving_each_way_s", &MonitorConfig::min_offset_moving_each_way_s, 0, 1e5},
+      {"zero_balance_time_constant_s", &MonitorConfig::zero_balance_time_constant_s, 0.01, 1e5},
+      {"sensor_zero_time_constant_s", &MonitorConfig::sensor_zero_time_constant_s, 0.01, 1e6},
+      {"dead_drive_draw_fraction", &MonitorConfig::dead_drive_draw_fraction, 0, 1},
+      {"rail_jump_fraction", &MonitorConfig::rail_jump_fraction, 0, 1},
+      {"brake_torque_fraction", &MonitorConfig::brake_torque_fraction, 0, 1},
+      {"min_balance_sigma_Nm", &MonitorConfig::min_balance_sigma_Nm, 1e-6, 1e3},
   };
   return f;
 }
 const std::vector<IntField>& IntFields() {
-  static const std::vector<IntField> f = {{"mechanical_windows", &MonitorConfig::mechanical_windows, 1, 100}};
+  static const std::vector<IntField> f = {
+      {"mechanical_windows", &MonitorConfig::mechanical_windows, 1, 100},
+      {"friction_envelope_blocks", &MonitorConfig::friction_envelope_blocks, 1, 10000},
+      {"shown_friction_blocks", &MonitorConfig::shown_friction_blocks, 1, 10000},
+      {"unconverged_friction_blocks", &MonitorConfig::unconverged_friction_blocks, 0, 10000},
+      {"min_shown_friction_blocks", &MonitorConfig::min_shown_friction_blocks, 1, 10000},
+  };
   return f;
 }
 const std::vector<LimitField>& LimitFields() {
@@ -83,6 +128,27 @@ void CheckRanges(const MonitorConfig& c, const std::string& pointer, const std::
   }
   for (const auto& f : IntFields()) {
     errors->Try([&] { RequireInRange(c.*f.member, f.min, f.max, PointerJoin(pointer, f.key)); });
+  }
+  // Fields bounded by others, checked once those are valid: a joint's shown friction is the
+  // median of its last blocks, which the envelope's ring must hold, and its first friction is
+  // read when it first has min_shown_friction_blocks of them; the warm side's slope is no
+  // steeper than the steepest.
+  auto in_range = [](int v) { return v >= 1 && v <= 10000; };
+  if (in_range(c.friction_envelope_blocks) && in_range(c.shown_friction_blocks)) {
+    errors->Try([&] {
+      RequireInRange(c.shown_friction_blocks, 1, c.friction_envelope_blocks, PointerJoin(pointer, "shown_friction_blocks"));
+    });
+  }
+  if (in_range(c.shown_friction_blocks) && in_range(c.min_shown_friction_blocks)) {
+    errors->Try([&] {
+      RequireInRange(c.min_shown_friction_blocks, 1, c.shown_friction_blocks, PointerJoin(pointer, "min_shown_friction_blocks"));
+    });
+  }
+  if (c.max_lubricant_slope_per_K >= 0 && c.max_lubricant_slope_per_K <= 1 && c.min_lubricant_slope_per_K >= 0 &&
+      c.min_lubricant_slope_per_K <= 1) {
+    errors->Try([&] {
+      RequireInRange(c.min_lubricant_slope_per_K, 0, c.max_lubricant_slope_per_K, PointerJoin(pointer, "min_lubricant_slope_per_K"));
+    });
   }
   for (const auto& f : LimitFields()) {
     if (unread_limits.count(f.key)) continue;
@@ -175,8 +241,6 @@ constexpr double kSelfHeatingMargin_K = 10.0;
 // loaded joint; and the mesh loss over friction (μ |τ| / friction).
 constexpr double kTorqueOverFriction = 2.5;
 constexpr double kMeshOverFriction = 0.6;
-constexpr double kCopperPerK = 0.00393;   // copper resistance, per K
-constexpr double kMagnetPerK = 0.001;     // NdFeB K_T loss, per K
 }  // namespace
 
 MonitorConfig WidenedForTolerances(const MonitorConfig& config, const StatedTolerances& tol, const RobotConfig& robot) {
@@ -193,10 +257,10 @@ MonitorConfig WidenedForTolerances(const MonitorConfig& config, const StatedTole
     // The electrical fit takes a constant power as a parameter of its own, pulled to the
     // calibration within this uncertainty: a constant error no longer passes for n or rho.
     c.constant_power_uncertainty_W = std::max(c.constant_power_uncertainty_W, constant_W);
-    dn = std::max(dn, tol.kt + tol.supply_current_gain + kMagnetPerK * dT);
-    drho = std::max(drho, tol.winding_resistance + kCopperPerK * dT + tol.supply_current_gain +
+    dn = std::max(dn, tol.kt + tol.supply_current_gain + c.magnet_kt_loss_per_K * dT);
+    drho = std::max(drho, tol.winding_resistance + c.copper_resistance_per_K * dT + tol.supply_current_gain +
                               tol.switch_resistance * m.inverter.switch_resistance_ohm / r);
-    dkappa = std::max(dkappa, tol.friction + kTorqueOverFriction * (tol.kt + tol.torque_sensor_gain + kMagnetPerK * dT) +
+    dkappa = std::max(dkappa, tol.friction + kTorqueOverFriction * (tol.kt + tol.torque_sensor_gain + c.magnet_kt_loss_per_K * dT) +
                                   kMeshOverFriction * tol.mesh_loss + 0.5 * tol.rotor_inertia +
                                   0.3 * tol.stribeck_velocity + tol.torque_sensor_offset_Nm / friction_Nm);
     ddrift = std::max(ddrift, tol.torque_sensor_offset_Nm + tol.torque_sensor_gain * kTypicalTorque_Nm);

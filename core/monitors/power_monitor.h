@@ -15,7 +15,11 @@
 //  - tick-level detectors: supply over-power (inverter short), a torque reading that does
 //    not follow the commanded torque or sits on a rail (stuck sensor), commanded motion with
 //    a still encoder, high current and a torque that never reaches the sensor (brake).
-// Thresholds (health states, debounce, significance) are data: MonitorConfig.
+// Thresholds (health states, debounce, significance) and every tuned constant of the estimators
+// are data: MonitorConfig (core/monitors/monitor_config.h). The estimators' parts, each with its
+// inputs, outputs and equations: electrical_fit.h (the electrical balance and the winding as a
+// thermometer), torque_balance.h, friction_reference.h (the friction the run finds),
+// tick_detectors.h.
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -25,73 +29,19 @@
 #include <string>
 #include <vector>
 
-#include "core/monitors/detector_statistics.h"
 #include "core/base/json_input.h"
+#include "core/monitors/detector_statistics.h"
+#include "core/monitors/friction_reference.h"
 #include "core/monitors/monitor.h"
-#include "core/plant/robot/robot_config.h"
+#include "core/monitors/monitor_config.h"
 #include "core/monitors/torque_balance.h"
 #include "core/monitors/virtual_torque_sensor.h"
+#include "core/plant/robot/robot_config.h"
 
 namespace armfault {
 
-// Worn / defective limits of one estimated parameter. For a factor whose healthy value is
-// 1, "below" limits apply to falling parameters (K_T), "above" to rising ones (friction).
-struct StateLimits {
-  double worn = 0;
-  double defective = 0;
-};
-
-struct MonitorConfig {
-  // windows
-  double rest_velocity_rad_s = 0.02;   // |qd| below this: at rest (eq 4-11), no window
-  double min_window_s = 0.3;           // shorter windows are not judged
-  double min_window_energy_J = 0.5;    // |E_out| and |E_mesh_in| below this: not judged
-  int mechanical_windows = 3;          // windows in the mechanical fit
-  // electrical fit
-  double electrical_time_constant_s = 1.5;  // forgetting of the per-tick fit
-  double min_rotor_energy_J = 2.0;     // weighted sum of |P_rotor| dt needed to judge n
-  double min_copper_energy_J = 0.2;    // weighted sum of P_copper dt needed to judge rho
-  // decision
-  double significance = 3.0;           // (|deviation| - worn margin) / std error must exceed this
-  double debounce_s = 0.3;             // a candidate verdict must hold this long to alarm
-  StateLimits kt_factor{0.95, 0.75};          // below
-  StateLimits friction_factor{1.30, 1.80};    // above
-  StateLimits resistance_factor{1.40, 2.00};  // above
-  StateLimits sensor_drift_Nm{1.0, 3.0};      // |d| above
-  // tick-level detectors
-  double overpower_W = 40.0;           // supply power above the electrical model by this: short
-  double overpower_time_s = 0.002;
-  double dead_drive_current_A = 2.0;   // |i_cmd| at least this with no copper loss drawn ...
-  double dead_drive_time_s = 0.02;     // ... this long: the bridge is open (tripped)
-  double stuck_time_s = 0.2;           // reading unchanged this long ...
-  double stuck_torque_span_Nm = 3.0;   // ... while the commanded torque moved this much
-  double rail_time_s = 0.05;           // reading at an ADC rail this long
-  double blocked_current_A = 3.0;      // |i_cmd| at least this ...
-  double blocked_error_rad = 0.02;     // ... tracking error at least this ...
-  double blocked_time_s = 0.2;         // ... with the joint at rest, this long
-  // tick-rate torque balance (friction and sensor offset, core/monitors/torque_balance.h)
-  double balance_filter_s = 0.03;      // T_f of the low-pass every balance term passes
-  double balance_time_constant_s = 0.5;  // forgetting of the fit the friction and drift detectors judge
-  double min_balance_moving_s = 0.3;   // moving time in that fit needed to judge
-  // 1 sigma of the supply's constant draw about the calibration [W] (quiescent, sensor offset)
-  double constant_power_uncertainty_W = 0.1;
-};
-
-// The limits a monitor without commissioning must use on a unit known only within `tol`
-// (StatedTolerances, core/plant/robot/robot_config.h):
-// each swept detector's worn and defective limits move out by the bias the stated tolerances
-// can put on its statistic (docs/monitor.md, "Without commissioning"). `robot` gives the
-// nominal scales (quiescent power, bus voltage, resistance, friction).
-MonitorConfig WidenedForTolerances(const MonitorConfig& config, const StatedTolerances& tol, const RobotConfig& robot);
-
 // The worn/defective limits a swept detector uses.
 StateLimits MonitorConfig::*LimitsOf(Detector detector);
-
-// Parses a monitor JSON object (every key optional, unknown keys rejected); Validate()s it.
-MonitorConfig MonitorConfigFromJson(const nlohmann::json& value, const std::string& pointer,
-                                    const std::string& source);
-nlohmann::json MonitorConfigToJson(const MonitorConfig& config);
-void Validate(const MonitorConfig& config, const std::string& pointer, const std::string& source);
 
 // The electrical balance the monitor believes of one unit (thesis eq 4-4 ... 4-8):
 //   U_d I_d = quiescent + rotor_gain P_r + (copper + conduction) i² + switching |i|
@@ -189,6 +139,7 @@ class PowerEfficiencyMonitor : public HealthMonitor {
  private:
   const PowerMonitorModel& model_;
   std::vector<std::unique_ptr<JointState>> joints_;
+  std::vector<ArmJoint> arm_joints_;  // the joints as the arm's readings see them
   std::vector<JointSignals> previous_;
   std::vector<JointSignals> filled_;  // this tick's signals with the virtual torque readings
   double t_prev_ = 0;

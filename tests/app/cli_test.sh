@@ -220,6 +220,13 @@ printf '{"debounce_s": -2}\n' >"$tmp/thresholds.json"
 printf '{"duration_s": 0.1, "monitor": "thresholds.json"}\n' >"$tmp/monitor_file.json"
 run monitor_file_bad_value "$armfault" trace "$tmp/monitor_file.json" -q -o "$tmp/x.csv"
 expect_input_error "$tmp/thresholds.json: /debounce_s: -2 is outside"
+# The estimators' constants are settings too, range-checked and checked against each other.
+printf '{"duration_s": 0.1, "monitor": {"max_lubricant_slope_per_K": -0.01}}\n' >"$tmp/monitor_constant.json"
+run monitor_constant_out_of_range "$armfault" trace "$tmp/monitor_constant.json" -q -o "$tmp/x.csv"
+expect_input_error "$tmp/monitor_constant.json: /monitor/max_lubricant_slope_per_K: -0.01 is outside"
+printf '{"duration_s": 0.1, "monitor": {"friction_envelope_blocks": 10}}\n' >"$tmp/monitor_blocks.json"
+run monitor_constants_inconsistent "$armfault" trace "$tmp/monitor_blocks.json" -q -o "$tmp/x.csv"
+expect_input_error "$tmp/monitor_blocks.json: /monitor/shown_friction_blocks: 20 is outside"
 
 # ------------------------------------------------------------------ thesis
 run thesis "$armfault" thesis -o "$tmp/thesis"
