@@ -62,6 +62,9 @@ Command AddRunCommand(CLI::App& app) {
   cmd->add_option("--shard", o->shard, "run shard K of N (K/N, K from 0); default from SLURM_ARRAY_TASK_ID/COUNT or JOB_COMPLETION_INDEX");
   cmd->add_option("--shard-count", o->shard_count, "shard count N with JOB_COMPLETION_INDEX (Kubernetes Indexed Job)");
   cmd->add_flag("--resume", o->resume, "continue an interrupted run in the same output directory");
+  cmd->add_flag("--force", o->force,
+                "replace the results of another campaign in the output directory (without it they are kept and "
+                "the run stops with exit 2)");
   cmd->add_flag("-q,--quiet", o->quiet, "no progress output");
   cmd->add_flag("--early-stop", o->early_stop,
                 "stop as soon as every floor is decided: runs go in an even sweep of the campaign and each floor is "

@@ -138,6 +138,10 @@ int RunCampaignCommand(const CampaignRunOptions& o) {
                                           (ro.shard.count > 1 ? " --shard " + std::to_string(ro.shard.index) + "/" +
                                                                     std::to_string(ro.shard.count)
                                                               : ""));
+  // The lock file goes with every exit, the immediate one of a second Ctrl-C too.
+  g_exit_gate.RemoveOnExit(lock.path());
+  // Another campaign's results are kept unless asked (a rerun of this one, or --resume, is not).
+  if (!o.resume) RequireNoOtherResults(o.output_dir, CampaignFileJson(campaign, ro.shard), o.force);
   // Everything written so far is complete lines: --resume picks up from there.
   std::string resume = "armfault run";
   if (!o.campaign_file.empty()) resume += " " + ShellQuote(o.campaign_file);
@@ -154,6 +158,7 @@ int RunCampaignCommand(const CampaignRunOptions& o) {
   const RunnerResult r = ContinuableWith(resume, [&] { return RunCampaign(campaign, ro); });
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);
+  g_exit_gate.RemoveOnExit(nullptr);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (r.interrupted) {
     std::fprintf(stderr, "\ninterrupted: kept %ld of %ld runs in %s/results.jsonl (no summary written)\nresume with: %s\n",

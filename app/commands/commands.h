@@ -74,6 +74,8 @@ struct CampaignRunOptions {
   std::string shard;           // "K/N"; empty: SLURM_ARRAY_TASK_ID/COUNT, JOB_COMPLETION_INDEX, or all
   int shard_count = 0;         // with JOB_COMPLETION_INDEX
   bool resume = false;
+  // Replace the results of another campaign in the output directory (without it: exit 2, kept).
+  bool force = false;
   bool quiet = false;
   // CI artefacts: once the summary is written, remove decisions.jsonl (only `tune` reads it)
   // and results.csv (a flat copy of results.jsonl); results.jsonl stays for diff and report.

@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <ctime>
@@ -208,20 +209,39 @@ nlohmann::json CampaignFileJson(const CampaignSpec& campaign, const ShardSpec& s
 }
 
 OutputLock::OutputLock(const fs::path& dir, const std::string& command) {
+  std::error_code ec;
+  if (fs::is_symlink(fs::symlink_status(dir, ec))) {
+    throw InputError(dir.string(), "",
+                     "the output directory is a symbolic link; armfault does not write through links: give the "
+                     "directory itself");
+  }
   fs::create_directories(dir);
-  const fs::path path = dir / run_dir::kLock;
-  fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
-  if (fd_ < 0) throw InputError(path.string(), "", "cannot open the directory's lock file");
-  if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
-    std::string holder(512, '\0');
-    const ssize_t n = ::pread(fd_, holder.data(), holder.size(), 0);
-    holder.resize(n > 0 ? static_cast<size_t>(n) : 0);
-    while (!holder.empty() && (holder.back() == '\n' || holder.back() == '\0')) holder.pop_back();
+  path_ = (dir / run_dir::kLock).string();
+  // The holder removes the file as it lets go, so the file this process opened may be unlinked
+  // between its open and its flock: then the lock is on a file no one else will open, and it
+  // tries again on the one at the path.
+  for (int attempt = 0;; ++attempt) {
+    fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
+    if (fd_ < 0) throw InputError(path_, "", "cannot open the directory's lock file");
+    if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+      std::string holder(512, '\0');
+      const ssize_t n = ::pread(fd_, holder.data(), holder.size(), 0);
+      holder.resize(n > 0 ? static_cast<size_t>(n) : 0);
+      while (!holder.empty() && (holder.back() == '\n' || holder.back() == '\0')) holder.pop_back();
+      ::close(fd_);
+      fd_ = -1;
+      throw InputError(dir.string(), "",
+                       "another armfault is writing here (" + (holder.empty() ? std::string("holder unknown") : holder) +
+                           "); wait for it to finish, or choose another output directory");
+    }
+    struct stat held {}, at_path {};
+    if (::fstat(fd_, &held) == 0 && ::lstat(path_.c_str(), &at_path) == 0 && held.st_dev == at_path.st_dev &&
+        held.st_ino == at_path.st_ino) {
+      break;
+    }
     ::close(fd_);
     fd_ = -1;
-    throw InputError(dir.string(), "",
-                     "another armfault is writing here (" + (holder.empty() ? std::string("holder unknown") : holder) +
-                         "); wait for it to finish, or choose another output directory");
+    if (attempt >= 100) throw InputError(path_, "", "the directory's lock file keeps being replaced");
   }
   char host[256] = "?";
   gethostname(host, sizeof host - 1);
@@ -235,7 +255,43 @@ OutputLock::OutputLock(const fs::path& dir, const std::string& command) {
 }
 
 OutputLock::~OutputLock() {
-  if (fd_ >= 0) ::close(fd_);  // releases the flock
+  if (fd_ < 0) return;
+  ::unlink(path_.c_str());  // before letting go: the next writer's file is a new one
+  ::close(fd_);             // releases the flock
+}
+
+void RequireNoOtherResults(const fs::path& dir, const nlohmann::json& campaign_file, bool force) {
+  if (force) return;
+  const fs::path campaign_path = dir / run_dir::kCampaign, results_path = dir / run_dir::kResults;
+  // A link in place of results.jsonl is not results: the writer refuses it (never through a link).
+  std::error_code ec;
+  const bool has_results =
+      fs::is_regular_file(fs::symlink_status(results_path, ec)) && fs::file_size(results_path, ec) > 0 && !ec;
+  if (!fs::exists(campaign_path) && !has_results) return;
+  std::string held = "results.jsonl without its campaign.json";
+  if (fs::exists(campaign_path)) {
+    nlohmann::json existing;
+    try {
+      existing = ReadJsonFile(campaign_path.string());
+    } catch (const std::exception&) {
+      existing = nullptr;
+    }
+    const nlohmann::json* c = existing.is_object() ? &existing : nullptr;
+    if (c && c->value("campaign", nlohmann::json()) == campaign_file.value("campaign", nlohmann::json()) &&
+        c->value("shard", nlohmann::json()) == campaign_file.value("shard", nlohmann::json())) {
+      return;  // this campaign and shard again: a rerun
+    }
+    held = "a campaign.json that is not armfault's";
+    if (c && c->contains("campaign") && (*c)["campaign"].is_object()) {
+      const nlohmann::json& other = (*c)["campaign"];
+      const std::string name = other.contains("name") && other["name"].is_string() ? other["name"].get<std::string>() : "";
+      held = (name.empty() ? std::string("another campaign's results") : "the results of campaign \"" + name + "\"") +
+             (other == campaign_file.value("campaign", nlohmann::json()) ? " (another shard)" : "");
+    }
+  }
+  throw InputError(dir.string(), "",
+                   "holds " + held + "; they are kept: --resume continues only the same campaign and shard, --force "
+                   "replaces them, or choose another output directory");
 }
 
 

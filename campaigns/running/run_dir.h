@@ -134,16 +134,27 @@ nlohmann::json CampaignFileJson(const CampaignSpec& campaign, const ShardSpec& s
 
 // One writer per output directory: holds an exclusive lock (flock) on DIR/.armfault.lock, which
 // names the holder (pid, host, command, start time). A second writer gets an InputError naming
-// that holder. The lock goes with the process, even when it is killed.
+// that holder. An output directory that is a symbolic link is refused (InputError): armfault
+// never writes through a link. The lock file is removed when the lock is let go (every exit
+// through a destructor; ExitGate::RemoveOnExit for an exit at once); the flock itself goes with
+// the process, even when it is killed, so a file a kill -9 left behind locks nothing.
 class OutputLock {
  public:
   OutputLock(const std::filesystem::path& dir, const std::string& command);
   ~OutputLock();
   OutputLock(const OutputLock&) = delete;
   OutputLock& operator=(const OutputLock&) = delete;
+  // The lock file's path (for ExitGate::RemoveOnExit); alive as long as the lock.
+  const char* path() const { return path_.c_str(); }
 
  private:
   int fd_ = -1;
+  std::string path_;
 };
+
+// `run` without --resume: a directory that holds another campaign's (or shard's) results is kept
+// and refused (InputError naming the directory and the campaign there), unless `force`. The same
+// campaign and shard run again, or a directory without results, pass.
+void RequireNoOtherResults(const std::filesystem::path& dir, const nlohmann::json& campaign_file, bool force);
 
 }  // namespace armfault

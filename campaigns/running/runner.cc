@@ -1,5 +1,9 @@
 #include "campaigns/running/runner.h"
 
+#include <stdio_ext.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -262,6 +266,18 @@ struct AppendFile {
   // One write per line, flushed at once: a kill leaves at most one partial line; a write the
   // file does not take (a full disk) stops the run with the system's reason.
   void Write(const std::string& line) { WriteChecked(file, line, path); }
+  // The file's size now (every write is flushed), and cutting it back to such a size: what a
+  // failed write took of its line goes, and so does what stdio still holds of it.
+  off_t Size() const {
+    struct stat st {};
+    return ::fstat(::fileno(file), &st) == 0 ? st.st_size : -1;
+  }
+  void TrimTo(off_t size) {
+    __fpurge(file);
+    if (size >= 0 && ::ftruncate(::fileno(file), size) != 0) {
+      // Nothing more to do: the write's error already stops the run; resume trims the rest.
+    }
+  }
   bool Close() {
     const bool closed = std::fclose(file) == 0;
     file = nullptr;
@@ -342,11 +358,20 @@ void RunCases(RunState& run, size_t next, RunFiles& files, RunnerResult* out) {
       if (run.early->AllDecided() || !run.early->Needed(item.record.family)) return;
       run.early->Add(item.record);
     }
-    // The decision first: results.jsonl is never ahead of decisions.jsonl.
+    // The decision first: results.jsonl is never ahead of decisions.jsonl. A write that fails
+    // (a full disk) takes the run's lines out of all three files again: no half line is left.
     const GateHeld held(o.exit_gate);
-    files.decisions.Write(item.decision);
-    files.costs.Write(item.cost);
-    files.results.Write(item.result);
+    const off_t sizes[3] = {files.decisions.Size(), files.costs.Size(), files.results.Size()};
+    try {
+      files.decisions.Write(item.decision);
+      files.costs.Write(item.cost);
+      files.results.Write(item.result);
+    } catch (...) {
+      files.decisions.TrimTo(sizes[0]);
+      files.costs.TrimTo(sizes[1]);
+      files.results.TrimTo(sizes[2]);
+      throw;
+    }
     if (!item.ok) ++out->failed;
     ++out->ran;
     ++done;

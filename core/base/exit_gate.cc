@@ -39,6 +39,7 @@ void ExitGate::RequestExit(int status, const char* message, std::size_t length) 
 }
 
 void ExitGate::ExitNow() {
+  if (const char* path = remove_on_exit_.load(); path != nullptr) ::unlink(path);
   const char* message = message_.load();
   if (message != nullptr) {
     const ssize_t ignored = ::write(STDERR_FILENO, message, length_.load());

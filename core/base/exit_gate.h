@@ -19,6 +19,9 @@ class ExitGate {
   // From a signal handler: prints `message` (kept alive by the caller) to stderr and ends the
   // process with `status`, at once or, when the writer is inside, as it leaves.
   void RequestExit(int status, const char* message, std::size_t length);
+  // A file the process removes as it ends here (the output directory's lock file: a lock left
+  // behind would name a writer that is gone); `path` is kept alive by the caller, nullptr: none.
+  void RemoveOnExit(const char* path) { remove_on_exit_.store(path); }
 
  private:
   [[noreturn]] void ExitNow();
@@ -28,6 +31,7 @@ class ExitGate {
   std::atomic<int> status_{0};
   std::atomic<const char*> message_{nullptr};
   std::atomic<std::size_t> length_{0};
+  std::atomic<const char*> remove_on_exit_{nullptr};
 };
 
 }  // namespace armfault

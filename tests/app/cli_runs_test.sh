@@ -166,6 +166,28 @@ if [[ $(wc -l <"$dir/decisions.jsonl") -eq $lines ]]; then pass; else fail "deci
 run resume_after_ctrl_c_twice "$armfault" run "$ci" -o "$dir" -q -j 2 --resume
 expect_status 0
 same_outputs resume_after_ctrl_c_twice "$tmp/ci_full" "$dir"
+current=ctrl_c_twice_no_lock
+if [[ ! -e "$dir/.armfault.lock" ]]; then pass; else fail "the lock file stayed after the stop at once"; fi
+
+# A full disk (here a file-size limit: the write fails with EFBIG as with ENOSPC): the run stops
+# with status 2 and the reason, and no file holds half a line, the run being written taken out
+# of all three; with room again, --resume gives the same bytes as the uninterrupted run.
+dir="$tmp/ci_full_disk"
+current=full_disk
+( trap '' XFSZ; ulimit -f 200; exec "$armfault" run "$ci" -o "$dir" -q -j 1 ) >"$tmp/fd_out" 2>"$tmp/fd_err"
+status=$?
+if [[ $status -eq 2 ]] && grep -q "cannot write: File too large" "$tmp/fd_err"; then pass; else fail "status $status: $(cat "$tmp/fd_err")"; fi
+for f in results.jsonl decisions.jsonl monitor_cost.jsonl; do
+  if [[ ! -s "$dir/$f" || $(tail -c 1 "$dir/$f" | od -An -c | tr -d ' ') == '\n' ]]; then pass; else fail "the last line of $f is cut"; fi
+done
+lines=$(wc -l <"$dir/results.jsonl")
+if [[ $lines -gt 0 && $(wc -l <"$dir/decisions.jsonl") -eq $lines && $(wc -l <"$dir/monitor_cost.jsonl") -eq $lines ]]; then pass; else
+  fail "after the failed write: results $lines, decisions $(wc -l <"$dir/decisions.jsonl"), costs $(wc -l <"$dir/monitor_cost.jsonl") lines"
+fi
+if [[ ! -e "$dir/.armfault.lock" ]]; then pass; else fail "the lock file stayed after the full disk"; fi
+run resume_after_full_disk "$armfault" run "$ci" -o "$dir" -q -j 2 --resume
+expect_status 0
+same_outputs resume_after_full_disk "$tmp/ci_full" "$dir"
 
 # On a pipe, stdout and stderr reach a log in the order written: the campaign's header first,
 # then the progress line, then the summary (stdout was block-buffered, so progress came first).
@@ -397,9 +419,32 @@ run summary_only_diff "$armfault" diff "$tmp/ci_full" "$tmp/ci_summary"
 expect_status 0
 # A stale results.csv or decisions.jsonl of an earlier run in the directory goes too.
 cp "$tmp/ci_full/results.csv" "$tmp/ci_full/decisions.jsonl" "$tmp/ci_summary/"
-run summary_only_again "$armfault" run "$tmp/healthy_only.json" -o "$tmp/ci_summary" -q --summary-only
+run summary_only_again "$armfault" run "$tmp/healthy_only.json" -o "$tmp/ci_summary" -q --summary-only --force
 current=summary_only_stale
 if [[ ! -e "$tmp/ci_summary/results.csv" && ! -e "$tmp/ci_summary/decisions.jsonl" ]]; then pass; else fail "stale files kept"; fi
+
+# Output directories: another campaign's results are kept (exit 2) unless --force; the same
+# campaign again is a rerun; a symbolic link is refused; no lock file is left after any exit.
+mkdir -p "$tmp/keep" && cp "$tmp/ci_full/campaign.json" "$tmp/ci_full/results.jsonl" "$tmp/keep/"
+before=$(sha256sum "$tmp/keep/results.jsonl")
+run other_campaign_kept "$armfault" run "$tmp/healthy_only.json" -o "$tmp/keep" -q
+expect_input_error "$tmp/keep: (document root): holds the results of campaign \"ci\"; they are kept: --resume continues only the same campaign and shard, --force replaces them"
+current=other_campaign_kept_bytes
+if [[ $(sha256sum "$tmp/keep/results.jsonl") == "$before" ]]; then pass; else fail "results.jsonl of the other campaign changed"; fi
+current=other_campaign_kept_no_lock
+if [[ ! -e "$tmp/keep/.armfault.lock" ]]; then pass; else fail "the lock file stayed after exit 2"; fi
+run other_shard_kept "$armfault" run "$ci" -o "$tmp/keep" -q --shard 1/2
+expect_input_error "$tmp/keep: (document root): holds the results of campaign \"ci\" (another shard)"
+# (healthy_only.json's detection floor has no faults to meet: status 1, a result)
+run other_campaign_forced "$armfault" run "$tmp/healthy_only.json" -o "$tmp/keep" -q --force
+expect_status 1
+run same_campaign_rerun "$armfault" run "$tmp/healthy_only.json" -o "$tmp/keep" -q
+expect_status 1
+current=rerun_no_lock
+if [[ ! -e "$tmp/keep/.armfault.lock" ]]; then pass; else fail "the lock file stayed after a run"; fi
+ln -s "$tmp/keep" "$tmp/keep_link"
+run output_dir_symlink "$armfault" run "$tmp/healthy_only.json" -o "$tmp/keep_link" -q
+expect_input_error "$tmp/keep_link: (document root): the output directory is a symbolic link"
 # junit.xml: a case per group and trajectory, and its failure replays the first wrong run.
 if grep -q '<testsuite name="kt_degradation" tests=' "$tmp/next/junit.xml" &&
   grep -q '<testcase classname="healthy" name="exp1: healthy runs">' "$tmp/next/junit.xml"; then pass; else

@@ -152,8 +152,43 @@ TEST(OutputLock, ASecondWriterIsToldWhoHoldsTheDirectory) {
       EXPECT_THAT(e.message(), HasSubstr(": armfault run first.json)"));
     }
   }
-  // Released with its holder.
+  // Released with its holder, and its file gone with it.
+  EXPECT_FALSE(std::filesystem::exists(dir.path() / ".armfault.lock"));
   EXPECT_NO_THROW(OutputLock(dir.path(), "armfault run third.json"));
+  EXPECT_FALSE(std::filesystem::exists(dir.path() / ".armfault.lock"));
+}
+
+TEST(OutputLock, AnOutputDirectoryThatIsASymbolicLinkIsRefused) {
+  testing_support::ScratchDir dir("lock_link");
+  std::filesystem::create_directories(dir.path() / "real");
+  std::filesystem::create_directory_symlink(dir.path() / "real", dir.path() / "link");
+  const InputError e = testing_support::ErrorOf([&] { OutputLock(dir.path() / "link", "armfault run"); });
+  EXPECT_EQ(e.source(), (dir.path() / "link").string());
+  EXPECT_THAT(e.message(), HasSubstr("symbolic link"));
+  EXPECT_FALSE(std::filesystem::exists(dir.path() / "real" / ".armfault.lock"));
+}
+
+TEST(OutputDirectory, AnotherCampaignsResultsAreKeptUnlessForced) {
+  testing_support::ScratchDir dir("other_results");
+  const nlohmann::json mine = {{"campaign", {{"name", "mine"}, {"seed", 1}}}, {"shard", {{"index", 0}, {"count", 1}}}};
+  EXPECT_NO_THROW(RequireNoOtherResults(dir.path(), mine, false));  // nothing there
+  nlohmann::json theirs = mine;
+  theirs["campaign"]["name"] = "theirs";
+  dir.Write("campaign.json", theirs.dump());
+  dir.Write("results.jsonl", "{}\n");
+  const InputError e = testing_support::ErrorOf([&] { RequireNoOtherResults(dir.path(), mine, false); });
+  EXPECT_EQ(e.source(), dir.path().string());
+  EXPECT_THAT(e.message(), HasSubstr("holds the results of campaign \"theirs\"; they are kept"));
+  EXPECT_NO_THROW(RequireNoOtherResults(dir.path(), mine, true));
+  dir.Write("campaign.json", mine.dump());  // this campaign again: a rerun
+  EXPECT_NO_THROW(RequireNoOtherResults(dir.path(), mine, false));
+  nlohmann::json other_shard = mine;
+  other_shard["shard"]["count"] = 2;
+  EXPECT_THAT(testing_support::ErrorOf([&] { RequireNoOtherResults(dir.path(), other_shard, false); }).message(),
+              HasSubstr("(another shard)"));
+  std::filesystem::remove(dir.path() / "campaign.json");  // results without their campaign
+  EXPECT_THAT(testing_support::ErrorOf([&] { RequireNoOtherResults(dir.path(), mine, false); }).message(),
+              HasSubstr("results.jsonl without its campaign.json"));
 }
 
 }  // namespace
