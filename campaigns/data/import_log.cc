@@ -15,6 +15,7 @@
 #include <string_view>
 
 #include "campaigns/data/export.h"
+#include "campaigns/data/gzip_reason.h"
 #include "campaigns/data/import_internal.h"
 #include "campaigns/data/import_run_writer.h"
 #include "core/base/csv.h"
@@ -81,10 +82,17 @@ class LogImporter {
       const int n = gzread(in, buf.data() + keep, static_cast<unsigned>(kChunk));
       if (n < 0) {
         int code = 0;
-        throw InputError(path_, "", std::string("cannot read the file: ") + gzerror(in, &code));
+        throw InputError(path_, "", std::string("cannot read the file: ") + GzipReason(in, path_, &code));
       }
       buf.resize(keep + static_cast<size_t>(n));
       eof = n == 0;
+      // zlib returns the data it could decode of a stream cut short and then 0, with
+      // Z_BUF_ERROR: a log cut at a line boundary would import with its end missing.
+      if (eof) {
+        int code = Z_OK;
+        const std::string why = GzipReason(in, path_, &code);
+        if (code != Z_OK) throw InputError(path_, "", "cannot read the file: " + why);
+      }
       if (eof && !buf.empty() && buf.back() != '\n') buf += '\n';  // a last line without its newline
       const char* data = buf.data();
       const size_t size = buf.size();

@@ -1,6 +1,7 @@
 // Recorded directories read (replay.h): a run's signals CSV, the manifest, the recorded robot,
 // OUT/replay.json; and ReplayDirectory, which replays every run of the manifest through a monitor.
 #include "campaigns/data/replay.h"
+#include "campaigns/data/gzip_reason.h"
 
 #include <zlib.h>
 
@@ -58,9 +59,13 @@ class GzipLines {
         const int n = gzread(file_, buffer_, sizeof buffer_);
         if (n < 0) {
           int code = 0;
-          throw InputError(path_, "", std::string("cannot read: ") + gzerror(file_, &code));
+          throw InputError(path_, "", std::string("cannot read: ") + GzipReason(file_, path_, &code));
         }
         if (n == 0) {
+          // A stream cut short gives its data and then 0, with Z_BUF_ERROR: its end is missing.
+          int code = Z_OK;
+          const std::string why = GzipReason(file_, path_, &code);
+          if (code != Z_OK) throw InputError(path_, "", "cannot read: " + why);
           if (!line->empty()) return true;  // a last line without its newline
           return false;
         }

@@ -89,6 +89,28 @@ expect_error second_log 'logs/bad_nan.csv: line 101' -- logs/rig_00.csv logs/bad
 expect_error rerun_run "logs/bad_shift.csv: line $shift_line, column \"Versuch\": the run first seen on line 2 starts again" \
   -- logs/bad_shift.csv --map logs/map_shift.json
 expect_error missing_log 'logs/none.csv' -- logs/none.csv --map $M
+# A compressed log cut short (after whole lines: the deflate stream ends but its trailer is
+# missing; or in the middle) or corrupt: exit 2 with zlib's reason, nothing imported.
+head -n 300 logs/rig_00.csv | gzip -c | head -c -8 > logs/cut_at_line.csv.gz
+gzip -c logs/rig_00.csv > logs/whole.csv.gz
+head -c $(( $(stat -c %s logs/whole.csv.gz) / 2 )) logs/whole.csv.gz > logs/cut.csv.gz
+$PY -c "
+import sys
+b = bytearray(open('logs/whole.csv.gz', 'rb').read()); b[len(b) // 2] ^= 0xff
+open('logs/corrupt.csv.gz', 'wb').write(b)"
+expect_error gzip_cut_at_line 'logs/cut_at_line.csv.gz: (document root): cannot read the file: unexpected end of file (cut short or corrupt)' \
+  -- logs/cut_at_line.csv.gz --map $M
+expect_error gzip_cut 'logs/cut.csv.gz: (document root): cannot read the file: unexpected end of file' -- logs/cut.csv.gz --map $M
+expect_error gzip_corrupt 'logs/corrupt.csv.gz: (document root): cannot read the file: ' '(cut short or corrupt)' -- logs/corrupt.csv.gz --map $M
+# Whole gzip logs import as the plain ones do.
+mkdir -p logs/gz && for f in logs/rig_0*.csv; do gzip -c "$f" > "logs/gz/$(basename "$f").gz"; done
+if "$ARMFAULT" import logs/gz/rig_0*.csv.gz --map $M -o imp_gz -q >/dev/null; then
+  for f in imp_files/runs/*.csv.gz; do
+    cmp -s <(zcat "$f") <(zcat "imp_gz/runs/$(basename "$f")") || fail "gzip logs: $(basename "$f") differs from the plain logs' import"
+  done
+else
+  fail "import of whole gzip logs"
+fi
 
 # The map's errors name the map, the JSON pointer and the value.
 edit_map() {  # edit_map OUT PYTHON-STATEMENT-ON-m

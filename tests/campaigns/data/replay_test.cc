@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <iterator>
 #include <sstream>
 
 #include "campaigns/spec/campaign.h"
@@ -229,8 +230,18 @@ TEST(Replay, BadInputsNameTheirPath) {
   e = ErrorOf([&] { ReplayDirectory(o); });
   EXPECT_EQ(e.source(), (fs::path(x) / "manifest.jsonl").string());
   fs::rename(fs::path(x) / "m.jsonl", fs::path(x) / "manifest.jsonl");
-  // A damaged signals file: its line and column.
+  // A signals file cut short (its compressed stream ends early): zlib's reason, not a run with
+  // its end missing.
   const fs::path signals = fs::path(x) / "runs" / "000000.csv.gz";
+  {
+    std::ifstream in(signals, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::ofstream(signals, std::ios::binary | std::ios::trunc) << bytes.substr(0, bytes.size() / 2);
+  }
+  e = ErrorOf([&] { ReplayDirectory(o); });
+  EXPECT_EQ(e.source(), signals.string());
+  EXPECT_THAT(e.message(), HasSubstr("cannot read: unexpected end of file (cut short or corrupt)"));
+  // A damaged signals file: its line and column.
   std::ofstream(signals) << SignalsCsvHeader(3) << "0,1,2\n";
   e = ErrorOf([&] { ReplayDirectory(o); });
   EXPECT_EQ(e.source(), signals.string());
