@@ -6,8 +6,11 @@
 
 #include <Eigen/Geometry>
 
+#include <cctype>
+#include <charconv>
 #include <cmath>
 #include <fstream>
+#include <locale>
 #include <filesystem>
 #include <map>
 #include <mutex>
@@ -64,7 +67,92 @@ class CollectingHandler : public console_bridge::OutputHandler {
   std::string first_error;
 };
 
+// The numeric attributes of the elements armfault reads, with how many numbers each holds.
+// urdfdom reads a value such as "1.0kg", "nan" or "abc" as 0 (or leaves the default) without a
+// word, which later reads as "no mass" or "moment 0"; every one is checked here first.
+struct NumericAttribute {
+  const char* element;
+  const char* attribute;
+  int count;
+};
+constexpr NumericAttribute kNumericAttributes[] = {
+    {"mass", "value", 1},       {"inertia", "ixx", 1}, {"inertia", "ixy", 1},     {"inertia", "ixz", 1},
+    {"inertia", "iyy", 1},      {"inertia", "iyz", 1}, {"inertia", "izz", 1},     {"origin", "xyz", 3},
+    {"origin", "rpy", 3},       {"axis", "xyz", 3},    {"limit", "lower", 1},     {"limit", "upper", 1},
+    {"limit", "effort", 1},     {"limit", "velocity", 1}, {"dynamics", "damping", 1}, {"dynamics", "friction", 1},
+    {"mimic", "multiplier", 1}, {"mimic", "offset", 1},
+};
+
+// Whether `text` is exactly `count` finite numbers separated by white space (one number: with
+// no white space around it, which urdfdom would read as 0).
+bool FiniteNumbers(const std::string& text, int count) {
+  if (count == 1 && (text.empty() || std::isspace(static_cast<unsigned char>(text.front())) ||
+                     std::isspace(static_cast<unsigned char>(text.back())))) {
+    return false;
+  }
+  std::istringstream in(text);
+  in.imbue(std::locale::classic());
+  std::string token;
+  int n = 0;
+  while (in >> token) {
+    double v = 0;
+    const auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), v);
+    if (ec != std::errc() || end != token.data() + token.size() || !std::isfinite(v)) return false;
+    ++n;
+  }
+  return n == count;
+}
+
+// The element's place for a message: the enclosing <link> or <joint> by name, then the path.
+std::string PlaceOf(const TiXmlElement* e) {
+  std::string path;
+  for (const TiXmlNode* n = e; n && n->ToElement(); n = n->Parent()) {
+    const TiXmlElement* el = n->ToElement();
+    const std::string tag = el->ValueStr();
+    if ((tag == "link" || tag == "joint") && el->Attribute("name")) {
+      return "<" + tag + " name=\"" + *el->Attribute(std::string("name")) + "\">" + path;
+    }
+    if (tag == "robot") break;
+    path = "<" + tag + ">" + path;
+  }
+  return path.empty() ? "<robot>" : path;
+}
+
+// A value as it may be shown: quoted, at most 40 characters, control characters as '?'.
+std::string ShownValue(const std::string& value) {
+  std::string shown = value.substr(0, 40);
+  for (char& c : shown) {
+    if (static_cast<unsigned char>(c) < 0x20) c = '?';
+  }
+  return "\"" + shown + (value.size() > 40 ? "...\"" : "\"");
+}
+
+void CheckNumbers(const TiXmlElement* e, const std::string& name) {
+  for (; e; e = e->NextSiblingElement()) {
+    for (const NumericAttribute& a : kNumericAttributes) {
+      if (e->ValueStr() != a.element) continue;
+      const std::string* value = e->Attribute(std::string(a.attribute));
+      if (!value || FiniteNumbers(*value, a.count)) continue;
+      throw InputError(name, PlaceOf(e),
+                       std::string(a.attribute) + "=" + ShownValue(*value) + ": expected " +
+                           (a.count == 1 ? std::string("a finite number") : std::to_string(a.count) + " finite numbers") +
+                           " (no units, no nan or inf)");
+    }
+    CheckNumbers(e->FirstChildElement(), name);
+  }
+}
+
+// Every numeric attribute armfault reads is a finite number (InputError naming the element, the
+// attribute and the value). A text TinyXML cannot read is left to urdfdom's own message.
+void CheckUrdfNumbers(const std::string& text, const std::string& name) {
+  TiXmlDocument doc;
+  doc.Parse(text.c_str());
+  if (doc.Error()) return;
+  CheckNumbers(doc.RootElement(), name);
+}
+
 urdf::ModelInterfaceSharedPtr ParseUrdf(const std::string& text, const std::string& name) {
+  CheckUrdfNumbers(text, name);
   static std::mutex mutex;
   std::lock_guard<std::mutex> lock(mutex);
   CollectingHandler handler;
@@ -146,6 +234,16 @@ class ChainBuilder {
   std::vector<ChainJoint> Build() {
     const urdf::LinkConstSharedPtr root = model_.getRoot();
     if (!root) throw InputError(name_, "<robot>", "the URDF has no root link");
+    // A link that is the child of two joints closes a loop (urdfdom keeps one of them).
+    std::map<std::string, std::string> parent_joint_of;
+    for (const auto& [joint_name, joint] : model_.joints_) {
+      const auto [it, fresh] = parent_joint_of.emplace(joint->child_link_name, joint_name);
+      if (!fresh) {
+        throw InputError(name_, LinkElement(joint->child_link_name),
+                         "it is the child of joints " + Quote(it->second) + " and " + Quote(joint_name) +
+                             ": a closed chain; armfault simulates serial arms only");
+      }
+    }
     // The base: the root and its fixed descendants, up to the first moving joints.
     std::vector<urdf::JointConstSharedPtr> next;
     WalkFixed(root, base_, nullptr, &next);
@@ -189,6 +287,12 @@ class ChainBuilder {
       if (j->type == urdf::Joint::FIXED) {
         WalkFixed(model_.getLink(j->child_link_name), f * FrameOf(j->parent_to_joint_origin_transform), body, next);
       } else if (Moving(*j)) {
+        if (j->mimic) {
+          throw InputError(name_, JointElement(j->name),
+                           "it mimics joint " + Quote(j->mimic->joint_name) +
+                               " (<mimic>): a joint that follows another has no drive of its own, which armfault does "
+                               "not model; make it fixed, or remove the <mimic> and give it a drive");
+        }
         parent_frame_of_[j->name] = f;
         next->push_back(j);
       } else {

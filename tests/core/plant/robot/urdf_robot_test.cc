@@ -139,6 +139,40 @@ TEST(UrdfRobotTest, BadFilesAreErrorsNamingTheFileAndTheElement) {
   }
 }
 
+TEST(UrdfRobotTest, ANumberThatIsNotOneNamesItsElementAttributeAndValue) {
+  // urdfdom reads these as 0 without a word, which read as "no mass" or "moment 0".
+  auto inertial = [](const std::string& mass, const std::string& ixx) {
+    return "<inertial><mass value=\"" + mass + "\"/><inertia ixx=\"" + ixx +
+           "\" iyy=\"0.01\" izz=\"0.01\" ixy=\"0\" ixz=\"0\" iyz=\"0\"/></inertial>";
+  };
+  EXPECT_THAT(ErrorOf(TwoJoint("revolute", "", inertial("1.0kg", "0.01"))),
+              HasSubstr("arm.urdf: <link name=\"l2\"><inertial><mass>: value=\"1.0kg\": expected a finite number"));
+  EXPECT_THAT(ErrorOf(TwoJoint("revolute", "", inertial("nan", "0.01"))),
+              HasSubstr("<link name=\"l2\"><inertial><mass>: value=\"nan\": expected a finite number"));
+  EXPECT_THAT(ErrorOf(TwoJoint("revolute", "", inertial("1", "abc"))),
+              HasSubstr("<link name=\"l2\"><inertial><inertia>: ixx=\"abc\": expected a finite number"));
+  std::string origin = TwoJoint();
+  origin.replace(origin.find("<origin xyz=\"0 0 0.3\""), std::string("<origin xyz=\"0 0 0.3\"").size(), "<origin xyz=\"0 0\"");
+  EXPECT_THAT(ErrorOf(origin), HasSubstr("arm.urdf: <joint name=\"j2\"><origin>: xyz=\"0 0\": expected 3 finite numbers"));
+  // A long value is cut for the message.
+  EXPECT_THAT(ErrorOf(TwoJoint("revolute", "", inertial(std::string(100, 'x'), "0.01"))),
+              HasSubstr("value=\"" + std::string(40, 'x') + "...\""));
+  EXPECT_THAT(ErrorOf(TwoJoint("revolute", "", inertial("1", " 0.01"))),  // urdfdom: 0
+              HasSubstr("<inertia>: ixx=\" 0.01\": expected a finite number"));
+  EXPECT_EQ(ErrorOf(TwoJoint("revolute", "", inertial("1e0", "0.01"))), "");
+}
+
+TEST(UrdfRobotTest, MimicJointsAndClosedChainsAreNamedAsSuch) {
+  std::string mimic = TwoJoint();
+  mimic.replace(mimic.find("<limit lower=\"-1.5\""), 0, "<mimic joint=\"j1\" multiplier=\"1\"/>");
+  EXPECT_THAT(ErrorOf(mimic), HasSubstr("arm.urdf: <joint name=\"j2\">: it mimics joint \"j1\" (<mimic>)"));
+  // Before: read as an independent driven joint.
+  const std::string loop = R"(<joint name="j3" type="revolute"><parent link="base"/><child link="l2"/><axis xyz="0 0 1"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>)";
+  EXPECT_THAT(ErrorOf(TwoJoint("revolute", loop)),
+              HasSubstr("arm.urdf: <link name=\"l2\">: it is the child of joints \"j2\" and \"j3\": a closed chain"));
+}
+
 TEST(UrdfRobotTest, DrivesMustNameEveryMovingJointAndNoOther) {
   EXPECT_THAT(ErrorOf(TwoJoint(), {{"j1", "industrial-large"}}),
               HasSubstr("/robot/drives: no drive for joint \"j2\" of arm.urdf"));
