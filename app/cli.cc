@@ -329,6 +329,13 @@ int armfault::CliMain(int argc, char** argv) {
       AddBoundaryCommand(app),
   };
 
+  // Every --help ends with what the exit status means (docs/campaign-format.md, "Exit status").
+  const std::string exit_codes =
+      "\nExit status: 0 done (every floor met); 1 a floor missed (run, merge, score, replay) or a metric "
+      "significantly worse (diff); 2 invalid input or usage, with the file and JSON pointer; 3 some runs failed (the others are written); 130 interrupted "
+      "(Ctrl-C: what is written is kept, and --resume continues).";
+  app.footer(exit_codes);
+  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) sub->footer(exit_codes);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -338,9 +345,14 @@ int armfault::CliMain(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    app.exit(e);
+    // The nearest command or option first: CLI11's own words for a typo'd command ("A
+    // subcommand is required") would mislead.
     const std::string hint = armfault::SuggestForParseError(app, argc, argv);
-    if (!hint.empty()) std::fprintf(stderr, "%s\n", hint.c_str());
+    if (hint.empty()) {
+      app.exit(e);
+    } else {
+      std::fprintf(stderr, "%s\nRun with --help for more information.\n", hint.c_str());
+    }
     return 2;
   }
 

@@ -199,9 +199,12 @@ int ValidateCommand(const ValidateOptions& o) {
   const Campaign campaign =
       ReadCampaignFile(campaign_file, o.load_plugins ? MonitorLoading::kBuild : MonitorLoading::kSkipUserCode);
   PrintWarnings(campaign_file, campaign);
-  std::printf("%s: valid campaign \"%s\": %ld runs (%zu trajectories, %zu fault entries, %d healthy per trajectory, %d repetitions)\n",
-              campaign_file.c_str(), campaign.name.c_str(), CaseCount(campaign), campaign.trajectories.size(),
-              campaign.faults.size(), campaign.healthy, campaign.repetitions);
+  auto count = [](long n, const char* one, const char* many) { return std::to_string(n) + " " + (n == 1 ? one : many); };
+  std::printf("%s: valid campaign \"%s\": %s (%s, %s, %d healthy per trajectory, %s)\n", campaign_file.c_str(),
+              campaign.name.c_str(), count(CaseCount(campaign), "run", "runs").c_str(),
+              count(static_cast<long>(campaign.trajectories.size()), "trajectory", "trajectories").c_str(),
+              count(static_cast<long>(campaign.faults.size()), "fault entry", "fault entries").c_str(), campaign.healthy,
+              count(campaign.repetitions, "repetition", "repetitions").c_str());
   if (campaign.search.present && !campaign.search.has_runs) {
     size_t cells = 0;
     for (const FaultEntry& e : campaign.faults) cells += e.joints.size() * campaign.trajectories.size();

@@ -129,6 +129,13 @@ CampaignFiles ReadSummaryAndCampaign(const ReportOptions& options, ReportData* d
   const fs::path dir(options.dir);
   const fs::path summary_path = dir / "summary.json";
   if (!fs::exists(summary_path)) {
+    // An interrupted run has its runs but no summary yet: --resume finishes it.
+    std::error_code ec;
+    if (fs::exists(dir / "campaign.json") && fs::file_size(dir / "results.jsonl", ec) > 0 && !ec) {
+      throw InputError(summary_path.string(), "",
+                       "no such file: the run in " + options.dir + " was interrupted before its summary; finish it with "
+                       "`armfault run CAMPAIGN -o " + options.dir + " --resume`");
+    }
     throw InputError(summary_path.string(), "", "no such file: run `armfault run CAMPAIGN -o " + options.dir + "` first");
   }
   d.summary = ReadJsonFile(summary_path.string());

@@ -137,6 +137,8 @@ if [[ $lines -ge 5 && $lines -lt 52 ]]; then pass; else fail "stopped with $line
 if grep -qF "interrupted: kept $lines of 52 runs in $dir/results.jsonl (no summary written)" "$tmp/int_err"; then pass; else fail "stderr: $(cat "$tmp/int_err")"; fi
 if grep -qF "resume with: armfault run $ci -o $dir --resume -j 2" "$tmp/int_err"; then pass; else fail "no resume command: $(cat "$tmp/int_err")"; fi
 if [[ ! -e "$dir/summary.json" ]]; then pass; else fail "an interrupted run wrote summary.json"; fi
+run report_of_interrupted "$armfault" report "$dir"
+expect_input_error "was interrupted before its summary; finish it with \`armfault run CAMPAIGN -o $dir --resume\`"
 if [[ $(tail -c 1 "$dir/results.jsonl" | od -An -c | tr -d ' ') == '\n' ]]; then pass; else fail "the last line is cut"; fi
 if [[ $(wc -l <"$dir/decisions.jsonl") -eq $lines ]]; then pass; else fail "decisions.jsonl has $(wc -l <"$dir/decisions.jsonl") lines, results.jsonl $lines"; fi
 run resume_after_ctrl_c "$armfault" run "$ci" -o "$dir" -q -j 2 --resume
@@ -382,6 +384,17 @@ expect_stdout_contains "Usage: armfault [OPTIONS] SUBCOMMAND"
 run unknown_command "$armfault" rn
 expect_status 2
 expect_stderr_contains 'armfault: unknown command "rn"; did you mean "run"?'
+current=unknown_command_hint_first
+if [[ $(head -n 1 "$tmp/stderr") == 'armfault: unknown command "rn"; did you mean "run"?' ]] && ! grep -q "A subcommand is required" "$tmp/stderr"; then
+  pass
+else
+  fail "the hint is not first, or CLI11's message misleads: $(cat "$tmp/stderr")"
+fi
+for cmd in run trace tune diff report validate; do
+  run "help_exit_codes_$cmd" "$armfault" $cmd --help
+  expect_stdout_contains "Exit status: 0 done"
+  expect_stdout_contains "130 interrupted"
+done
 run unknown_option "$armfault" run --jbos 2
 expect_status 2
 expect_stderr_contains "armfault run: unknown option --jbos; did you mean --jobs?"

@@ -103,7 +103,7 @@ expect_input_error "$tmp/no/such/dir/t.csv.tmp: (document root): cannot open for
 
 # Every subcommand `--help` lists has its row in the README's command table.
 current=readme_lists_every_command
-for name in $("$armfault" --help | sed -n '/^Subcommands:/,$p' | awk 'NR > 1 && NF { print $1 }'); do
+for name in $("$armfault" --help | sed -n '/^Subcommands:/,$p' | awk 'NR > 1 && !NF { exit } NR > 1 { print $1 }'); do
   if grep -qF "| \`armfault $name" "$src/README.md"; then pass; else fail "README.md has no row for \`armfault $name\`"; fi
 done
 
@@ -243,6 +243,9 @@ if grep -q '^| n = 0.9 | 73.70 |' "$tmp/thesis/thesis.md"; then pass; else fail 
 run validate_ci "$armfault" validate "$src/campaigns/files/ci.json"
 expect_status 0
 expect_stdout_contains "valid campaign \"ci\": 52 runs"
+printf '{"trajectories": [{"name": "a", "joints": {"3": {"type": "hold"}}}], "healthy": 1, "duration_s": 0.5}\n' >"$tmp/one_of_each.json"
+run validate_plurals "$armfault" validate "$tmp/one_of_each.json"
+expect_stdout_contains "valid campaign \"one_of_each\": 1 run (1 trajectory, 0 fault entries, 1 healthy per trajectory, 1 repetition)"
 printf '{"trajectories": [{"name": "a", "joints": {"3": {"type": "hold"}}}], "faults": [{"family": "kt_degradation", "joint": 3, "kt_factor": [0.9, 1.5]}]}\n' >"$tmp/bad_campaign.json"
 run campaign_bad_value "$armfault" validate "$tmp/bad_campaign.json"
 expect_input_error "$tmp/bad_campaign.json: /faults/0/kt_factor/1: kt_degradation: 1.5 is outside"
