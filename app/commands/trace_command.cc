@@ -86,8 +86,24 @@ void PrintMonitorSummary(const HealthMonitor& any) {
   }
   const Diagnosis d = Diagnose(out);
   if (d.detected) {
-    std::printf("monitor: ALARM at %.3f s, joint %d, %s, %s %.4g (confidence %.2f)\n", d.detection_time_s, d.joint,
-                d.family.c_str(), d.magnitude_name.c_str(), d.magnitude, d.confidence);
+    // The estimate the alarm gave when it was raised, and the run's last one, apart: the
+    // detection time with the final magnitude would read as what was known at that time.
+    const Verdict* first = nullptr;
+    for (const Verdict& v : out.verdicts) {
+      if (v.alarm && v.joint == d.joint && v.family == d.family && v.t_s >= d.detection_time_s) {
+        first = &v;
+        break;
+      }
+    }
+    if (first && !d.magnitude_name.empty()) {
+      std::printf("monitor: ALARM at %.3f s, joint %d, %s, %s %.4g at the alarm, %.4g at the end (confidence %.2f)\n",
+                  d.detection_time_s, d.joint, d.family.c_str(), d.magnitude_name.c_str(), first->magnitude, d.magnitude,
+                  d.confidence);
+    } else {
+      std::printf("monitor: ALARM at %.3f s, joint %d, %s%s%s (confidence %.2f)\n", d.detection_time_s, d.joint,
+                  d.family.c_str(), d.magnitude_name.empty() ? "" : (", " + d.magnitude_name + " ").c_str(),
+                  d.magnitude_name.empty() ? "" : FormatNumber(d.magnitude).c_str(), d.confidence);
+    }
   } else {
     std::printf("monitor: no alarm\n");
   }

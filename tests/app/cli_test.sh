@@ -209,7 +209,10 @@ if grep -q 'torque_per_ampere_Nm_per_A: .*took effect' "$tmp/stdout"; then pass;
 run monitor_alarm "$armfault" trace -o "$tmp/x.csv" --monitor-out "$tmp/m.json" --fault '{"family":"kt_degradation","joint":3,"kt_factor":0.7,"onset_s":2}'
 expect_status 0
 expect_stdout_contains "monitor: ALARM at "
-expect_stdout_contains ", joint 3, kt_degradation, kt_factor 0.7"
+expect_stdout_contains " at the alarm, "  # the first estimate and the last, apart
+expect_stdout_contains ", 0.70"  # the last estimate: the fault's 0.7
+expect_stdout_contains " at the end (confidence "
+expect_stdout_contains ", joint 3, kt_degradation, kt_factor 0."
 if grep -q '"isolated_family": "kt_degradation"' "$tmp/m.json" && grep -q '"windows": \[' "$tmp/m.json"; then pass; else fail "monitor JSON lacks the diagnosis or windows: $(head -c 300 "$tmp/m.json")"; fi
 run monitor_quiet_healthy "$armfault" trace -o "$tmp/x.csv"
 expect_stdout_contains "monitor: no alarm"
