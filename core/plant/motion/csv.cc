@@ -220,7 +220,14 @@ std::unique_ptr<Trajectory> MakeCsv(ObjectReader& reader, const InputContext& ct
       throw InputError("", pointer, named + " is larger than " + std::to_string(kMaxCsvBytes >> 20) + " MiB");
     }
 
-    const std::vector<Row> rows = ParseRows(text, resolved);
+    // The file's errors name the campaign (or run) file and the key that names the CSV file,
+    // then the CSV file and its line.
+    std::vector<Row> rows;
+    try {
+      rows = ParseRows(text, resolved);
+    } catch (const InputError& e) {
+      throw InputError("", pointer, named + ": " + e.pointer() + ": " + e.message());
+    }
     if (rows.size() < 2) {
       throw InputError("", pointer,
                        named + " has " + std::to_string(rows.size()) +

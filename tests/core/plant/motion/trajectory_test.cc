@@ -305,9 +305,11 @@ TEST_F(CsvTrajectory, AbsolutePathIgnoresBaseDir) {
 
 TEST_F(CsvTrajectory, MalformedLineNamesFileAndLineNumber) {
   const InputError e = ErrorFrom("time_s,angle_deg\n0,0\n0.5;12\n1,3\n");
-  EXPECT_EQ(e.source(), (dir_ / "traj.csv").string());
-  EXPECT_EQ(e.pointer(), "line 3");
-  EXPECT_THAT(e.what(), HasSubstr("traj.csv: line 3: expected 2 numbers \"time_s,angle_deg\", got 1 field"));
+  // The campaign (or run) file and the key that names the CSV file, then the CSV file's line.
+  EXPECT_EQ(e.source(), "experiment.json");
+  EXPECT_EQ(e.pointer(), "/joints/3/path");
+  EXPECT_THAT(e.what(), HasSubstr("experiment.json: /joints/3/path: CSV file \"" + (dir_ / "traj.csv").string() +
+                                  "\" (resolved from \"traj.csv\"): line 3: expected 2 numbers \"time_s,angle_deg\", got 1 field"));
   // The file's text is never echoed (a path may name any file): line and column instead.
   EXPECT_THAT(e.what(), Not(HasSubstr("0.5;12")));
 }
@@ -346,7 +348,8 @@ TEST_F(CsvTrajectory, OnlyARegularFileOfBoundedSizeIsRead) {
 
 TEST_F(CsvTrajectory, TimesMustStrictlyIncrease) {
   const InputError e = ErrorFrom("# t, q\n0,0\n1,10\n1,20\n");
-  EXPECT_EQ(e.pointer(), "line 4");
+  EXPECT_EQ(e.pointer(), "/joints/3/path");
+  EXPECT_THAT(e.message(), HasSubstr("traj.csv\"): line 4: "));
   EXPECT_THAT(e.message(), HasSubstr("time 1 s is not after the previous row's time 1 s (line 3)"));
 }
 
