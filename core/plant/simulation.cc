@@ -29,8 +29,6 @@ constexpr double kMaxLinkSpeed_rad_s = 100.0;  // far beyond any drive: the run 
 constexpr double kCopperPerK = 0.00393;
 constexpr double kMagnetLossPerK = 0.001;
 
-Eigen::Vector3d Vec(const std::array<double, 3>& a) { return Eigen::Vector3d(a[0], a[1], a[2]); }
-
 Eigen::Vector3d ToEigen(const dReal* v) { return Eigen::Vector3d(v[0], v[1], v[2]); }
 
 void SetBodyPose(dBodyID b, const Eigen::Vector3d& pos, const Eigen::Matrix3d& rot) {

@@ -47,7 +47,9 @@ TEST(FaultMagnitudeRange, TheLoaderAcceptsExactlyTheStatedRange) {
     EXPECT_FALSE(Accepted(family, std::nextafter(r.min, -inf))) << family;
     EXPECT_FALSE(Accepted(family, std::nextafter(r.max, inf))) << family;
     EXPECT_TRUE(Accepted(family, std::nextafter(r.max, -inf))) << family;
-    if (r.min < 0 && r.max > 0) EXPECT_EQ(Accepted(family, 0.0), !r.zero_excluded) << family;
+    if (r.min < 0 && r.max > 0) {
+      EXPECT_EQ(Accepted(family, 0.0), !r.zero_excluded) << family;
+    }
   }
   EXPECT_EQ(families_with_range, 6);  // all but torque_sensor_stuck (a lead, no magnitude)
 }
@@ -77,7 +79,9 @@ TEST(FaultMagnitudeRange, DocsFaultsMdStatesEachFamilysRange) {
     ASSERT_NE(at, std::string::npos) << family << " has no row in the families table";
     const std::string row = text.str().substr(at, text.str().find('\n', at) - at);
     const std::string range = FaultMagnitudeRangeText(family);
-    if (!range.empty()) EXPECT_THAT(row, HasSubstr("| " + range)) << family;
+    if (!range.empty()) {
+      EXPECT_THAT(row, HasSubstr("| " + range)) << family;
+    }
   }
   EXPECT_EQ(FaultMagnitudeRangeText("torque_sensor_drift"), "\u2212100 \u2264 `drift_Nm_per_s` \u2264 100, \u2260 0");
   EXPECT_EQ(FaultMagnitudeRangeText("kt_degradation"), "0 < `kt_factor` \u2264 1");

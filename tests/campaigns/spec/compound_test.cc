@@ -146,7 +146,9 @@ TEST(CompoundCampaign, TheElementsActTogetherAndTheOnsetIsTheEarliest) {
   EXPECT_EQ(j["compound"], r.compound);
   // A record reads back with its elements.
   EXPECT_EQ(RunRecordFromJson(j).compound, r.compound);
-  if (r.detected) EXPECT_DOUBLE_EQ(*r.latency_s, *r.detection_time_s - 0.8);
+  if (r.detected) {
+    EXPECT_DOUBLE_EQ(*r.latency_s, *r.detection_time_s - 0.8);
+  }
 }
 
 // The test plugin in mode "alarm" names friction_increase on joint 3 at the first tick at or

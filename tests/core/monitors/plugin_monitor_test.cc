@@ -375,7 +375,9 @@ TEST(PluginMonitor, CommissioningStreamsEachUnitAndEveryRunOfItGetsItsBlob) {
     const double mean = out.verdicts[1].magnitude;
     EXPECT_GT(mean, 0);
     const auto [it, first] = mean_by_unit.emplace(spec.unit, mean);
-    if (!first) EXPECT_EQ(it->second, mean) << "unit " << spec.unit;  // the unit's one blob
+    if (!first) {
+      EXPECT_EQ(it->second, mean) << "unit " << spec.unit;  // the unit's one blob
+    }
   }
   ASSERT_EQ(mean_by_unit.size(), 2u);
   EXPECT_NE(mean_by_unit.begin()->second, mean_by_unit.rbegin()->second);  // each unit its own run
