@@ -138,8 +138,12 @@ int RunCampaignCommand(const CampaignRunOptions& o) {
                                           (ro.shard.count > 1 ? " --shard " + std::to_string(ro.shard.index) + "/" +
                                                                     std::to_string(ro.shard.count)
                                                               : ""));
-  // The lock file goes with every exit, the immediate one of a second Ctrl-C too.
+  // The lock file goes with every exit, the immediate one of a second Ctrl-C too (and the gate
+  // lets go of its path before the lock does, however this function is left).
   g_exit_gate.RemoveOnExit(lock.path());
+  struct ForgetLockPath {
+    ~ForgetLockPath() { g_exit_gate.RemoveOnExit(nullptr); }
+  } forget_lock_path;
   // Another campaign's results are kept unless asked (a rerun of this one, or --resume, is not).
   if (!o.resume) RequireNoOtherResults(o.output_dir, CampaignFileJson(campaign, ro.shard), o.force);
   // Everything written so far is complete lines: --resume picks up from there.
@@ -158,7 +162,6 @@ int RunCampaignCommand(const CampaignRunOptions& o) {
   const RunnerResult r = ContinuableWith(resume, [&] { return RunCampaign(campaign, ro); });
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);
-  g_exit_gate.RemoveOnExit(nullptr);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (r.interrupted) {
     std::fprintf(stderr, "\ninterrupted: kept %ld of %ld runs in %s/results.jsonl (no summary written)\nresume with: %s\n",
