@@ -129,7 +129,8 @@ ArmAllowance FrictionAllowanceOfArm(const MonitorConfig& c, const std::vector<Ar
 }
 
 void FrictionReference::Update(const MonitorConfig& c, double winding_above_K, const ElectricalEstimator& electrical,
-                               const BalanceFit::Estimate& b, bool usable, double dt_s, const ArmAllowance& arm) {
+                               const BalanceFit::Estimate& b, bool usable, double viscous_share, double dt_s,
+                               const ArmAllowance& arm) {
   const WindingThermometer& winding = electrical.winding;
   // The coldest the winding has read (its averaged reading) once the reading settled (a gear
   // warms more slowly than its winding; with a declared winding sensor, the sensor: the fit's
@@ -164,6 +165,8 @@ void FrictionReference::Update(const MonitorConfig& c, double winding_above_K, c
   if (usable && b.moving_s >= c.min_balance_moving_s) {
     block.push_back(b.friction_factor);
     block_s += dt_s;
+    block_share_sum += viscous_share;
+    block_zero_found = block_zero_found && zero_found;
     if (block_s >= c.friction_block_s) {
       // A block's median: at each reversal the fast fit has few usable ticks and sits at its
       // prior (1) for a moment, which must not count as the friction shown.
@@ -171,6 +174,10 @@ void FrictionReference::Update(const MonitorConfig& c, double winding_above_K, c
       std::nth_element(block.begin(), mid, block.end());
       const int ring = c.friction_envelope_blocks;
       block_median[static_cast<size_t>(blocks % ring)] = *mid;
+      last_block_median = *mid;
+      last_block_share = block_share_sum / static_cast<double>(block.size());
+      last_block_log_se = b.friction_factor > 0 ? b.friction_factor_se / b.friction_factor : 1.0;
+      last_block_teaches = block_zero_found;
       ++blocks;
       const int n_shown = std::min(c.shown_friction_blocks, blocks - c.unconverged_friction_blocks);
       if (n_shown > 0) {
@@ -181,6 +188,8 @@ void FrictionReference::Update(const MonitorConfig& c, double winding_above_K, c
         if (n_shown == c.min_shown_friction_blocks) first_top = *std::max_element(recent_.begin(), recent_.end());
       }
       block_s = 0;
+      block_share_sum = 0;
+      block_zero_found = true;
       block.clear();
       if (blocks >= ring) {
         const double top = *std::max_element(block_median.begin(), block_median.end());

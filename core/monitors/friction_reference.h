@@ -39,8 +39,10 @@ struct FrictionReference {
   explicit FrictionReference(const MonitorConfig& c, double dt_s);
   // After the fast balance fit `b` has taken this tick (`usable`: one the fit could use).
   // `winding_above_K`: a declared winding sensor's reading over the calibration's (NaN without).
+  // `viscous_share`: the viscous part's share of the calibrated curve at this tick (ViscousShare,
+  // friction_model.h), averaged over each block for the arm's friction model.
   void Update(const MonitorConfig& c, double winding_above_K, const ElectricalEstimator& electrical,
-              const BalanceFit::Estimate& b, bool usable, double dt_s, const ArmAllowance& arm);
+              const BalanceFit::Estimate& b, bool usable, double viscous_share, double dt_s, const ArmAllowance& arm);
   // The warm floor's reading: the coldest converged reading, and until the reading converges,
   // the coldest settled one (infinite before it settles).
   double WarmFloorReading() const;
@@ -57,6 +59,14 @@ struct FrictionReference {
   int blocks = 0;           // blocks completed
   std::vector<double> block;   // this block's fast factors
   double block_s = 0;
+  double block_share_sum = 0;  // this block's viscous shares, summed over its ticks
+  // The latest completed block, as the arm's friction model takes it (friction_model.h).
+  double last_block_median = 1;
+  double last_block_share = 0.5;   // its mean viscous share
+  double last_block_log_se = 0;    // the fast fit's relative standard error at its end
+  bool last_block_teaches = false; // the sensor's zero was found through all of it
+  bool zero_found = true;          // set by the caller each tick: the sensor's zero is found (or none)
+  bool block_zero_found = true;    // ... through this block so far
   // The resistance factor a winding as warm as its gear shows would read (GearShownRho): its
   // latest reading while the fast fit held enough motion; NaN until the first.
   double gear_shown_rho;

@@ -7,6 +7,7 @@
 #include "core/monitors/monitor_config.h"
 
 #include "core/base/json_input.h"
+#include "core/base/suggest.h"
 
 namespace armfault {
 
@@ -92,6 +93,15 @@ const std::vector<NumberField>& NumberFields() {
       {"rail_jump_fraction", &MonitorConfig::rail_jump_fraction, 0, 1},
       {"brake_torque_fraction", &MonitorConfig::brake_torque_fraction, 0, 1},
       {"min_balance_sigma_Nm", &MonitorConfig::min_balance_sigma_Nm, 1e-6, 1e3},
+      {"gear_time_constant_s", &MonitorConfig::gear_time_constant_s, 1, 1e6},
+      {"arm_temperature_spread_K", &MonitorConfig::arm_temperature_spread_K, 0.1, 200},
+      {"unread_temperature_sd_K", &MonitorConfig::unread_temperature_sd_K, 0.1, 200},
+      {"start_reading_s", &MonitorConfig::start_reading_s, 0, 1e5},
+      {"gear_winding_gap_sd", &MonitorConfig::gear_winding_gap_sd, 0, 10},
+      {"lubricant_slope_prior_sd_per_K", &MonitorConfig::lubricant_slope_prior_sd_per_K, 1e-6, 1},
+      {"lubricant_forget_s", &MonitorConfig::lubricant_forget_s, 1, 1e7},
+      {"friction_model_error", &MonitorConfig::friction_model_error, 1e-4, 10},
+      {"friction_block_scatter", &MonitorConfig::friction_block_scatter, 1e-4, 10},
   };
   return f;
 }
@@ -119,6 +129,16 @@ const std::vector<LimitField>& LimitFields() {
 
 namespace {
 
+// One of the known friction references, else an error with the nearest as a hint.
+void RequireChoice(const std::string& value, const std::vector<std::string>& known, const std::string& pointer) {
+  if (std::find(known.begin(), known.end(), value) != known.end()) return;
+  std::string list;
+  for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
+  const std::string near = NearestWord(value, known);
+  throw InputError("", pointer, "unknown friction reference " + nlohmann::json(value).dump() + " (known: " + list + ")",
+                   near.empty() ? "" : "did you mean \"" + near + "\"?");
+}
+
 // The range checks of Validate(), each on its own, into `errors`. A limit whose object could
 // not be read (in `unread_limits`) is skipped: its defaults would be checked, not the file.
 void CheckRanges(const MonitorConfig& c, const std::string& pointer, const std::set<std::string>& unread_limits,
@@ -126,6 +146,9 @@ void CheckRanges(const MonitorConfig& c, const std::string& pointer, const std::
   for (const auto& f : NumberFields()) {
     errors->Try([&] { RequireInRange(c.*f.member, f.min, f.max, PointerJoin(pointer, f.key)); });
   }
+  errors->Try([&] {
+    RequireChoice(c.friction_reference, {kFrictionRules, kArmFrictionModel}, PointerJoin(pointer, "friction_reference"));
+  });
   for (const auto& f : IntFields()) {
     errors->Try([&] { RequireInRange(c.*f.member, f.min, f.max, PointerJoin(pointer, f.key)); });
   }
@@ -188,7 +211,12 @@ MonitorConfig MonitorConfigFromJson(const nlohmann::json& value, const std::stri
     for (const auto& f : NumberFields()) keys.push_back(f.key);
     for (const auto& f : IntFields()) keys.push_back(f.key);
     for (const auto& f : LimitFields()) keys.push_back(f.key);
+    keys.push_back("friction_reference");
     errors.Try([&] { reader.AllowOnly(keys); });
+    errors.Try([&] {
+      reader.OptionalString("friction_reference", &c.friction_reference);
+      RequireChoice(c.friction_reference, {kFrictionRules, kArmFrictionModel}, reader.PointerTo("friction_reference"));
+    });
     for (const auto& f : NumberFields()) errors.Try([&] { reader.OptionalNumber(f.key, &(c.*f.member)); });
     for (const auto& f : IntFields()) errors.Try([&] { reader.OptionalInt(f.key, &(c.*f.member)); });
     for (const auto& f : LimitFields()) {
@@ -220,6 +248,7 @@ void Validate(const MonitorConfig& c, const std::string& pointer, const std::str
 
 nlohmann::json MonitorConfigToJson(const MonitorConfig& c) {
   nlohmann::json j = nlohmann::json::object();
+  j["friction_reference"] = c.friction_reference;
   for (const auto& f : NumberFields()) j[f.key] = c.*f.member;
   for (const auto& f : IntFields()) j[f.key] = c.*f.member;
   for (const auto& f : LimitFields()) j[f.key] = {{"worn", (c.*f.member).worn}, {"defective", (c.*f.member).defective}};

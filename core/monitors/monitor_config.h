@@ -19,7 +19,36 @@ struct StateLimits {
   double defective = 0;
 };
 
+// The friction references ("friction_reference"): the rules of friction_reference.h, or the
+// arm's friction model of friction_model.h.
+inline constexpr const char* kFrictionRules = "rules";
+inline constexpr const char* kArmFrictionModel = "arm_model";
+
 struct MonitorConfig {
+  // --- which reference the friction statistic is judged against ---
+  std::string friction_reference = kFrictionRules;
+  // --- the arm's friction model (friction_model.h; docs/monitor.md "The arm's friction model") ---
+  // the gear's lag behind its winding: a strain-wave gear housing's thermal time constant, the
+  // order of catalogue data (20-40 min) [s]
+  double gear_time_constant_s = 1200.0;
+  // how far one joint's temperature may lie from its arm's at a start (1 sigma) [K]
+  double arm_temperature_spread_K = 10.0;
+  // a unit's temperature before any winding is read, about its commissioning: an ambient of
+  // 0-45 degC against one near 20 degC (1 sigma) [K]
+  double unread_temperature_sd_K = 25.0;
+  // the start temperature follows the readings this long, and until the joint's reading converged [s]
+  double start_reading_s = 30.0;
+  // how far a gear's temperature may differ from its winding's, as a share of its rise (1 sigma)
+  double gear_winding_gap_sd = 0.15;
+  // the lubricant's slopes: prior sd about half of max_lubricant_slope_per_K [1/K]
+  double lubricant_slope_prior_sd_per_K = 0.008;
+  // the arm's information on its lubricant forgets with this time constant [s]
+  double lubricant_forget_s = 600.0;
+  // the model error: 1 sigma of a healthy joint's ln(friction) about its arm's law, the same for
+  // all its blocks (fitted on healthy runs, docs/assumptions.md)
+  double friction_model_error = 0.06;
+  // 1 sigma of one block's ln(friction) about its joint's level beyond the fit's own error
+  double friction_block_scatter = 0.03;
   // --- windows (thesis eq 4-11 ... 4-20) ---
   double rest_velocity_rad_s = 0.02;   // |qd| below this: at rest (eq 4-11), no window
   double min_window_s = 0.3;           // shorter windows are not judged

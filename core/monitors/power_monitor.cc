@@ -93,14 +93,21 @@ struct PowerEfficiencyMonitor::JointState {
   Candidate shown;
   ElectricalEstimator electrical;
   TorqueBalance balance;
-  FrictionReference friction;  // the friction the run finds
+  FrictionReference friction;  // the friction the run finds (the rules), and its blocks
+  // The reference the friction statistic is judged against: the rules' (friction.reference),
+  // or the arm's friction model's (friction_model.h) with the log-sd of its uncertainty.
+  double reference = 1;
+  double reference_log_sd = 0;
   WindowState windows;
   TickDetectors detectors;
   Decision decision;
   Estimates est;
 };
 
-PowerEfficiencyMonitor::PowerEfficiencyMonitor(const PowerMonitorModel& model) : model_(model) {
+PowerEfficiencyMonitor::PowerEfficiencyMonitor(const PowerMonitorModel& model)
+    : model_(model),
+      friction_model_(model.config, static_cast<int>(model.joints.size())),
+      winding_above_K_(model.joints.size(), kNaN) {
   for (size_t j = 0; j < model.joints.size(); ++j) {
     joints_.push_back(std::make_unique<JointState>(model.config, model.joints[j], model.control_dt_s, model.hold_span));
     arm_joints_.push_back({&joints_.back()->friction, &joints_.back()->electrical});
@@ -259,13 +266,22 @@ void UpdateFits(const MonitorConfig& c, const JointKnowledge& k, const TickTerms
   if (k.torque_sensor && !tb.offset_base_set) tb.unfound_zero.Add(row, gain, zero_now.offset_Nm);
   if (tb.crossed) tb.since_alarm.Add(row, std::min(1.0, fit.n), 0.0);
   const BalanceFit::Estimate& b = FastFriction(k, tb);
-  s.friction.Update(c, x.winding_above_K, s.electrical, b, terms.usable, dt, arm);
-  const double reference = s.friction.reference;
+  const MechanicalCalibration& cal = k.mechanical;
+  s.friction.zero_found = !k.torque_sensor || tb.offset_base_set;
+  s.friction.Update(c, x.winding_above_K, s.electrical, b, terms.usable,
+                    ViscousShare(cal.viscous_Nm_s * terms.viscous_rad_s, cal.coulomb_Nm * terms.coulomb,
+                                 cal.stribeck_Nm * terms.stribeck),
+                    dt, arm);
+  if (c.friction_reference != kArmFrictionModel) {
+    s.reference = s.friction.reference;
+    s.reference_log_sd = 0;
+  }
+  const double reference = s.reference;
   const BalanceFit::Estimate& m = tb.since_alarm.estimate();
   const BalanceFit::Estimate& sl = tb.slow.estimate();
   const bool grown = tb.crossed && m.moving_s >= c.min_balance_moving_s;
   s.est.friction_factor = (grown ? m.friction_factor : b.friction_factor) / reference;
-  s.est.friction_factor_se = b.friction_factor_se / reference;
+  s.est.friction_factor_se = std::hypot(b.friction_factor_se, b.friction_factor * s.reference_log_sd) / reference;
   s.est.friction_reference = reference;
   s.est.sensor_drift_Nm = (grown ? m.offset_Nm : sl.offset_Nm) - tb.offset_base_Nm;
   s.est.sensor_drift_se = sl.offset_se;
@@ -397,7 +413,10 @@ bool UpdateReadings(const MonitorConfig& c, const JointKnowledge& k, const Detec
   const double thermal_kt_allowance = winding_rise <= el.fit.max_resistance_rise
                                           ? el.fit.magnet_per_resistance * std::max(0.0, winding_rise)
                                           : 0.0;
-  const double reference = s.friction.reference;
+  const double reference = s.reference;
+  // The friction statistic's standard error: the fit's, and the reference's own uncertainty.
+  const double friction_se =
+      std::hypot(bal.friction_factor_se, bal.friction_factor * s.reference_log_sd) / reference;
   const std::array<double, kDetectorCount> deviation = {
       judge_n ? 1 - e.kt_factor - thermal_kt_allowance : kNoStatistic, judge_r ? e.resistance_factor - 1 : kNoStatistic,
       judge_b ? bal.friction_factor / reference - 1 : kNoStatistic,
@@ -405,7 +424,7 @@ bool UpdateReadings(const MonitorConfig& c, const JointKnowledge& k, const Detec
   const std::array<double, kDetectorCount> significance = {
       judge_n ? KtSignificance(c, deviation[0], e.kt_factor_se, s, judge_r, arm) : kNoStatistic,
       judge_r ? Significance(deviation[1], e.resistance_factor_se) : kNoStatistic,
-      judge_b ? Significance(deviation[2], bal.friction_factor_se / reference) : kNoStatistic,
+      judge_b ? Significance(deviation[2], friction_se) : kNoStatistic,
       judge_d ? Significance(deviation[3], slow.offset_se) : kNoStatistic};
   if (!tb.crossed && ((judge_b && deviation[2] > thresholds[2]) || (judge_d && deviation[3] > thresholds[3]))) {
     tb.crossed = true;
@@ -510,6 +529,7 @@ void PowerEfficiencyMonitor::Observe(double t_s, const std::vector<JointSignals>
   if (ticks_++ == 0) {
     previous_ = signals;
     t_prev_ = t_s;
+    t_first_ = t_s;
     return;
   }
   const double dt = t_s - t_prev_;
@@ -523,6 +543,11 @@ void PowerEfficiencyMonitor::Observe(double t_s, const std::vector<JointSignals>
   }
   // 2. The arm's readings, once per tick, from every joint's state after the last tick.
   const ArmAllowance arm = FrictionAllowanceOfArm(c, arm_joints_);
+  const bool arm_model = c.friction_reference == kArmFrictionModel;
+  if (arm_model) {
+    for (int j = 0; j < n; ++j) winding_above_K_[j] = joints_[j]->tick.winding_above_K;
+    friction_model_.Update(c, arm_joints_, winding_above_K_, t_prev_ - t_first_, dt);
+  }
   // 3. Each joint's estimators and detectors. A joint reads the others only through 1 and 2,
   // so the order of this loop changes nothing (test PowerMonitorOrder).
   for (int i = 0; i < n; ++i) {
@@ -532,6 +557,10 @@ void PowerEfficiencyMonitor::Observe(double t_s, const std::vector<JointSignals>
     const JointSignals& now = signals[j];
     const JointSignals& prev = previous_[j];
     const TickTerms& x = s.tick;
+    if (arm_model) {
+      s.reference = friction_model_.joint[j].reference;
+      s.reference_log_sd = friction_model_.joint[j].log_sd;
+    }
 
     // --- tick-rate torque balance (core/monitors/torque_balance.h) ---
     // Coupling (eq 4-14, 4-15): the rotor turns with the parallel lower joints, so their

@@ -31,6 +31,7 @@
 
 #include "core/base/json_input.h"
 #include "core/monitors/detector_statistics.h"
+#include "core/monitors/friction_model.h"
 #include "core/monitors/friction_reference.h"
 #include "core/monitors/monitor.h"
 #include "core/monitors/monitor_config.h"
@@ -140,6 +141,9 @@ class PowerEfficiencyMonitor : public HealthMonitor {
   const PowerMonitorModel& model_;
   std::vector<std::unique_ptr<JointState>> joints_;
   std::vector<ArmJoint> arm_joints_;  // the joints as the arm's readings see them
+  ArmFrictionModel friction_model_;   // "friction_reference": "arm_model"
+  std::vector<double> winding_above_K_;  // this tick's declared winding readings, for it
+  double t_first_ = 0;
   std::vector<JointSignals> previous_;
   std::vector<JointSignals> filled_;  // this tick's signals with the virtual torque readings
   double t_prev_ = 0;

@@ -73,3 +73,31 @@ TEST(MonitorSettings, ConstantsThatBoundEachOtherAreCheckedTogether) {
 
 }  // namespace
 }  // namespace armfault
+
+namespace armfault {
+namespace {
+
+// The friction reference is one of two; a misspelt one is named with the nearest, and the arm
+// model's constants are range-checked like every other.
+TEST(MonitorSettings, AnUnknownFrictionReferenceIsNamedWithTheNearest) {
+  EXPECT_EQ(MonitorConfigFromJson(json{{"friction_reference", "arm_model"}}, "", "m.json").friction_reference,
+            kArmFrictionModel);
+  const InputError wrong =
+      ErrorOf([] { MonitorConfigFromJson(json{{"friction_reference", "arm_modle"}}, "/monitor", "c.json"); });
+  EXPECT_EQ(wrong.source(), "c.json");
+  EXPECT_EQ(wrong.pointer(), "/monitor/friction_reference");
+  EXPECT_THAT(wrong.message(), HasSubstr("\"arm_modle\""));
+  EXPECT_THAT(wrong.message(), HasSubstr("rules, arm_model"));
+  EXPECT_EQ(wrong.hint(), "did you mean \"arm_model\"?");
+  const InputError type = ErrorOf([] { MonitorConfigFromJson(json{{"friction_reference", 1}}, "/monitor", "c.json"); });
+  EXPECT_EQ(type.pointer(), "/monitor/friction_reference");
+  const InputError error =
+      ErrorOf([] { MonitorConfigFromJson(json{{"friction_model_error", 0}}, "/monitor", "c.json"); });
+  EXPECT_EQ(error.pointer(), "/monitor/friction_model_error");
+  MonitorConfig c;
+  c.friction_reference = "table";
+  EXPECT_THROW(Validate(c, "/monitor", "c.json"), InputError);
+}
+
+}  // namespace
+}  // namespace armfault
