@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <ostream>
 #include <random>
 #include <sstream>
 #include <string>
@@ -221,6 +222,7 @@ struct Bound {
   // The gap between the engines at 1 kHz on the controlled motions, frozen with margin.
   double q_rad, tau_Nm, tau_mean_Nm;
 };
+void PrintTo(const Bound& b, std::ostream* os) { *os << b.preset; }
 
 void PrintLevels(const char* what, const std::vector<Recording>& ode, const std::vector<Recording>& art) {
   const Gap gap = Between(ode[0], art[0]), gap4 = Between(ode[2], art[2]);
