@@ -177,6 +177,7 @@ Command AddBenchCommand(CLI::App& app) {
     std::vector<double> durations_s;
     bool shift = false;
     std::string robot;
+    std::string engine;
   };
   auto o = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("bench", "cost of a run against bare ODE stepping, and parallel throughput; "
@@ -191,13 +192,16 @@ Command AddBenchCommand(CLI::App& app) {
   cmd->add_option("--robot", o->robot,
                   "measure healthy 10-s runs of this robot, every joint moving (a preset or a robot JSON file) "
                   "instead of the thesis sweep on mrr-config1");
+  cmd->add_option("--engine", o->engine,
+                  "step the full runs with this engine: ode (default) or articulated; the bare stepping they are "
+                  "compared with stays ODE's");
   return {cmd, [o] {
             if (o->shift || !o->durations_s.empty()) {
               std::vector<double> d = o->durations_s;
               if (o->shift) d.insert(d.end(), {10.0, 600.0, 3600.0});
               return armfault::BenchLengthCommand(d, o->repeats > 0 ? o->repeats : 3);
             }
-            return armfault::BenchCommand(o->repeats > 0 ? o->repeats : 10, o->robot);
+            return armfault::BenchCommand(o->repeats > 0 ? o->repeats : 10, o->robot, o->engine);
           }};
 }
 

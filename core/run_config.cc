@@ -117,7 +117,7 @@ RunConfig RunConfigFromJson(const nlohmann::json& value, const std::string& poin
     // Independent parts each on their own, so every error is reported; the joints' checks
     // need the robot and the duration and are skipped when either is bad.
     ErrorList errors;
-    errors.Try([&] { reader.AllowOnly({"robot", "duration_s", "seed", "start", "joints", "faults", "monitor"}); });
+    errors.Try([&] { reader.AllowOnly({"robot", "engine", "duration_s", "seed", "start", "joints", "faults", "monitor"}); });
     RunConfig run;
     run.input = context;
     const bool robot_ok = errors.Try([&] {
@@ -139,6 +139,16 @@ RunConfig RunConfigFromJson(const nlohmann::json& value, const std::string& poin
     });
     errors.Try([&] {
       if (const auto* start = reader.Find("start")) run.start = ThermalStartFromJson(*start, reader.PointerTo("start"));
+    });
+    // The run's engine overrides the robot's (RobotConfig::engine).
+    errors.Try([&] {
+      if (const auto* engine = reader.Find("engine")) {
+        const PhysicsEngine e = EngineFromJson(*engine, reader.PointerTo("engine"));
+        if (robot_ok) {
+          run.robot.engine = e;
+          CheckEngineTakes(run.robot, reader.PointerTo("engine"));
+        }
+      }
     });
     if (const auto* joints = reader.Find("joints"); joints && robot_ok && duration_ok) {
       errors.Try([&] {

@@ -10,6 +10,7 @@
 
 #include <array>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <functional>
 #include <limits>
@@ -179,19 +180,31 @@ Campaign RobotBenchCampaign(const RobotConfig& robot) {
 
 }  // namespace
 
-int BenchCommand(int repeats, const std::string& robot_argument) {
-  const Campaign campaign = robot_argument.empty() ? DefaultCampaign() : RobotBenchCampaign(ReadRobotArgument(robot_argument));
+int BenchCommand(int repeats, const std::string& robot_argument, const std::string& engine_name) {
+  Campaign campaign = robot_argument.empty() ? DefaultCampaign() : RobotBenchCampaign(ReadRobotArgument(robot_argument));
+  if (!engine_name.empty()) {
+    // The full runs in this engine; the bare stepping stays ODE's, the reference cost.
+    campaign.robot.engine = EngineFromJson(engine_name, "--engine");
+    CheckEngineTakes(campaign.robot, "--engine");
+  }
   const std::vector<CaseSpec> cases = ExpandCases(campaign);
   const ArmModel model(campaign.robot);
   const CaseSpec& healthy = cases.back();
-  const auto [bare, bare_rows, full] = LeastCpuSeconds<3>(
+  const auto [bare, bare_rows, full, bare_articulated] = LeastCpuSeconds<4>(
       repeats, {[&] { StepBareOde(model, campaign.duration_s, false); },
-                [&] { StepBareOde(model, campaign.duration_s, true); }, [&] { RunCase(campaign, healthy); }});
-  std::printf("one %.0f-s run of %s, %d joints (monitor in the loop): %.2f ms; bare ODE bodies, hinges and gears: %.2f ms; "
+                [&] { StepBareOde(model, campaign.duration_s, true); }, [&] { RunCase(campaign, healthy); },
+                [&] { StepBareArticulated(model, campaign.duration_s); }});
+  const char* engine = EngineName(campaign.robot.engine);
+  std::printf("one %.0f-s run of %s, %d joints (monitor in the loop, engine %s): %.2f ms; bare ODE bodies, hinges and gears: %.2f ms; "
               "with the friction rows: %.2f ms (least CPU time of %d rounds)\n",
-              campaign.duration_s, campaign.robot.name.c_str(), static_cast<int>(campaign.robot.modules.size()), 1e3 * full, 1e3 * bare, 1e3 * bare_rows, repeats);
+              campaign.duration_s, campaign.robot.name.c_str(), static_cast<int>(campaign.robot.modules.size()), engine, 1e3 * full,
+              1e3 * bare, 1e3 * bare_rows, repeats);
   std::printf("ratio: %.2f\n", full / bare);
   std::printf("ratio against bare ODE with the friction rows: %.2f\n", full / bare_rows);
+  const double steps = std::round(campaign.duration_s / model.physics_dt_s());
+  std::printf("us per physics step: full run (%s) %.3f; bare ODE %.3f, with the friction rows %.3f; bare articulated engine "
+              "with its friction rows %.3f\n",
+              engine, 1e6 * full / steps, 1e6 * bare / steps, 1e6 * bare_rows / steps, 1e6 * bare_articulated / steps);
 
   // The monitor alone: the same run's signals replayed through it and its decision tap.
   std::vector<double> times;

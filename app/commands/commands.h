@@ -178,7 +178,7 @@ int TuneCommand(const TuneCommandOptions& options);
 
 // Prints the cost of a run against bare ODE ("ratio: X") and "parallel efficiency: Y": of the
 // thesis sweep on mrr-config1, or of healthy 10-s runs of `robot` (a preset or a robot file).
-int BenchCommand(int repeats, const std::string& robot = "");
+int BenchCommand(int repeats, const std::string& robot = "", const std::string& engine = "");
 
 // `bench --duration S ...` (or `--shift`: 10 s, 10 min, 1 h): for each length S, in a process of
 // its own (forked, so each peak is that length's alone), the least CPU time of `repeats` runs

@@ -171,6 +171,7 @@ RunRecord CaseRecord(const Campaign& campaign, const CaseSpec& cs) {
   r.fault = cs.fault;
   r.group = cs.group;
   r.seed = cs.seed;
+  r.engine = EngineName(campaign.robot.engine);
   r.repetition = cs.repetition;
   r.variation = cs.VariationJson();
   return r;

@@ -52,6 +52,7 @@ nlohmann::json ToJson(const RunRecord& r) {
   j["magnitude"] = r.magnitude_key.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.magnitude);
   j["group"] = r.group;
   j["seed"] = r.seed;
+  j["engine"] = r.engine;
   j["repetition"] = r.repetition;
   j["variation"] = r.variation;
   j["status"] = r.ok ? "ok" : "failed";
@@ -97,6 +98,8 @@ RunRecord RunRecordFromJson(const nlohmann::json& j) {
   r.magnitude = OptDouble(j, "magnitude").value_or(0.0);
   r.group = As<std::string>(j, "group");
   r.seed = As<unsigned long long>(j, "seed");
+  // Optional: records written before there was a second engine were all ODE's.
+  if (const auto it = j.find("engine"); it != j.end()) r.engine = As<std::string>(j, "engine");
   r.repetition = As<int>(j, "repetition");
   r.variation = Get(j, "variation");
   const std::string status = As<std::string>(j, "status");

@@ -26,6 +26,7 @@ struct RunRecord {
   double magnitude = 0;       // its value
   std::string group;          // family x parameters x joint, e.g. "kt_degradation kt_factor=0.9 joint=2"
   unsigned long long seed = 0;
+  std::string engine = "ode";  // the engine that stepped the run (RobotConfig::engine: "ode", "articulated")
   int repetition = 0;
   nlohmann::json variation;   // what this run drew: payload, noise, friction factors
   bool ok = true;             // status "ok" / "failed"

@@ -336,7 +336,8 @@ CampaignSpec CampaignSpecFromJson(const nlohmann::json& value, const std::string
     ErrorList errors;
     errors.Try([&] {
       reader.AllowOnly({"$schema", "name", "seed", "robot", "duration_s", "trajectories", "faults", "healthy",
-                        "repetitions", "variation", "commissioning", "include_not_excited", "monitor", "floors", "search"});
+                        "repetitions", "variation", "commissioning", "include_not_excited", "monitor", "floors", "search",
+                        "engine"});
     });
     // For editors only (the schema's address): checked to be a string, not recorded.
     errors.Try([&] {
@@ -357,6 +358,16 @@ CampaignSpec CampaignSpecFromJson(const nlohmann::json& value, const std::string
     const bool robot_ok = errors.Try([&] {
       if (const auto* robot = reader.Find("robot")) c.robot = RobotFromJson(*robot, reader.PointerTo("robot"), base_dir);
       else c.robot = RobotPreset("mrr-config1");
+    });
+    // The campaign's engine overrides the robot's (RobotConfig::engine).
+    errors.Try([&] {
+      if (const auto* engine = reader.Find("engine")) {
+        const PhysicsEngine e = EngineFromJson(*engine, reader.PointerTo("engine"));
+        if (robot_ok) {
+          c.robot.engine = e;
+          CheckEngineTakes(c.robot, reader.PointerTo("engine"));
+        }
+      }
     });
     const bool duration_ok = errors.Try([&] {
       reader.OptionalNumber("duration_s", &c.duration_s);

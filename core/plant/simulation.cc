@@ -1,7 +1,5 @@
 #include "core/plant/simulation.h"
 
-#include <ode/ode.h>
-
 #include <algorithm>
 #include <cmath>
 #include <mutex>
@@ -15,6 +13,8 @@
 #include "core/plant/robot/mass_properties.h"
 #include "core/base/json_input.h"
 #include "core/plant/ode_runtime.h"
+#include "core/plant/ode_world.h"
+#include "core/plant/engine/articulated_world.h"
 #include "core/base/rng.h"
 #include "core/plant/robot/rigid_body_dynamics.h"
 #include "core/plant/parts/torque_ripple.h"
@@ -29,220 +29,11 @@ constexpr double kMaxLinkSpeed_rad_s = 100.0;  // far beyond any drive: the run 
 constexpr double kCopperPerK = 0.00393;
 constexpr double kMagnetLossPerK = 0.001;
 
-Eigen::Vector3d ToEigen(const dReal* v) { return Eigen::Vector3d(v[0], v[1], v[2]); }
-
-void SetBodyPose(dBodyID b, const Eigen::Vector3d& pos, const Eigen::Matrix3d& rot) {
-  dBodySetPosition(b, pos.x(), pos.y(), pos.z());
-  dMatrix3 R;
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) R[4 * r + c] = rot(r, c);
-    R[4 * r + 3] = 0;
-  }
-  dBodySetRotation(b, R);
+// The run's mechanics in the model's engine.
+std::unique_ptr<ArmWorld> NewWorld(const ArmModel& model, const std::vector<double>& q0, const std::vector<double>& qd0) {
+  if (model.articulated()) return std::make_unique<ArticulatedWorld>(*model.articulated(), q0, qd0);
+  return std::make_unique<OdeWorld>(model, q0, qd0);
 }
-
-// The ODE side of one run: its own world and threading implementation; per joint a link
-// body with its hinge to the parent, and a rotor body with its hinge to the link, its gear
-// (transmission) to the parent and its dry-friction row (AMotor) against the parent.
-// Owns a world (its bodies and joints) and the threading implementation it steps with: the
-// first member of OdeWorld, so both are released even when ODE fails (OdeError,
-// core/plant/ode_runtime.h) while OdeWorld's constructor is still building the bodies.
-// A step that ODE left by an OdeError leaves the jobs it never ran queued in the threading
-// implementation, whose destructor asserts that none are (~dxtemplateJobListContainer, an
-// abort from a destructor): that implementation is not freed but kept (KeepInterrupted), with
-// the step's 64 KiB memory arena its jobs hold. The world itself is destroyed (no ODE object
-// refers to it; memory-safe under ASan). About 66 KB per such failure, a last resort.
-void KeepInterrupted(dThreadingImplementationID threading) {
-  // Held, not lost: a leak checker sees them as reachable.
-  static std::mutex mutex;
-  static auto* kept = new std::vector<dThreadingImplementationID>;
-  std::lock_guard<std::mutex> lock(mutex);
-  kept->push_back(threading);
-}
-
-struct OwnedWorld {
-  dWorldID world = nullptr;
-  dThreadingImplementationID threading = nullptr;
-  bool stepping = false;  // inside dWorldStep: still true if it was left by an OdeError
-  OwnedWorld() {
-    EnsureOdeThreadData();
-    world = dWorldCreate();
-    threading = dThreadingAllocateSelfThreadedImplementation();
-    dWorldSetStepThreadingImplementation(world, dThreadingImplementationGetFunctions(threading), threading);
-  }
-  ~OwnedWorld() {
-    dWorldDestroy(world);  // destroys its bodies and joints
-    if (stepping) KeepInterrupted(threading);
-    else dThreadingFreeImplementation(threading);
-  }
-  void Step(double dt) {
-    stepping = true;
-    dWorldStep(world, dt);
-    stepping = false;
-  }
-  OwnedWorld(const OwnedWorld&) = delete;
-  OwnedWorld& operator=(const OwnedWorld&) = delete;
-};
-
-class OdeWorld {
- public:
-  OdeWorld(const ArmModel& model, const std::vector<double>& q0, const std::vector<double>& qd0) {
-    const double g = model.config().gravity_m_s2;
-    dWorldSetGravity(world_, 0, 0, -g);
-    dWorldSetCFM(world_, model.config().constraint_force_mixing);
-    // Joint 1's stator and sun wheel: the world, as a body the transmission can attach to.
-    ground_ = dBodyCreate(world_);
-    dBodySetKinematic(ground_);
-
-    const int n = model.joint_count();
-    bodies_.resize(n);
-    rotors_.resize(n);
-    joints_.resize(n);
-    rotor_hinges_.resize(n);
-    drags_.resize(n);
-    rotor_feedback_.resize(n);
-    drag_feedback_.resize(n);
-    // Forward kinematics at the initial angles: X_i = X_{i-1} o (rotation about joint i).
-    Eigen::Matrix3d rot = Eigen::Matrix3d::Identity();
-    Eigen::Vector3d trans = Eigen::Vector3d::Zero();
-    Eigen::Vector3d omega = Eigen::Vector3d::Zero();
-    std::vector<Eigen::Vector3d> anchors(n), axes(n);
-    for (int i = 0; i < n; ++i) {
-      const JointModel& jm = model.joint(i);
-      anchors[i] = rot * jm.anchor_m + trans;
-      axes[i] = rot * jm.axis;
-      const Eigen::Matrix3d q_rot = Eigen::AngleAxisd(q0[i], jm.axis).toRotationMatrix();
-      trans = rot * (jm.anchor_m - q_rot * jm.anchor_m) + trans;
-      rot = rot * q_rot;
-      omega += qd0[i] * axes[i];
-      auto velocity_at = [&](const Eigen::Vector3d& p) {
-        Eigen::Vector3d v = Eigen::Vector3d::Zero();
-        for (int k = 0; k <= i; ++k) v += qd0[k] * axes[k].cross(p - anchors[k]);
-        return v;
-      };
-      dBodyID parent = i == 0 ? ground_ : bodies_[i - 1];
-
-      dBodyID b = dBodyCreate(world_);
-      dMass mass;
-      const Eigen::Matrix3d& I = jm.inertia_kg_m2;
-      dMassSetParameters(&mass, jm.mass_kg, 0, 0, 0, I(0, 0), I(1, 1), I(2, 2), I(0, 1), I(0, 2), I(1, 2));
-      dBodySetMass(b, &mass);
-      const Eigen::Vector3d com = rot * jm.com_m + trans;
-      SetBodyPose(b, com, rot);
-      const Eigen::Vector3d v = velocity_at(com);
-      dBodySetLinearVel(b, v.x(), v.y(), v.z());
-      dBodySetAngularVel(b, omega.x(), omega.y(), omega.z());
-      bodies_[i] = b;
-
-      dJointID j = dJointCreateHinge(world_, nullptr);
-      // Child first: the hinge rate is then (omega_child - omega_parent) . axis.
-      dJointAttach(j, b, i == 0 ? nullptr : bodies_[i - 1]);
-      dJointSetHingeAnchor(j, anchors[i].x(), anchors[i].y(), anchors[i].z());
-      dJointSetHingeAxis(j, axes[i].x(), axes[i].y(), axes[i].z());
-      joints_[i] = j;
-
-      // Rotor: isotropic I_m (no gyroscopic torque), spinning gamma q_dot relative to the
-      // parent, i.e. (gamma - 1) q_dot relative to the link that carries it.
-      dBodyID r = dBodyCreate(world_);
-      dMass rm;
-      const double im = jm.rotor_inertia_kg_m2;
-      dMassSetParameters(&rm, kRotorMass_kg, 0, 0, 0, im, im, im, 0, 0, 0);
-      dBodySetMass(r, &rm);
-      const Eigen::Vector3d centre = rot * jm.rotor_centre_m + trans;
-      SetBodyPose(r, centre, rot);
-      const Eigen::Vector3d vr = velocity_at(centre);
-      const Eigen::Vector3d wr = omega + (jm.ratio - 1.0) * qd0[i] * axes[i];
-      dBodySetLinearVel(r, vr.x(), vr.y(), vr.z());
-      dBodySetAngularVel(r, wr.x(), wr.y(), wr.z());
-      rotors_[i] = r;
-
-      dJointID rh = dJointCreateHinge(world_, nullptr);
-      dJointAttach(rh, r, b);  // rotor first: feedback f2/t2 is the rotor's wrench on the link
-      dJointSetHingeAnchor(rh, centre.x(), centre.y(), centre.z());
-      dJointSetHingeAxis(rh, axes[i].x(), axes[i].y(), axes[i].z());
-      dJointSetFeedback(rh, &rotor_feedback_[i]);
-      rotor_hinges_[i] = rh;
-
-      // Planet (rotor, radius e/gamma) on a sun wheel fixed to the parent (radius
-      // e (gamma-1)/gamma) centred on the joint axis.
-      dJointID gear = dJointCreateTransmission(world_, nullptr);
-      dJointAttach(gear, r, parent);
-      dJointSetTransmissionMode(gear, dTransmissionParallelAxes);
-      dJointSetTransmissionRatio(gear, 1.0 / (jm.ratio - 1.0));
-      dJointSetTransmissionAxis(gear, axes[i].x(), axes[i].y(), axes[i].z());
-      dJointSetTransmissionAnchor1(gear, centre.x(), centre.y(), centre.z());
-      dJointSetTransmissionAnchor2(gear, anchors[i].x(), anchors[i].y(), anchors[i].z());
-
-      // Dry friction on the rotor shaft: rate (omega_rotor - omega_parent) . z, target 0.
-      dJointID drag = dJointCreateAMotor(world_, nullptr);
-      dJointAttach(drag, r, parent);
-      dJointSetAMotorMode(drag, dAMotorUser);
-      dJointSetAMotorNumAxes(drag, 1);
-      dJointSetAMotorAxis(drag, 0, 2, axes[i].x(), axes[i].y(), axes[i].z());  // fixed in the parent
-      dJointSetAMotorParam(drag, dParamVel, 0.0);
-      dJointSetAMotorParam(drag, dParamFMax, 0.0);
-      dJointSetFeedback(drag, &drag_feedback_[i]);
-      drags_[i] = drag;
-    }
-  }
-  OdeWorld(const OdeWorld&) = delete;
-  OdeWorld& operator=(const OdeWorld&) = delete;
-
-  dWorldID world() const { return world_; }
-  void Step(double dt) { owned_.Step(dt); }
-  dBodyID body(int i) const { return bodies_[i]; }
-  dBodyID rotor(int i) const { return rotors_[i]; }
-  dBodyID parent(int i) const { return i == 0 ? nullptr : bodies_[i - 1]; }  // null: the world
-  dJointID joint(int i) const { return joints_[i]; }
-  dJointID drag(int i) const { return drags_[i]; }
-  const dJointFeedback& rotor_feedback(int i) const { return rotor_feedback_[i]; }
-  const dJointFeedback& drag_feedback(int i) const { return drag_feedback_[i]; }
-
-  // Rotor speed relative to its stator (the parent) about the joint axis [rad/s].
-  double RotorRate(int i, const Eigen::Vector3d& axis) const {
-    double w = axis.dot(ToEigen(dBodyGetAngularVel(rotors_[i])));
-    if (i > 0) w -= axis.dot(ToEigen(dBodyGetAngularVel(bodies_[i - 1])));
-    return w;
-  }
-
-  double KineticEnergy() const { return KineticEnergyOf(bodies_) + KineticEnergyOf(rotors_); }
-  double PotentialEnergy(double g) const { return PotentialEnergyOf(bodies_, g) + PotentialEnergyOf(rotors_, g); }
-
- private:
-  static double KineticEnergyOf(const std::vector<dBodyID>& bodies) {
-    double e = 0;
-    for (dBodyID b : bodies) {
-      dMass m;
-      dBodyGetMass(b, &m);
-      const Eigen::Vector3d v = ToEigen(dBodyGetLinearVel(b));
-      Eigen::Vector3d w_world = ToEigen(dBodyGetAngularVel(b));
-      dVector3 w_body;
-      dBodyVectorFromWorld(b, w_world.x(), w_world.y(), w_world.z(), w_body);
-      Eigen::Matrix3d I;
-      for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 3; ++c) I(r, c) = m.I[4 * r + c];
-      const Eigen::Vector3d wb = ToEigen(w_body);
-      e += 0.5 * m.mass * v.squaredNorm() + 0.5 * wb.dot(I * wb);
-    }
-    return e;
-  }
-  static double PotentialEnergyOf(const std::vector<dBodyID>& bodies, double g) {
-    double e = 0;
-    for (dBodyID b : bodies) {
-      dMass m;
-      dBodyGetMass(b, &m);
-      e += m.mass * g * dBodyGetPosition(b)[2];
-    }
-    return e;
-  }
-
-  OwnedWorld owned_;
-  dWorldID world_ = owned_.world;
-  dBodyID ground_ = nullptr;
-  std::vector<dBodyID> bodies_, rotors_;
-  std::vector<dJointID> joints_, rotor_hinges_, drags_;
-  std::vector<dJointFeedback> rotor_feedback_, drag_feedback_;
-};
 
 // Per-joint data of one run.
 struct JointRuntime {
@@ -269,11 +60,8 @@ struct JointRuntime {
   double sum_torque = 0, sum_current_sq = 0, sum_brake = 0;
   double sum_ripple = 0;
   double brake_share = 0;  // brake's part of the dry-friction bound in the current step
-  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();  // joint axis (world) in the current step
   std::array<double, 3> phase_current{};
 };
-
-double WrapPi(double a) { return std::remainder(a, 2.0 * M_PI); }
 
 std::string FormatFailure(double t, int joint, const std::string& what, double value) {
   std::ostringstream s;
@@ -415,7 +203,7 @@ void BookPeriod(double dt, JointRuntime* runtime, JointEnergy* energy) {
 // R and K_T) and the winding's heating; the rotor's dry-friction bound and the motor torque less
 // viscous friction as a couple on rotor and stator.
 void DriveJoint(const JointModel& jm, const HardwareCondition& cond, int substeps, double dt, double ambient_C,
-                OdeWorld* ode, int j, JointRuntime* runtime) {
+                ArmWorld* world, int j, JointRuntime* runtime) {
   JointRuntime& r = *runtime;
   DriveInputs di;
   di.current_command_A = r.i_cmd;
@@ -474,42 +262,26 @@ void DriveJoint(const JointModel& jm, const HardwareCondition& cond, int substep
                      jm.params.drive.mesh_loss_fraction * std::fabs(r.tau_transmitted) / jm.ratio + load_Nm + brake;
   r.brake_share = dry > 0 ? brake / dry : 0.0;
   r.viscous_torque = ViscousFrictionNm(fp, viscous_factor, r.qd);
-  dJointSetAMotorParam(ode->drag(j), dParamFMax, dry);
-  dVector3 axis;
-  dJointGetHingeAxis(ode->joint(j), axis);
-  r.axis = ToEigen(axis);
   double couple_Nm = dout.torque_Nm - r.viscous_torque;
   if (jm.params.ripple.enabled) {
     // Position-dependent ripple (core/plant/parts/torque_ripple.h) at the step's mid-point angle.
     r.ripple_torque = RippleTorqueNm(jm.params.ripple, jm.ratio, jm.ratio * r.q + 0.5 * dt * r.rotor_rate, r.rotor_rate, 1.0 / dt);
     couple_Nm += r.ripple_torque;
   }
-  const Eigen::Vector3d couple = couple_Nm * r.axis;
-  dBodyAddTorque(ode->rotor(j), couple.x(), couple.y(), couple.z());
-  if (dBodyID stator = ode->parent(j)) dBodyAddTorque(stator, -couple.x(), -couple.y(), -couple.z());
+  world->SetJoint(j, couple_Nm, dry);
 }
 
 // After a physics step: the joint's angle, rate, rotor rate and transmitted torque from the
 // world, the period's mechanical and friction powers, and the limit switch.
-void ReadBackJoint(const JointModel& jm, const OdeWorld& ode, int j, JointRuntime* runtime) {
+void ReadBackJoint(const JointModel& jm, const ArmWorld& world, int j, JointRuntime* runtime) {
   JointRuntime& r = *runtime;
-  dJointID hinge = ode.joint(j);
-  dVector3 axis_v, anchor_v;
-  dJointGetHingeAxis(hinge, axis_v);
-  dJointGetHingeAnchor(hinge, anchor_v);
-  const Eigen::Vector3d axis = ToEigen(axis_v);
-  const double qd_new = dJointGetHingeAngleRate(hinge);
-  const double raw = dJointGetHingeAngle(hinge);
-  r.q += WrapPi(raw - WrapPi(r.q - r.q_initial));
+  const JointReadout o = world.Joint(j);
+  const double qd_new = o.qd_rad_s;
+  r.q = o.q_rad;
   r.qd = qd_new;
-  r.rotor_rate = ode.RotorRate(j, axis);
-  // What the harmonic drive passes on to the link: the moment about the joint axis of the
-  // rotor hinge's wrench on the link (the gear reaction through the planet's carrier).
-  const dJointFeedback& rf = ode.rotor_feedback(j);
-  const Eigen::Vector3d com = ToEigen(dBodyGetPosition(ode.body(j)));
-  r.tau_transmitted = (ToEigen(rf.t2) + (com - ToEigen(anchor_v)).cross(ToEigen(rf.f2))).dot(axis);
-  // The AMotor row is a pure torque on the rotor: the dry friction (motor side).
-  const double dry_torque = ToEigen(ode.drag_feedback(j).t1).dot(r.axis);
+  r.rotor_rate = o.rotor_rate_rad_s;
+  r.tau_transmitted = o.tau_transmitted_Nm;
+  const double dry_torque = o.dry_torque_Nm;
   r.sum_mech += r.tau_transmitted * qd_new;
   r.sum_friction += (r.viscous_torque - dry_torque) * r.rotor_rate;
   r.sum_ripple += r.ripple_torque * r.rotor_rate;
@@ -546,6 +318,9 @@ ArmModel::ArmModel(RobotConfig config) : config_(std::move(config)) {
 
   rigid_ = MakeRigidBodyModel(config_, config_.payload_kg);
   const int n = static_cast<int>(config_.modules.size());
+  if (config_.engine == PhysicsEngine::kArticulated) {  // Validate checked the chain (CheckEngineTakes)
+    articulated_ = std::make_shared<const ArticulatedModel>(MakeArticulatedModel(rigid_, config_.constraint_force_mixing));
+  }
   const bool general = !config_.bodies.empty();
   for (int i = 0; i < n; ++i) {
     const ModuleParams& m = config_.modules[i];
@@ -610,7 +385,6 @@ RunResult Simulate(const ArmModel& model, const RunSpec& spec, const TickObserve
     rt[j].brake_engaged = !o.powered && !o.brake_held_released;
   }
 
-  const double g = model.config().gravity_m_s2;
   RunResult result;
   result.energy.resize(n);
   std::vector<HardwareCondition> conditions(n);
@@ -627,9 +401,9 @@ RunResult Simulate(const ArmModel& model, const RunSpec& spec, const TickObserve
   std::vector<double> model_torque(n, 0.0);
 
   try {
-    OdeWorld ode(model, q0, qd0);
-    result.kinetic_start_J = ode.KineticEnergy();
-    result.potential_start_J = ode.PotentialEnergy(g);
+    const std::unique_ptr<ArmWorld> world = NewWorld(model, q0, qd0);
+    result.kinetic_start_J = world->KineticEnergy_J();
+    result.potential_start_J = world->PotentialEnergy_J();
 
     for (long k = 0;; ++k) {
       const double t = k * tc;
@@ -656,13 +430,13 @@ RunResult Simulate(const ArmModel& model, const RunSpec& spec, const TickObserve
         const double ts = t + s * dt;
         t_ode = ts + dt;
         if (spec.hardware && s > 0) spec.hardware->Apply(ts, &conditions);  // s = 0: applied at the tick
-        for (int j = 0; j < n; ++j) DriveJoint(model.joint(j), conditions[j], substeps, dt, ambient_C, &ode, j, &rt[j]);
-        ode.Step(dt);
-        for (int j = 0; j < n; ++j) ReadBackJoint(model.joint(j), ode, j, &rt[j]);
+        for (int j = 0; j < n; ++j) DriveJoint(model.joint(j), conditions[j], substeps, dt, ambient_C, world.get(), j, &rt[j]);
+        world->Step(dt);
+        for (int j = 0; j < n; ++j) ReadBackJoint(model.joint(j), *world, j, &rt[j]);
       }
     }
-    result.kinetic_end_J = ode.KineticEnergy();
-    result.potential_end_J = ode.PotentialEnergy(g);
+    result.kinetic_end_J = world->KineticEnergy_J();
+    result.potential_end_J = world->PotentialEnergy_J();
   } catch (const OdeError& e) {
     // ODE's last resort (core/plant/ode_runtime.h): the world is destroyed by now; the thread's
     // ODE data is renewed so that its next run is as on a fresh thread. This run fails.
@@ -689,12 +463,27 @@ double StepBareOde(const ArmModel& model, double duration_s, bool friction_rows)
   return checksum;
 }
 
+double StepBareArticulated(const ArmModel& model, double duration_s) {
+  const int n = model.joint_count();
+  const ArticulatedModel own = model.articulated() ? ArticulatedModel{} : MakeArticulatedModel(model.rigid_bodies(), model.config().constraint_force_mixing);
+  ArticulatedWorld world(model.articulated() ? *model.articulated() : own, std::vector<double>(n, 0.0), std::vector<double>(n, 0.0));
+  const long steps = std::lround(duration_s / model.physics_dt_s());
+  for (long s = 0; s < steps; ++s) {
+    for (int j = 0; j < n; ++j) world.SetJoint(j, 0.0, BreakawayFrictionNm(model.joint(j).params.friction, 1.0, 1.0));
+    world.Step(model.physics_dt_s());
+  }
+  double checksum = 0;
+  for (int j = 0; j < n; ++j) checksum += world.Joint(j).q_rad;
+  return checksum;
+}
+
 std::vector<BodyPose> OdeBodyPoses(const ArmModel& model, const std::vector<double>& q) {
   const int n = model.joint_count();
   OdeWorld ode(model, q, std::vector<double>(n, 0.0));
   std::vector<BodyPose> poses(n);
   for (int j = 0; j < n; ++j) {
-    poses[j].com_m = ToEigen(dBodyGetPosition(ode.body(j)));
+    const dReal* c = dBodyGetPosition(ode.body(j));
+    poses[j].com_m = Eigen::Vector3d(c[0], c[1], c[2]);
     const dReal* R = dBodyGetRotation(ode.body(j));
     for (int r = 0; r < 3; ++r) {
       for (int c = 0; c < 3; ++c) poses[j].rotation(r, c) = R[4 * r + c];

@@ -1,4 +1,5 @@
-// The arm on ODE with its joint modules and controllers in the loop.
+// The arm on ODE (or the joint-space engine: RobotConfig::engine) with its joint modules and
+// controllers in the loop.
 //
 // Model versus data: ArmModel is built once from a RobotConfig, immutable, and shared
 // read-only between threads; RunState holds everything one run changes (its own ODE world).
@@ -9,6 +10,12 @@
 // Timing: the controllers tick at the controller rate (500 Hz); between ticks the world is
 // stepped with dWorldStep at the physics rate (1 kHz) and each drive's electrical model with
 // `electrical_substeps` sub-steps per physics step. Each tick emits one Tick record.
+//
+// Engines: the mechanics below are ODE's (core/plant/ode_world.h), the reference; with
+// RobotConfig::engine articulated the same bodies, gears, friction and brake rows and the same
+// torque sensor are stepped in joint coordinates instead (core/plant/engine/articulated_world.h).
+// Both sit behind ArmWorld (core/plant/engine/arm_world.h); the drive network, sensors,
+// controllers and the friction bound (with its one-step lag) are shared.
 //
 // Drivetrain of joint i (rigid, thesis eq 3-7): the link is hinged to its parent (link i-1,
 // or the world for joint 1). The rotor is its own ODE body of inertia I_m, geared so that it
@@ -42,6 +49,7 @@
 #include <string>
 #include <vector>
 
+#include "core/plant/engine/articulated_world.h"
 #include "core/plant/motion/controller.h"
 #include "core/plant/parts/hardware_condition.h"
 #include "core/plant/drive/motor.h"
@@ -69,7 +77,8 @@ struct JointModel {
 
 class ArmModel {
  public:
-  // Validates the config (throws InputError) and derives all constants.
+  // Validates the config (throws InputError) and derives all constants; with the articulated
+  // engine, also that the robot is a chain it takes (1 to 7 revolute joints).
   explicit ArmModel(RobotConfig config);
 
   const RobotConfig& config() const { return config_; }
@@ -80,10 +89,15 @@ class ArmModel {
   int steps_per_tick() const { return steps_per_tick_; }
   // The same bodies outside ODE (core/plant/robot/rigid_body_dynamics.h), payload included.
   const RigidBodyModel& rigid_bodies() const { return rigid_; }
+  // The engine the runs step with (the config's); the joint-space model when it is the
+  // articulated one (null for ODE).
+  PhysicsEngine engine() const { return config_.engine; }
+  const ArticulatedModel* articulated() const { return articulated_.get(); }
 
  private:
   RobotConfig config_;
   RigidBodyModel rigid_;
+  std::shared_ptr<const ArticulatedModel> articulated_;
   std::vector<JointModel> joints_;
   double physics_dt_s_ = 0;
   int steps_per_tick_ = 1;
@@ -184,6 +198,9 @@ RunResult Simulate(const ArmModel& model, const RunSpec& spec, const TickObserve
 // the breakaway torque), so the LCP is the same size as in a full run. Returns a checksum of
 // the final state.
 double StepBareOde(const ArmModel& model, double duration_s, bool friction_rows);
+// The same in the articulated engine (core/plant/engine/articulated_world.h), with its friction
+// rows at the breakaway torque, whichever engine `model` names.
+double StepBareArticulated(const ArmModel& model, double duration_s);
 
 // Where ODE puts each link body at the joint angles `q` (at rest): its centre of mass and its
 // rotation from the zero pose, world frame. For cross-checks of a robot's kinematics against an

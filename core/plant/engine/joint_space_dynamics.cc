@@ -156,6 +156,13 @@ void Bias(const JointSpaceModel& model, const double* q, const double* qd, doubl
   Rnea(model, pose, qd, nullptr, b_Nm);
 }
 
+void MassMatrixAndBias(const JointSpaceModel& model, const double* q, const double* qd, JointMatrix* M, double* b_Nm) {
+  Pose pose;
+  MakePose(model, q, &pose);
+  Crba(model, pose, M);
+  Rnea(model, pose, qd, nullptr, b_Nm);
+}
+
 void InverseDynamics(const JointSpaceModel& model, const double* q, const double* qd, const double* qdd,
                      double* Q_Nm) {
   Pose pose;

@@ -85,6 +85,8 @@ JointSpaceModel MakeJointSpaceModel(const RigidBodyModel& bodies);
 // Arrays of model.joint_count(). See the header comment.
 void MassMatrix(const JointSpaceModel& model, const double* q, JointMatrix* M);
 void Bias(const JointSpaceModel& model, const double* q, const double* qd, double* b_Nm);
+// Both at one pose (the articulated engine's step, core/plant/engine/articulated_world.h).
+void MassMatrixAndBias(const JointSpaceModel& model, const double* q, const double* qd, JointMatrix* M, double* b_Nm);
 void ForwardDynamics(const JointSpaceModel& model, const double* q, const double* qd, const double* Q_Nm,
                      double* qdd);
 void InverseDynamics(const JointSpaceModel& model, const double* q, const double* qd, const double* qdd,

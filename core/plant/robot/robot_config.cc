@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "core/base/json_input.h"
+#include "core/base/suggest.h"
 #include "core/plant/robot/mass_properties.h"
 #include "core/plant/robot/robot_config_internal.h"
 #include "core/plant/robot/urdf_robot.h"
@@ -527,6 +528,31 @@ nlohmann::json BodyToJson(const JointBody& b) {
 
 }  // namespace
 
+const char* EngineName(PhysicsEngine engine) { return engine == PhysicsEngine::kOde ? "ode" : "articulated"; }
+
+std::vector<std::string> EngineNames() { return {"ode", "articulated"}; }
+
+PhysicsEngine EngineFromJson(const nlohmann::json& value, const std::string& pointer) {
+  if (!value.is_string()) throw InputError("", pointer, "expected \"ode\" or \"articulated\", got " + Describe(value));
+  const std::string name = value.get<std::string>();
+  if (name == "ode") return PhysicsEngine::kOde;
+  if (name == "articulated") return PhysicsEngine::kArticulated;
+  const std::string near = NearestWord(name, EngineNames());
+  throw InputError("", pointer, "unknown engine " + Describe(value) + " (known: ode, articulated)",
+                   near.empty() ? "" : "did you mean \"" + near + "\"?");
+}
+
+void CheckEngineTakes(const RobotConfig& robot, const std::string& pointer) {
+  // Every robot armfault reads is a serial chain of revolute joints (a URDF's branches and
+  // prismatic joints are refused as it is read, for either engine); the count is the limit.
+  const size_t n = robot.modules.size();
+  if (robot.engine == PhysicsEngine::kArticulated && n > static_cast<size_t>(kMaxArticulatedJoints)) {
+    throw InputError("", pointer, "the articulated engine takes serial chains of 1 to " +
+                                      std::to_string(kMaxArticulatedJoints) + " revolute joints; this robot has " +
+                                      std::to_string(n) + " joints (use \"engine\": \"ode\")");
+  }
+}
+
 RobotConfig RobotFromJson(const nlohmann::json& value, const std::string& pointer, const std::string& base_dir) {
   if (value.is_string()) {
     RobotConfig r = RobotPreset(value.get<std::string>(), pointer);
@@ -546,10 +572,10 @@ RobotConfig RobotFromJson(const nlohmann::json& value, const std::string& pointe
   errors.Try([&] {
     if (general) {
       reader.AllowOnly({"name", "modules", "bodies", "payload_point_m", "base_position_m", "payload_kg", "gravity_m_s2",
-                        "physics_rate_Hz", "electrical_substeps", "constraint_force_mixing"});
+                        "physics_rate_Hz", "electrical_substeps", "constraint_force_mixing", "engine"});
     } else {
       reader.AllowOnly({"name", "modules", "links", "base_position_m", "payload_kg", "gravity_m_s2", "physics_rate_Hz",
-                        "electrical_substeps", "constraint_force_mixing"});
+                        "electrical_substeps", "constraint_force_mixing", "engine"});
     }
   });
   RobotConfig r;
@@ -604,6 +630,9 @@ RobotConfig RobotFromJson(const nlohmann::json& value, const std::string& pointe
   top_level_read &= errors.Try([&] { reader.OptionalNumber("physics_rate_Hz", &r.physics_rate_Hz); });
   top_level_read &= errors.Try([&] { reader.OptionalInt("electrical_substeps", &r.electrical_substeps); });
   top_level_read &= errors.Try([&] { reader.OptionalNumber("constraint_force_mixing", &r.constraint_force_mixing); });
+  errors.Try([&] {
+    if (const auto* v = reader.Find("engine")) r.engine = EngineFromJson(*v, reader.PointerTo("engine"));
+  });
   // The cross-field checks need the robot's own counts and rates; bad values inside a module
   // or link left their defaults, which these checks accept.
   if (top_level_read) errors.Try([&] { Validate(r, pointer); });
@@ -755,6 +784,7 @@ void Validate(const RobotConfig& r, const std::string& pointer) {
   // Above 1e-6 the gear rows go soft enough to move accelerations by tens of percent (2.6x of the
   // largest at 1e-5 on ur-class); 0 is exact and solvable since no constraint is redundant.
   errors.Try([&] { RequireInRange(r.constraint_force_mixing, 0, 1e-6, PointerJoin(pointer, "constraint_force_mixing")); });
+  errors.Try([&] { CheckEngineTakes(r, PointerJoin(pointer, "engine")); });
   for (size_t i = 0; i < r.modules.size(); ++i) CheckModule(r, i, rate_ok, pointer, &errors);
   CheckLinks(r, payload_ok, pointer, &errors);
   CheckBodies(r, payload_ok, pointer, &errors);
@@ -807,6 +837,8 @@ nlohmann::json RobotToJson(const RobotConfig& r) {
   out["physics_rate_Hz"] = r.physics_rate_Hz;
   out["electrical_substeps"] = r.electrical_substeps;
   out["constraint_force_mixing"] = r.constraint_force_mixing;
+  // Only when not the default, so that an ODE robot is written out as before.
+  if (r.engine != PhysicsEngine::kOde) out["engine"] = EngineName(r.engine);
   return out;
 }
 

@@ -171,8 +171,21 @@ struct JointBody {
   std::array<double, 9> frame_rotation = {1, 0, 0, 0, 1, 0, 0, 0, 1};
 };
 
+// The engine that steps the arm's mechanics (core/plant/engine/arm_world.h): ODE, the default and
+// the reference (core/plant/ode_world.h), or the joint-space engine for serial chains of 1 to 7
+// revolute joints (core/plant/engine/articulated_world.h). JSON: "engine": "ode" | "articulated".
+enum class PhysicsEngine { kOde, kArticulated };
+const char* EngineName(PhysicsEngine engine);
+std::vector<std::string> EngineNames();
+// The engine named by `value` (at `pointer`); anything else throws InputError naming the known
+// engines, with the nearest as its did-you-mean.
+PhysicsEngine EngineFromJson(const nlohmann::json& value, const std::string& pointer);
+// The articulated engine's limit (kMaxEngineJoints, core/plant/engine/joint_space_dynamics.h).
+constexpr int kMaxArticulatedJoints = 7;
+
 struct RobotConfig {
   std::string name = "custom";
+  PhysicsEngine engine = PhysicsEngine::kOde;
   std::vector<ModuleParams> modules;   // one per joint, base first
   std::vector<LinkParams> links;       // one per joint (the shorthand), or empty when `bodies` is given
   std::vector<JointBody> bodies;       // one per joint (the general form), or empty when `links` is given
@@ -227,7 +240,11 @@ std::vector<std::string> RobotPresetNames();
 RobotConfig RobotFromJson(const nlohmann::json& value, const std::string& pointer, const std::string& base_dir = "");
 nlohmann::json RobotToJson(const RobotConfig& robot);
 
-// Cross-field checks (counts match, directions non-zero, ...); throws InputError.
+// Throws InputError at `pointer` (where the engine is named) when `robot`'s engine cannot take
+// it, saying why: the articulated engine takes serial chains of 1 to 7 revolute joints.
+void CheckEngineTakes(const RobotConfig& robot, const std::string& pointer);
+
+// Cross-field checks (counts match, directions non-zero, the engine takes the robot, ...); throws InputError.
 void Validate(const RobotConfig& robot, const std::string& pointer);
 
 }  // namespace armfault

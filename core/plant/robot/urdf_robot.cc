@@ -529,7 +529,7 @@ RobotConfig RobotFromUrdfJson(const nlohmann::json& value, const std::string& po
   ErrorList errors;
   errors.Try([&] {
     reader.AllowOnly({"name", "urdf", "drives", "base_position_m", "payload_kg", "gravity_m_s2", "physics_rate_Hz",
-                      "electrical_substeps", "constraint_force_mixing"});
+                      "electrical_substeps", "constraint_force_mixing", "engine"});
   });
   std::string path;
   reader.OptionalString("urdf", &path);
@@ -552,6 +552,9 @@ RobotConfig RobotFromUrdfJson(const nlohmann::json& value, const std::string& po
   errors.Try([&] { reader.OptionalNumber("physics_rate_Hz", &r.physics_rate_Hz); });
   errors.Try([&] { reader.OptionalInt("electrical_substeps", &r.electrical_substeps); });
   errors.Try([&] { reader.OptionalNumber("constraint_force_mixing", &r.constraint_force_mixing); });
+  errors.Try([&] {
+    if (const auto* v = reader.Find("engine")) r.engine = EngineFromJson(*v, reader.PointerTo("engine"));
+  });
   errors.ThrowIfAny();
   // The base offset moves every body (the file's root frame sits at base_position_m).
   auto shift = [&](std::array<double, 3>* p) {

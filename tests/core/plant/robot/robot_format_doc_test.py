@@ -50,6 +50,18 @@ with tempfile.TemporaryDirectory(prefix="armfault_robot_doc.") as tmp:
         sys.exit(1)
     with open(os.path.join(tmp, "out", "campaign.json")) as f:
         robot = json.load(f)["campaign"]["robot"]
+    # "engine" is written only when it is not the default (an ODE robot is written as before):
+    # from a campaign run in the articulated engine, where it must be there.
+    with open(path, "w") as f:
+        json.dump({"robot": "mrr-config1", "engine": "articulated", "duration_s": 0.02, "healthy": 1,
+                   "trajectories": [{"name": "still", "joints": {}}]}, f)
+    r = subprocess.run([ARMFAULT, "run", path, "-o", os.path.join(tmp, "art"), "-q", "-j", "1"],
+                       capture_output=True, text=True, timeout=300)
+    with open(os.path.join(tmp, "art", "campaign.json")) as f:
+        articulated = json.load(f)["campaign"]["robot"]
+    check("engine written when not ode", "engine" not in robot and articulated.get("engine") == "articulated",
+          "ode robot %s, articulated robot %s" % (robot.get("engine"), articulated.get("engine")))
+    robot["engine"] = "ode"
     # The optional groups (written only when given, so absent from mrr-config1): their defaults
     # from an MRR1 and an MRR2 module that give them empty.
     with open(path, "w") as f:
