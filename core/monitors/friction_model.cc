@@ -40,10 +40,12 @@ bool WindingReading(const MonitorConfig& c, const ArmJoint& joint, double windin
     *var = 1.0;  // a declared sensor: about 1 K
     return true;
   }
-  // Until it settles, the fit's reading sits near its prior (1) whatever the winding's
-  // temperature, and its standard error does not say so: no reading yet.
+  // Until it converges, the averaged reading leans to the fit's first moments, which sit near
+  // its prior (1) whatever the winding's temperature (a cold start at 1 degC read 0 K on a
+  // winding 20 K cold when settled at 2 s), and its standard error does not say so: no
+  // reading yet.
   const ElectricalEstimator& e = *joint.electrical;
-  if (!(e.winding.judged_s >= c.winding_settle_s)) return false;
+  if (!(e.winding.judged_s >= c.winding_reading_converged_s)) return false;
   *k = (e.winding.reading - 1.0) / c.copper_resistance_per_K;
   *var = c.winding_reading_error_K * c.winding_reading_error_K;
   return true;

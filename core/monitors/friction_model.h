@@ -5,9 +5,9 @@
 //
 // Per joint j, a thermal state: the gear's temperature against its commissioning, G_j [K], read
 // from the winding (WindingThermometer, or a declared winding sensor) and from the arm:
-//   W_j        the winding's settled reading, (ρ − 1) / α_Cu, with its error σ_r (none before it
-//              settles: the fit's first moments sit at its prior)
-//   μ_arm      the median of the settled joints' readings (the arm's temperature)
+//   W_j        the winding's converged reading, (ρ − 1) / α_Cu, with its error σ_r (none before
+//              it converges: the averaged reading leans to the fit's first moments, at its prior)
+//   μ_arm      the median of the joints' readings (the arm's temperature)
 //   S_j        the start temperature: W_j and μ_arm combined by precision, μ_arm counted with
 //              the arm's spread τ_arm (arm_temperature_spread_K); followed until the run is
 //              start_reading_s old, then held
