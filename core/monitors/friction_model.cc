@@ -71,7 +71,7 @@ ArmFrictionModel::ArmFrictionModel(const MonitorConfig& c, int joints)
 void ArmFrictionModel::Update(const MonitorConfig& c, const std::vector<ArmJoint>& joints,
                               const std::vector<double>& winding_above_K, double elapsed_s, double dt_s) {
   const size_t n = joints.size();
-  // 1. The windings' readings, and the arm's: the median of the settled ones.
+  // 1. The windings' converged readings, and the arm's: their median.
   std::array<double, 64> reading_K{}, reading_var{}, settled{};
   std::array<bool, 64> has{};
   size_t n_settled = 0;
@@ -105,8 +105,8 @@ void ArmFrictionModel::Update(const MonitorConfig& c, const std::vector<ArmJoint
       g.lag_K += std::min(1.0, dt_s / c.gear_time_constant_s) * ((w - g.start_K) - g.lag_K);
     }
     g.gear_K = g.start_K + g.lag_K;
-    // A settled reading's own error is the arm's too (every winding is read the same way) and
-    // cancels through the slopes learned at those readings: counted is what an unsettled or
+    // A converged reading's own error is the arm's too (every winding is read the same way) and
+    // cancels through the slopes learned at those readings: counted is what an
     // unread start adds beyond it, and the gear's gap to its winding.
     const double err2 = c.winding_reading_error_K * c.winding_reading_error_K;
     const double gap = c.gear_winding_gap_sd * g.gear_K;

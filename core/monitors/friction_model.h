@@ -13,7 +13,7 @@
 //              start_reading_s old, then held
 //   G_j(t)     = S_j + L[W_j − S_j], L a first-order lag of gear_time_constant_s (the gear warms
 //              more slowly than its winding)
-//   σ_G,j²     = max(0, σ_S,j² − σ_r²) + (gear_winding_gap_sd · G_j)², σ_r the settled reading's
+//   σ_G,j²     = max(0, σ_S,j² − σ_r²) + (gear_winding_gap_sd · G_j)², σ_r the converged reading's
 //              error (winding_reading_error_K): every winding is read alike, so that error is the
 //              arm's and cancels through the slopes learned at the same readings; counted is what
 //              an unsettled or unread start adds, and the gear's gap to its winding

@@ -36,7 +36,7 @@ struct MonitorConfig {
   // a unit's temperature before any winding is read, about its commissioning: an ambient of
   // 0-45 degC against one near 20 degC (1 sigma) [K]
   double unread_temperature_sd_K = 25.0;
-  // the start temperature follows the readings this long, and until the joint's reading converged [s]
+  // the start temperature follows the readings (its own, the arm's) this long, then holds [s]
   double start_reading_s = 30.0;
   // how far a gear's temperature may differ from its winding's, as a share of its rise (1 sigma)
   double gear_winding_gap_sd = 0.15;
