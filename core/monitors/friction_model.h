@@ -16,7 +16,7 @@
 //   σ_G,j²     = max(0, σ_S,j² − σ_r²) + (gear_winding_gap_sd · G_j)², σ_r the converged reading's
 //              error (winding_reading_error_K): every winding is read alike, so that error is the
 //              arm's and cancels through the slopes learned at the same readings; counted is what
-//              an unsettled or unread start adds, and the gear's gap to its winding
+//              an unread start adds (the arm's reading in its place), and the gear's gap to its winding
 // Friction: the fast fit's factor κ (against the commissioned curve), in blocks of 1 s of
 // motion (FrictionReference's blocks), as y = ln κ; a block teaches only once the joint's
 // sensor zero is found (before, the fit reads the smaller of two hypotheses, low). A lubricant
