@@ -117,7 +117,7 @@ struct MonitorConfig {
   int shown_friction_blocks = 20;        // the friction a joint shows: the median of its last blocks
   int unconverged_friction_blocks = 2;   // a run's first blocks are not counted (the fit starts at 1)
   int min_shown_friction_blocks = 5;     // blocks before a joint's shown friction counts
-  double brake_drag_friction_factor = 4.0;  // friction above this many times its reference: a dragging brake
+  double brake_drag_friction_factor = 4.0;  // whole friction above this many times its reference: a dragging brake
   // --- the torque sensor's zero ---
   double drift_balance_time_constant_s = 4.0;   // memory of the fit that carries the offset [s]
   double min_offset_moving_each_way_s = 1.0;    // motion each way before the offset is judged [s]

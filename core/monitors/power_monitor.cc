@@ -61,6 +61,9 @@ struct TorqueBalance {
   BalanceFilter filter;
   BalanceFit fast, slow, zero, unfound_zero, since_alarm;
   bool crossed = false;
+  // Σ f² and Σ f g of the usable rows, f the friction curve's term and g the gear's (mesh and
+  // load friction), with the fast fit's forgetting and since the first crossing (since_alarm).
+  double fast_ff = 0, fast_fg = 0, alarm_ff = 0, alarm_fg = 0;
   // The sensor's zero as this run found it, relative to the calibration [N m].
   double offset_base_Nm = 0;
   bool offset_base_set = false;
@@ -265,6 +268,21 @@ void UpdateFits(const MonitorConfig& c, const JointKnowledge& k, const TickTerms
   tb.fast.Add(row, gain, tb.offset_base_set ? tb.offset_base_Nm : 0.0);
   if (k.torque_sensor && !tb.offset_base_set) tb.unfound_zero.Add(row, gain, zero_now.offset_Nm);
   if (tb.crossed) tb.since_alarm.Add(row, std::min(1.0, fit.n), 0.0);
+  {
+    const double forget = std::exp(-dt / c.balance_time_constant_s);
+    tb.fast_ff *= forget;
+    tb.fast_fg *= forget;
+    if (row.usable) {
+      const double f = row.friction;
+      const double g = k.mechanical.mesh_loss_fraction * terms.mesh_Nm + k.mechanical.mesh_backdriven_extra * terms.mesh_back_Nm;
+      tb.fast_ff += f * f;
+      tb.fast_fg += f * g;
+      if (tb.crossed) {
+        tb.alarm_ff += f * f;
+        tb.alarm_fg += f * g;
+      }
+    }
+  }
   const BalanceFit::Estimate& b = FastFriction(k, tb);
   const MechanicalCalibration& cal = k.mechanical;
   s.friction.zero_found = !k.torque_sensor || tb.offset_base_set;
@@ -282,6 +300,12 @@ void UpdateFits(const MonitorConfig& c, const JointKnowledge& k, const TickTerms
   const bool grown = tb.crossed && m.moving_s >= c.min_balance_moving_s;
   s.est.friction_factor = (grown ? m.friction_factor : b.friction_factor) / reference;
   s.est.friction_factor_se = std::hypot(b.friction_factor_se, b.friction_factor * s.reference_log_sd) / reference;
+  // Wear scales the gear's friction g with the curve's f, while the balance holds g at its
+  // calibration: a joint worn k-fold fits κ = k r + (k − 1) ρ, ρ = Σ f g / Σ f², so its whole
+  // friction against the healthy one is 1 + (κ / r − 1) r / (r + ρ) = k.
+  const double ff = grown ? tb.alarm_ff : tb.fast_ff, fg = grown ? tb.alarm_fg : tb.fast_fg;
+  s.est.friction_torque_factor =
+      ff > 0 && fg >= 0 ? 1 + (s.est.friction_factor - 1) * reference / (reference + fg / ff) : s.est.friction_factor;
   s.est.friction_reference = reference;
   s.est.sensor_drift_Nm = (grown ? m.offset_Nm : sl.offset_Nm) - tb.offset_base_Nm;
   s.est.sensor_drift_se = sl.offset_se;
@@ -436,7 +460,8 @@ bool UpdateReadings(const MonitorConfig& c, const JointKnowledge& k, const Detec
         dec.held_significance[d].Push(Quantize(significance[d], kSignificanceQuantum));
     dec.readings[d].family = Detectors()[d].family;
   }
-  const bool drag = e.friction_factor > c.brake_drag_friction_factor;
+  // A dragging brake: the whole friction beyond what wear makes of it.
+  const bool drag = e.friction_torque_factor > c.brake_drag_friction_factor;
   if (drag) dec.readings[static_cast<int>(Detector::kFrictionFactor)].family = "brake_lock";
   return drag;
 }
@@ -473,7 +498,7 @@ Candidate ShownCandidate(const MonitorConfig& c, const JointKnowledge& k, const 
                    false};
         } else {
           shown = {e.friction_factor > c.friction_factor.defective ? HealthState::kDefective : HealthState::kWorn,
-                   "friction_increase", "friction_factor", e.friction_factor,
+                   "friction_increase", "friction_factor", e.friction_torque_factor,
                    confidence(e.friction_factor - c.friction_factor.worn, e.friction_factor_se), false};
         }
         break;

@@ -121,6 +121,9 @@ class PowerEfficiencyMonitor : public HealthMonitor {
     double kt_factor = 1, kt_factor_se = 0;
     double resistance_factor = 1, resistance_factor_se = 0;
     double friction_factor = 1, friction_factor_se = 0;  // over friction_reference
+    // The joint's whole friction (curve, mesh and load friction) against the healthy one at the
+    // same motion: what a wear of friction_increase's factor k makes k (docs/monitor.md).
+    double friction_torque_factor = 1;
     double friction_reference = 1;  // the friction the run found, against the calibration (docs/monitor.md)
     double sensor_drift_Nm = 0, sensor_drift_se = 0;
     int windows_in_fit = 0;      // windows in the (thesis-view) mechanical window fit

@@ -245,7 +245,8 @@ void DriveJoint(const JointModel& jm, const HardwareCondition& cond, int substep
 
   // Motor-side dry friction (Coulomb + Stribeck, brake, and the mesh loss referred to the
   // rotor) as the rotor's bounded velocity row with target 0; motor torque less viscous
-  // friction as a couple between rotor and stator.
+  // friction as a couple between rotor and stator. Wear (friction_increase) scales every
+  // term but the brake: friction_factor the motor side's, gear_friction_factor the gear's.
   // With a gearbox group: friction against the gearbox node's temperature (the lubricant's
   // law) and the load-dependent, direction-dependent gear friction, both from the previous
   // step's state (load_friction.h).
@@ -258,8 +259,11 @@ void DriveJoint(const JointModel& jm, const HardwareCondition& cond, int substep
     dry_factor *= std::pow(f, gearbox.coulomb_exponent);
     load_Nm = LoadFrictionNm(gearbox, r.tau_transmitted, r.qd, jm.ratio);
   }
+  // Wear scales the gear's terms one by one (a factor 1 leaves the sum's rounding as it is).
+  const double gear = cond.gear_friction_factor;
   const double dry = BreakawayFrictionNm(fp, dry_factor, r.qd) +
-                     jm.params.drive.mesh_loss_fraction * std::fabs(r.tau_transmitted) / jm.ratio + load_Nm + brake;
+                     gear * (jm.params.drive.mesh_loss_fraction * std::fabs(r.tau_transmitted) / jm.ratio) +
+                     gear * load_Nm + brake;
   r.brake_share = dry > 0 ? brake / dry : 0.0;
   r.viscous_torque = ViscousFrictionNm(fp, viscous_factor, r.qd);
   double couple_Nm = dout.torque_Nm - r.viscous_torque;

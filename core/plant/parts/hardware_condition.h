@@ -11,6 +11,7 @@ enum class ShortKind { kNone, kPhasePhase, kPhaseGround, kSwitch };
 struct HardwareCondition {
   double kt_factor = 1.0;            // magnet flux / winding: K_T and back-EMF scale together
   double friction_factor = 1.0;      // scales b, F_c, F_s of the motor-side friction
+  double gear_friction_factor = 1.0; // scales the harmonic drive's mesh loss and load-dependent friction
   double resistance_factor = 1.0;    // winding resistance (overheating)
   double brake_drag_Nm = 0.0;        // brake torque on the motor shaft while released [N m]
   SensorLead torque_sensor_lead = SensorLead::kHealthy;
