@@ -57,13 +57,15 @@ struct TorqueBalance {
         slow({false, true}, c.drift_balance_time_constant_s, dt, CorrelationTicks(c, dt), k.balance_sigma_Nm),
         zero({false, true}, c.zero_balance_time_constant_s, dt, CorrelationTicks(c, dt), k.balance_sigma_Nm),
         unfound_zero({false, false}, c.balance_time_constant_s, dt, CorrelationTicks(c, dt), k.balance_sigma_Nm),
-        since_alarm({false, true}, 0, dt, CorrelationTicks(c, dt), k.balance_sigma_Nm) {}
+        since_alarm({false, true}, 0, dt, CorrelationTicks(c, dt), k.balance_sigma_Nm),
+        fast_forget(std::exp(-dt / c.balance_time_constant_s)) {}
   BalanceFilter filter;
   BalanceFit fast, slow, zero, unfound_zero, since_alarm;
   bool crossed = false;
   // Σ f² and Σ f g of the usable rows, f the friction curve's term and g the gear's (mesh and
   // load friction), with the fast fit's forgetting and since the first crossing (since_alarm).
   double fast_ff = 0, fast_fg = 0, alarm_ff = 0, alarm_fg = 0;
+  double fast_forget;  // the fast fit's per-tick forgetting
   // The sensor's zero as this run found it, relative to the calibration [N m].
   double offset_base_Nm = 0;
   bool offset_base_set = false;
@@ -269,9 +271,8 @@ void UpdateFits(const MonitorConfig& c, const JointKnowledge& k, const TickTerms
   if (k.torque_sensor && !tb.offset_base_set) tb.unfound_zero.Add(row, gain, zero_now.offset_Nm);
   if (tb.crossed) tb.since_alarm.Add(row, std::min(1.0, fit.n), 0.0);
   {
-    const double forget = std::exp(-dt / c.balance_time_constant_s);
-    tb.fast_ff *= forget;
-    tb.fast_fg *= forget;
+    tb.fast_ff *= tb.fast_forget;
+    tb.fast_fg *= tb.fast_forget;
     if (row.usable) {
       const double f = row.friction;
       const double g = k.mechanical.mesh_loss_fraction * terms.mesh_Nm + k.mechanical.mesh_backdriven_extra * terms.mesh_back_Nm;
