@@ -149,10 +149,9 @@ void ArticulatedWorld::SetJoint(int j, double couple_Nm, double dry_bound_Nm) {
 void ArticulatedWorld::Step(double dt_s) {
   constexpr int s = kMaxEngineJoints;
   const int n = n_;
-  JointMatrix M;
-  double b[kMaxEngineJoints];
-  ChainPose pose;
-  MassMatrixAndBias(model_.chain, q_, qd_, &M, b, &pose);
+  JointMatrix M, S;
+  double b[kMaxEngineJoints], tau0[kMaxEngineJoints];
+  MassMatrixBiasAndSensor(model_.chain, q_, qd_, &M, b, &S, tau0);
   // M⁻¹ column by column from its Cholesky factor (row-major, symmetric).
   double m[s * s] = {}, L[s * s], Minv[s * s];  // m zeroed: the compiler cannot see n ≤ 7
   for (int i = 0; i < n; ++i) {
@@ -191,9 +190,12 @@ void ArticulatedWorld::Step(double dt_s) {
     for (int k = 0; k < n; ++k) sum += Minv[i * s + k] * gl[k];
     qdd[i] = a_free[i] + sum;
   }
-  // The sensor's truth over the step: from the start state with the step's acceleration, at the
-  // step's pose.
-  TransmittedTorquesAt(model_.chain, pose, qd_, qdd, tau_Nm_);
+  // The sensor's truth over the step: from the start state with the step's acceleration.
+  for (int i = 0; i < n; ++i) {
+    double sum = tau0[i];
+    for (int k = 0; k < n; ++k) sum += S(i, k) * qdd[k];
+    tau_Nm_[i] = sum;
+  }
   for (int j = 0; j < n; ++j) {
     qd_[j] += dt_s * qdd[j];
     q_[j] += dt_s * qd_[j];

@@ -25,7 +25,19 @@ Matrix3d Rotation(const Vector3d& a, double angle) {
   return R;
 }
 
-using Pose = ChainPose;
+// The chain at one pose, world coordinates: joint i's axis z_i, anchor p_i, s_i's linear part
+// p_i × z_i, link i's spatial inertia about O (mass m, first moment h = m c, inertia I_O about
+// O; the rotor's token mass lumped in) and rotor i's token mass alone (mr, hr, Ir).
+struct Pose {
+  Vector3d z[kN], p[kN], pz[kN];
+  double m[kN];
+  Vector3d h[kN];
+  Matrix3d I[kN];
+  double mr[kN];
+  Vector3d hr[kN];
+  Matrix3d Ir[kN];
+};
+
 
 void MakePose(const JointSpaceModel& model, const double* q, Pose* pose) {
   Matrix3d R = Matrix3d::Identity();
@@ -49,9 +61,9 @@ void MakePose(const JointSpaceModel& model, const double* q, Pose* pose) {
 }
 
 // Recursive Newton-Euler, spatial vectors about O: Q for q̈ (q̈ = 0 when `qdd` is null); with
-// `sensor`, what joint i's torque sensor carries instead (no rotor i spin, no token mass i).
+// `sensor`, also what joint i's torque sensor carries (no rotor i spin, no token mass i).
 void Rnea(const JointSpaceModel& model, const Pose& pose, const double* qd, const double* qdd, double* Q,
-          bool sensor = false) {
+          double* sensor = nullptr) {
   const int n = model.joint_count;
   Vector3d wn[kN], wf[kN], rotor[kN];  // link i's wrench (moment about O, force); rotor i's moment
   Vector3d tn[kN], tf[kN];              // sensor: token mass i's wrench
@@ -87,16 +99,15 @@ void Rnea(const JointSpaceModel& model, const Pose& pose, const double* qd, cons
     Fn += wn[i];
     Ff += wf[i];
     if (i + 1 < n) Fn += rotor[i + 1];  // rotor i+1 rides on link i
-    if (sensor) {
-      Q[i] = pose.z[i].dot(Fn - tn[i]) + pose.pz[i].dot(Ff - tf[i]);
-    } else {
-      Q[i] = pose.z[i].dot(Fn) + pose.pz[i].dot(Ff) + model.joints[i].ratio * pose.z[i].dot(rotor[i]);
-    }
+    Q[i] = pose.z[i].dot(Fn) + pose.pz[i].dot(Ff) + model.joints[i].ratio * pose.z[i].dot(rotor[i]);
+    if (sensor) sensor[i] = pose.z[i].dot(Fn - tn[i]) + pose.pz[i].dot(Ff - tf[i]);
   }
 }
 
-// Composite rigid bodies about O, with the rotors' spin and its gear coupling.
-void Crba(const JointSpaceModel& model, const Pose& pose, JointMatrix* M) {
+// Composite rigid bodies about O, with the rotors' spin and its gear coupling; with `S`, also
+// the sensors' matrix: M less, in row i, rotor i's spin (γ_i I_m,i z_i·z_l, γ_i² I_m,i) and
+// token mass i (s_i' I_r,i s_l), l ≤ i: what joint i's generalised force has and its sensor not.
+void Crba(const JointSpaceModel& model, const Pose& pose, JointMatrix* M, JointMatrix* S = nullptr) {
   const int n = model.joint_count;
   M->resize(n, n);
   double Cm = 0;
@@ -118,6 +129,18 @@ void Crba(const JointSpaceModel& model, const Pose& pose, JointMatrix* M) {
       (*M)(i, k) = Mki;
     }
     (*M)(i, i) = z.dot(H) + pose.pz[i].dot(L) + g * g * Im;
+  }
+  if (!S) return;
+  *S = *M;
+  for (int i = 0; i < n; ++i) {
+    const double g = model.joints[i].ratio, Im = model.joints[i].rotor_inertia_kg_m2;
+    for (int l = 0; l <= i; ++l) {
+      const Vector3d& z = pose.z[l];
+      const Vector3d H = pose.Ir[i] * z + pose.hr[i].cross(pose.pz[l]);
+      const Vector3d L = pose.mr[i] * pose.pz[l] + z.cross(pose.hr[i]);
+      const double spin = l < i ? g * Im * pose.z[i].dot(z) : g * g * Im;
+      (*S)(i, l) -= pose.z[i].dot(H) + pose.pz[i].dot(L) + spin;
+    }
   }
 }
 
@@ -176,16 +199,12 @@ void MassMatrixAndBias(const JointSpaceModel& model, const double* q, const doub
   Rnea(model, pose, qd, nullptr, b_Nm);
 }
 
-void MassMatrixAndBias(const JointSpaceModel& model, const double* q, const double* qd, JointMatrix* M, double* b_Nm,
-                       ChainPose* pose) {
-  MakePose(model, q, pose);
-  Crba(model, *pose, M);
-  Rnea(model, *pose, qd, nullptr, b_Nm);
-}
-
-void TransmittedTorquesAt(const JointSpaceModel& model, const ChainPose& pose, const double* qd, const double* qdd,
-                          double* tau_Nm) {
-  Rnea(model, pose, qd, qdd, tau_Nm, true);
+void MassMatrixBiasAndSensor(const JointSpaceModel& model, const double* q, const double* qd, JointMatrix* M, double* b_Nm,
+                             JointMatrix* S, double* tau0_Nm) {
+  Pose pose;
+  MakePose(model, q, &pose);
+  Crba(model, pose, M, S);
+  Rnea(model, pose, qd, nullptr, b_Nm, tau0_Nm);
 }
 
 void InverseDynamics(const JointSpaceModel& model, const double* q, const double* qd, const double* qdd,

@@ -71,7 +71,7 @@ struct JointSpaceJoint {
   double rotor_inertia_kg_m2 = 0;
   double ratio = 1;  // γ_i, rotor turns per joint turn
   // Rotor i's token mass (lumped into link i above) and its centre in frame i: what the torque
-  // sensor of joint i does not carry (TransmittedTorquesAt).
+  // sensor of joint i does not carry (MassMatrixBiasAndSensor).
   double rotor_mass_kg = 0;
   Eigen::Vector3d rotor_centre_m = Eigen::Vector3d::Zero();
 };
@@ -83,19 +83,6 @@ struct JointSpaceModel {
   Eigen::Vector3d gravity_m_s2 = Eigen::Vector3d(0, 0, -9.81);
 };
 
-// The chain at one pose, world coordinates: joint i's axis z_i, anchor p_i, s_i's linear part
-// p_i × z_i, link i's spatial inertia about O (mass m, first moment h = m c, inertia I_O about
-// O; the rotor's token mass lumped in) and rotor i's token mass alone (mr, hr, Ir).
-struct ChainPose {
-  Eigen::Vector3d z[kMaxEngineJoints], p[kMaxEngineJoints], pz[kMaxEngineJoints];
-  double m[kMaxEngineJoints];
-  Eigen::Vector3d h[kMaxEngineJoints];
-  Eigen::Matrix3d I[kMaxEngineJoints];
-  double mr[kMaxEngineJoints];
-  Eigen::Vector3d hr[kMaxEngineJoints];
-  Eigen::Matrix3d Ir[kMaxEngineJoints];
-};
-
 // Throws std::invalid_argument for a chain of no joint or more than 7 (the caller validates).
 JointSpaceModel MakeJointSpaceModel(const RigidBodyModel& bodies);
 
@@ -104,17 +91,16 @@ void MassMatrix(const JointSpaceModel& model, const double* q, JointMatrix* M);
 void Bias(const JointSpaceModel& model, const double* q, const double* qd, double* b_Nm);
 // Both at one pose (the articulated engine's step, core/plant/engine/articulated_world.h).
 void MassMatrixAndBias(const JointSpaceModel& model, const double* q, const double* qd, JointMatrix* M, double* b_Nm);
-// The same, keeping the pose for TransmittedTorquesAt.
-void MassMatrixAndBias(const JointSpaceModel& model, const double* q, const double* qd, JointMatrix* M, double* b_Nm,
-                       ChainPose* pose);
-// The torque sensors' truth at `pose` (from MassMatrixAndBias at q) with rates q̇ and
-// accelerations q̈: per joint i the torque about z_i [N m, link side] that the harmonic drive
-// passes to link i, the plant's TransmittedTorques (core/plant/robot/rigid_body_dynamics.h):
-// one Newton-Euler pass as InverseDynamics, whose Q_i = s_i · F_i + γ_i z_i · I_m,i α_r,i; the
-// sensor carries s_i · F_i less rotor i's token mass (lumped into link i, yet not beyond its
-// own drive): τ_i = s_i · (F_i − f_r,i), f_r,i the token mass's wrench.
-void TransmittedTorquesAt(const JointSpaceModel& model, const ChainPose& pose, const double* qd, const double* qdd,
-                          double* tau_Nm);
+// The same, and the torque sensors' truth as τ = τ0 + S q̈ [N m, link side]: per joint i the
+// torque about z_i that the harmonic drive passes to link i, the plant's TransmittedTorques
+// (core/plant/robot/rigid_body_dynamics.h) at (q, q̇, q̈). Q_i = s_i · F_i + γ_i z_i · I_m,i α_r,i
+// (F_i the wrench of the bodies beyond joint i); the sensor carries s_i · F_i less rotor i's
+// token mass (lumped into link i, yet not beyond its own drive). Both are linear in q̈: τ0 is
+// the sensors' reading at q̈ = 0 (from the bias pass), S (n × n) is M less, in row i, rotor i's
+// spin and token mass (CRBA's terms). So the step needs no second Newton-Euler pass once it
+// knows q̈.
+void MassMatrixBiasAndSensor(const JointSpaceModel& model, const double* q, const double* qd, JointMatrix* M, double* b_Nm,
+                             JointMatrix* S, double* tau0_Nm);
 void ForwardDynamics(const JointSpaceModel& model, const double* q, const double* qd, const double* Q_Nm,
                      double* qdd);
 void InverseDynamics(const JointSpaceModel& model, const double* q, const double* qd, const double* qdd,
