@@ -198,7 +198,7 @@ int BenchCommand(int repeats, const std::string& robot_argument, const std::stri
   // MuJoCo, when built in: the same chain with the same dry-friction bounds at the link side
   // (core/plant/engine/mujoco/mujoco_arm.h); loaded once, outside the timing.
   std::unique_ptr<MujocoArm> mujoco;
-  std::string mujoco_problem = "not built in (libmujoco-dev was not found when armfault was configured)";
+  std::string mujoco_problem = MujocoProblem();
   if (MujocoBuiltIn()) {
     std::vector<double> friction_loss_Nm;
     for (int j = 0; j < model.joint_count(); ++j) {

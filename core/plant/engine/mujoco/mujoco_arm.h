@@ -1,8 +1,9 @@
 // The arm in MuJoCo, for `armfault bench` only: Debian's MuJoCo (libmujoco-dev, 2.2.2 on
 // Debian 12) stepping the same chain as ODE and the joint-space engine, so that a user sees the
 // three engines' µs per step side by side. An optional dependency: CMake finds it if present
-// (ARMFAULT_HAVE_MUJOCO inside mujoco_arm.cc); without it MujocoBuiltIn() is false and
-// StepBareMujoco throws. No run uses MuJoCo.
+// (ARMFAULT_HAVE_MUJOCO inside mujoco_arm.cc) and the library is opened when first used
+// (dlopen: the binary itself does not need it); without it MujocoBuiltIn() is false and
+// MujocoArm throws. No run uses MuJoCo.
 //
 // The model differs from the plant's, and the bench says so: each rotor is a joint armature
 // γ²·I_m (the rotor's spin reflected through the gear onto its own joint only), where the plant
@@ -34,9 +35,13 @@
 
 namespace armfault {
 
+// True when armfault was built with MuJoCo's headers and its library loads (opened at the first
+// call, so that the binary runs without it).
 bool MujocoBuiltIn();
 // MuJoCo's version as it reports it ("2.2.2"), or "" when not built in.
 std::string MujocoVersion();
+// Why MuJoCo is not there ("not built in (...)" or "could not be loaded (...)"); "" when it is.
+std::string MujocoProblem();
 
 // `friction_loss_Nm`: per joint, link side (empty: none).
 std::string MujocoArmXml(const JointSpaceModel& chain, double dt_s, const std::vector<double>& friction_loss_Nm);
