@@ -44,10 +44,11 @@ python_packages=(python3-dev pybind11-dev python3-pybind11 python3-numpy python3
 # libclang-rt-14-dev (libFuzzer, only a Recommends of clang-14) for the parsers' fuzzing test
 # (tests/fuzz/fuzz_test.sh, docs/fuzzing.md), jupyter-nbconvert, python3-ipykernel (the python3
 # kernel) and python3-matplotlib to execute examples/notebooks/first-campaign.ipynb
-# (python/tests/notebook_test.sh).
+# (python/tests/notebook_test.sh), and libmujoco-dev (MuJoCo 2.2.2, optional: `armfault bench`
+# times it beside ODE and the joint-space engine when CMake finds it; no run uses it).
 test_packages=(libgtest-dev libgmock-dev libbenchmark-dev chromium slurm-wlm munge python3-yaml
                python3-jsonschema python3-pytest clang libclang-rt-14-dev
-               jupyter-nbconvert python3-ipykernel python3-matplotlib)
+               jupyter-nbconvert python3-ipykernel python3-matplotlib libmujoco-dev)
 
 packages=("${build_packages[@]}")
 [ "$python" -eq 0 ] || packages+=("${python_packages[@]}")

@@ -14,6 +14,8 @@
 #include <cstdio>
 #include <functional>
 #include <limits>
+#include <memory>
+#include <string>
 #include <vector>
 
 #include "app/commands/commands.h"
@@ -23,6 +25,8 @@
 #include "campaigns/running/runner.h"
 #include "core/monitors/detector_statistics.h"
 #include "core/monitors/power_monitor.h"
+#include "core/plant/drive/friction.h"
+#include "core/plant/engine/mujoco/mujoco_arm.h"
 #include "core/plant/robot/robot_config.h"
 #include "core/plant/simulation.h"
 
@@ -190,10 +194,29 @@ int BenchCommand(int repeats, const std::string& robot_argument, const std::stri
   const std::vector<CaseSpec> cases = ExpandCases(campaign);
   const ArmModel model(campaign.robot);
   const CaseSpec& healthy = cases.back();
-  const auto [bare, bare_rows, full, bare_articulated] = LeastCpuSeconds<4>(
+  const long steps_per_run = std::lround(campaign.duration_s / model.physics_dt_s());
+  // MuJoCo, when built in: the same chain with the same dry-friction bounds at the link side
+  // (core/plant/engine/mujoco/mujoco_arm.h); loaded once, outside the timing.
+  std::unique_ptr<MujocoArm> mujoco;
+  std::string mujoco_problem = MujocoProblem();
+  if (MujocoBuiltIn()) {
+    std::vector<double> friction_loss_Nm;
+    for (int j = 0; j < model.joint_count(); ++j) {
+      friction_loss_Nm.push_back(model.joint(j).ratio * BreakawayFrictionNm(model.joint(j).params.friction, 1.0, 1.0));
+    }
+    try {
+      mujoco = std::make_unique<MujocoArm>(MakeJointSpaceModel(model.rigid_bodies()), model.physics_dt_s(), friction_loss_Nm);
+    } catch (const std::exception& e) {
+      mujoco_problem = e.what();
+    }
+  }
+  const auto [bare, bare_rows, full, bare_articulated, bare_mujoco] = LeastCpuSeconds<5>(
       repeats, {[&] { StepBareOde(model, campaign.duration_s, false); },
                 [&] { StepBareOde(model, campaign.duration_s, true); }, [&] { RunCase(campaign, healthy); },
-                [&] { StepBareArticulated(model, campaign.duration_s); }});
+                [&] { StepBareArticulated(model, campaign.duration_s); },
+                [&] {
+                  if (mujoco) mujoco->StepFromRest(steps_per_run);
+                }});
   const char* engine = EngineName(campaign.robot.engine);
   std::printf("one %.0f-s run of %s, %d joints (monitor in the loop, engine %s): %.2f ms; bare ODE bodies, hinges and gears: %.2f ms; "
               "with the friction rows: %.2f ms (least CPU time of %d rounds)\n",
@@ -205,6 +228,13 @@ int BenchCommand(int repeats, const std::string& robot_argument, const std::stri
   std::printf("us per physics step: full run (%s) %.3f; bare ODE %.3f, with the friction rows %.3f; bare articulated engine "
               "with its friction rows %.3f\n",
               engine, 1e6 * full / steps, 1e6 * bare / steps, 1e6 * bare_rows / steps, 1e6 * bare_articulated / steps);
+  if (mujoco) {
+    std::printf("us per physics step: bare MuJoCo %s with its frictionloss rows %.3f (a different model: each rotor "
+                "an armature γ²·I_m on its own joint, without the geared rotor's I_m·γ coupling)\n",
+                MujocoVersion().c_str(), 1e6 * bare_mujoco / steps);
+  } else {
+    std::printf("us per physics step: bare MuJoCo: %s\n", mujoco_problem.c_str());
+  }
 
   // The monitor alone: the same run's signals replayed through it and its decision tap.
   std::vector<double> times;

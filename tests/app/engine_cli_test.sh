@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The engine key on the command line: a campaign run in the articulated engine, its records
 # naming it; bad input (an unknown engine, a robot the articulated engine cannot take) exits 2
-# naming the file, the JSON pointer and the value; `bench --engine`.
+# naming the file, the JSON pointer and the value; `bench --engine` with the three engines' lines.
 # Usage: engine_cli_test.sh path/to/armfault
 # Prints one line per failed check and a final "N passed, M failed"; exits non-zero on failure.
 source "$(dirname "$0")/cli_common.sh"
@@ -57,6 +57,16 @@ expect_status 0
 expect_stdout_contains "engine articulated"
 expect_stdout_contains "ratio: "
 expect_stdout_contains "us per physics step: full run (articulated)"
+# The three engines' bare stepping: ODE, the joint-space engine and MuJoCo (optional: CMake sets
+# ARMFAULT_MUJOCO=1 when it built MuJoCo in, and the line says the model differs).
+expect_stdout_contains "; bare ODE "
+expect_stdout_contains "; bare articulated engine with its friction rows "
+if [[ ${ARMFAULT_MUJOCO:-0} == 1 ]]; then
+  expect_stdout_contains "us per physics step: bare MuJoCo 2."
+  expect_stdout_contains "(a different model: each rotor an armature γ²·I_m on its own joint, without the geared rotor's I_m·γ coupling)"
+else
+  expect_stdout_contains "us per physics step: bare MuJoCo: not built in (libmujoco-dev was not found"
+fi
 
 echo "$passed passed, $failed failed"
 [[ $failed -eq 0 ]]

@@ -11,9 +11,37 @@ static_assert(kMaxArticulatedJoints == kMaxEngineJoints, "the robot's check and 
 
 namespace {
 
-using JointVector = Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, kMaxEngineJoints, 1>;
 
 enum class Row { kFree, kLower, kUpper, kFixed };
+
+// Cholesky factor L (lower, row-major n × n in `L`) of the symmetric positive definite `a`
+// (row-major n × n, stride kMaxEngineJoints), n ≤ 7: plain loops, no heap, no dispatch (Eigen's
+// dynamic-size LLT costs more than the arithmetic at this size).
+void Cholesky(const double* a, int n, double* L) {
+  constexpr int s = kMaxEngineJoints;
+  for (int i = 0; i < n; ++i) {
+    for (int k = 0; k <= i; ++k) {
+      double sum = a[i * s + k];
+      for (int m = 0; m < k; ++m) sum -= L[i * s + m] * L[k * s + m];
+      L[i * s + k] = i == k ? std::sqrt(sum) : sum / L[k * s + k];
+    }
+  }
+}
+
+// Solves L L' x = b in place.
+void CholeskySolve(const double* L, int n, double* x) {
+  constexpr int s = kMaxEngineJoints;
+  for (int i = 0; i < n; ++i) {
+    double sum = x[i];
+    for (int m = 0; m < i; ++m) sum -= L[i * s + m] * x[m];
+    x[i] = sum / L[i * s + i];
+  }
+  for (int i = n; i-- > 0;) {
+    double sum = x[i];
+    for (int m = i + 1; m < n; ++m) sum -= L[m * s + i] * x[m];
+    x[i] = sum / L[i * s + i];
+  }
+}
 
 }  // namespace
 
@@ -47,18 +75,19 @@ int SolveBoxLcp(const JointMatrix& A, const double* c, const double* bound, doub
     }
     if (nf > 0) {
       // A_FF y = −c_F − A_FB λ_B.
-      JointMatrix Aff(nf, nf);
-      JointVector rhs(nf);
+      double Aff[kMaxEngineJoints * kMaxEngineJoints], L[kMaxEngineJoints * kMaxEngineJoints];
+      double y[kMaxEngineJoints];
       for (int a = 0; a < nf; ++a) {
         const int i = free_index[a];
         double r = -c[i];
         for (int j = 0; j < n; ++j) {
           if (row[j] != Row::kFree) r -= A(i, j) * lambda[j];
         }
-        rhs[a] = r;
-        for (int b = 0; b < nf; ++b) Aff(a, b) = A(i, free_index[b]);
+        y[a] = r;
+        for (int b = 0; b < nf; ++b) Aff[a * kMaxEngineJoints + b] = A(i, free_index[b]);
       }
-      const JointVector y = Eigen::LLT<JointMatrix>(Aff).solve(rhs);
+      Cholesky(Aff, nf, L);
+      CholeskySolve(L, nf, y);
       double alpha = 1;
       int block = -1;
       for (int a = 0; a < nf; ++a) {
@@ -118,37 +147,57 @@ void ArticulatedWorld::SetJoint(int j, double couple_Nm, double dry_bound_Nm) {
 }
 
 void ArticulatedWorld::Step(double dt_s) {
+  constexpr int s = kMaxEngineJoints;
   const int n = n_;
-  JointMatrix M;
-  double b[kMaxEngineJoints];
-  MassMatrixAndBias(model_.chain, q_, qd_, &M, b);
-  const Eigen::LLT<JointMatrix> llt(M);
-  const JointMatrix Minv = llt.solve(JointMatrix::Identity(n, n));
-  double gamma[kMaxEngineJoints];
-  JointVector f(n);
+  JointMatrix M, S;
+  double b[kMaxEngineJoints], tau0[kMaxEngineJoints];
+  MassMatrixBiasAndSensor(model_.chain, q_, qd_, &M, b, &S, tau0);
+  // M⁻¹ column by column from its Cholesky factor (row-major, symmetric).
+  double m[s * s] = {}, L[s * s], Minv[s * s];  // m zeroed: the compiler cannot see n ≤ 7
+  for (int i = 0; i < n; ++i) {
+    for (int k = 0; k < n; ++k) m[i * s + k] = M(i, k);
+  }
+  Cholesky(m, n, L);
+  for (int k = 0; k < n; ++k) {
+    double e[s] = {};
+    e[k] = 1;
+    CholeskySolve(L, n, e);
+    for (int i = 0; i < n; ++i) Minv[i * s + k] = e[i];
+  }
+  double gamma[s], f[s], a_free[s];
   for (int j = 0; j < n; ++j) {
     gamma[j] = model_.chain.joints[j].ratio;
     f[j] = gamma[j] * couple_Nm_[j] - b[j];
   }
-  const JointVector a_free = Minv * f;
+  for (int i = 0; i < n; ++i) {
+    double sum = 0;
+    for (int k = 0; k < n; ++k) sum += Minv[i * s + k] * f[k];
+    a_free[i] = sum;
+  }
   // The friction rows: A = dt Γ M⁻¹ Γ + ε E, c = Γ (q̇ + dt a_free).
   JointMatrix A(n, n);
-  double c[kMaxEngineJoints];
+  double c[s] = {};
   for (int i = 0; i < n; ++i) {
-    for (int k = 0; k < n; ++k) A(i, k) = dt_s * gamma[i] * gamma[k] * Minv(i, k);
+    for (int k = 0; k < n; ++k) A(i, k) = dt_s * gamma[i] * gamma[k] * Minv[i * s + k];
     A(i, i) += model_.constraint_force_mixing;
     c[i] = gamma[i] * (qd_[i] + dt_s * a_free[i]);
   }
   SolveBoxLcp(A, c, bound_Nm_, lambda_Nm_);
-  JointVector gl(n);
+  double gl[s], qdd[s];
   for (int j = 0; j < n; ++j) gl[j] = gamma[j] * lambda_Nm_[j];
-  const JointVector qdd = a_free + Minv * gl;
-  double qdd_a[kMaxEngineJoints];
-  for (int j = 0; j < n; ++j) qdd_a[j] = qdd[j];
+  for (int i = 0; i < n; ++i) {
+    double sum = 0;
+    for (int k = 0; k < n; ++k) sum += Minv[i * s + k] * gl[k];
+    qdd[i] = a_free[i] + sum;
+  }
   // The sensor's truth over the step: from the start state with the step's acceleration.
-  TransmittedTorques(model_.bodies, q_, qd_, qdd_a, tau_Nm_);
+  for (int i = 0; i < n; ++i) {
+    double sum = tau0[i];
+    for (int k = 0; k < n; ++k) sum += S(i, k) * qdd[k];
+    tau_Nm_[i] = sum;
+  }
   for (int j = 0; j < n; ++j) {
-    qd_[j] += dt_s * qdd_a[j];
+    qd_[j] += dt_s * qdd[j];
     q_[j] += dt_s * qd_[j];
   }
 }

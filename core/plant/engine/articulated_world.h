@@ -39,12 +39,18 @@
 // Energies: kinetic ½ q̇'M(q)q̇ (links, rotors' token masses and spin), potential Σ m g z of the
 // links and the rotors' token masses.
 //
-// Cost per step: one pose, a Cholesky and M⁻¹, the active set's few n×n solves, and the sensor's
-// Newton-Euler pass. Measured (`armfault bench [--robot ur-class] --engine articulated`, a
-// shared 2-core machine, least CPU of 5-10 rounds): bare stepping with the friction rows 0.82 us
-// a step on mrr-config1 against ODE's 5.9 us, 1.9 us on ur-class against 23.8 us; a full 10-s
-// run (drives, controllers, monitor) 2.2 us a step on mrr-config1 (ODE's full run 8.3 us) and
-// 5.5 us on ur-class (ODE's 29.6 us): `ratio:` 0.49 and 0.33 of bare ODE stepping.
+// Cost per step: one pose (MassMatrixBiasAndSensor: CRBA, the bias pass and the sensors' τ0 and
+// S, so the sensor's truth τ0 + S q̈ needs no second Newton-Euler pass), a Cholesky of M and
+// M⁻¹ by plain loops, the active set's few Cholesky solves. Measured (`armfault bench [--robot
+// ur-class] --engine articulated`, a shared 2-core machine, least CPU of 10 rounds, 2026-12-02):
+// bare stepping with the friction rows 0.86 us a step on mrr-config1 (0.93-0.95 us before the
+// one-pose step), ODE's 7.3-7.9 us, MuJoCo 2.2.2's 1.7-1.8 us (a different model: plain armature);
+// a full 10-s run (drives, controllers, monitor) 2.6-2.7 us a step, `ratio:` 0.44-0.46 of bare
+// ODE stepping (0.43-0.48 before; the machine's noise is as large as the gain). Instructions
+// (valgrind --tool=callgrind, Simulate only, one healthy 10-s run, every joint moving, as
+// `bench --robot`): mrr-config1 283 M → 242 M, the seven-joint KUKA iiwa 781 M → 686 M (2.8×
+// the three-joint run). Of what is left on mrr-config1: this step 34 %, the drives' electrical
+// sub-steps (core/plant/drive/motor.cc) 27 %, the monitor 26 %, controllers and the rest 13 %.
 #pragma once
 
 #include <memory>

@@ -26,13 +26,18 @@ Matrix3d Rotation(const Vector3d& a, double angle) {
 }
 
 // The chain at one pose, world coordinates: joint i's axis z_i, anchor p_i, s_i's linear part
-// p_i × z_i, and link i's spatial inertia about O (mass, first moment h = m c, inertia I_O).
+// p_i × z_i, link i's spatial inertia about O (mass m, first moment h = m c, inertia I_O about
+// O; the rotor's token mass lumped in) and rotor i's token mass alone (mr, hr, Ir).
 struct Pose {
   Vector3d z[kN], p[kN], pz[kN];
   double m[kN];
   Vector3d h[kN];
   Matrix3d I[kN];
+  double mr[kN];
+  Vector3d hr[kN];
+  Matrix3d Ir[kN];
 };
+
 
 void MakePose(const JointSpaceModel& model, const double* q, Pose* pose) {
   Matrix3d R = Matrix3d::Identity();
@@ -48,13 +53,20 @@ void MakePose(const JointSpaceModel& model, const double* q, Pose* pose) {
     pose->m[i] = j.mass_kg;
     pose->h[i] = j.mass_kg * c;
     pose->I[i] = R * j.inertia_kg_m2 * R.transpose() + j.mass_kg * (c.squaredNorm() * Matrix3d::Identity() - c * c.transpose());
+    const Vector3d cr = p + R * j.rotor_centre_m;
+    pose->mr[i] = j.rotor_mass_kg;
+    pose->hr[i] = j.rotor_mass_kg * cr;
+    pose->Ir[i] = j.rotor_mass_kg * (cr.squaredNorm() * Matrix3d::Identity() - cr * cr.transpose());
   }
 }
 
-// Recursive Newton-Euler, spatial vectors about O: Q for q̈ (q̈ = 0 when `qdd` is null).
-void Rnea(const JointSpaceModel& model, const Pose& pose, const double* qd, const double* qdd, double* Q) {
+// Recursive Newton-Euler, spatial vectors about O: Q for q̈ (q̈ = 0 when `qdd` is null); with
+// `sensor`, also what joint i's torque sensor carries (no rotor i spin, no token mass i).
+void Rnea(const JointSpaceModel& model, const Pose& pose, const double* qd, const double* qdd, double* Q,
+          double* sensor = nullptr) {
   const int n = model.joint_count;
   Vector3d wn[kN], wf[kN], rotor[kN];  // link i's wrench (moment about O, force); rotor i's moment
+  Vector3d tn[kN], tf[kN];              // sensor: token mass i's wrench
   Vector3d w = Vector3d::Zero(), v = Vector3d::Zero();                    // V_{i-1}
   Vector3d dw = Vector3d::Zero(), dv = -model.gravity_m_s2;               // A_{i-1}, gravity up
   for (int i = 0; i < n; ++i) {
@@ -74,6 +86,13 @@ void Rnea(const JointSpaceModel& model, const Pose& pose, const double* qd, cons
     const Vector3d L = pose.m[i] * v + w.cross(pose.h[i]);
     wn[i] = pose.I[i] * dw + pose.h[i].cross(dv) + w.cross(H) + v.cross(L);
     wf[i] = pose.m[i] * dv + dw.cross(pose.h[i]) + w.cross(L);
+    if (sensor) {
+      // Rotor i's token mass alone, moving with link i: kept apart to be taken off below.
+      const Vector3d Hr = pose.Ir[i] * w + pose.hr[i].cross(v);
+      const Vector3d Lr = pose.mr[i] * v + w.cross(pose.hr[i]);
+      tn[i] = pose.Ir[i] * dw + pose.hr[i].cross(dv) + w.cross(Hr) + v.cross(Lr);
+      tf[i] = pose.mr[i] * dv + dw.cross(pose.hr[i]) + w.cross(Lr);
+    }
   }
   Vector3d Fn = Vector3d::Zero(), Ff = Vector3d::Zero();
   for (int i = n; i-- > 0;) {
@@ -81,11 +100,14 @@ void Rnea(const JointSpaceModel& model, const Pose& pose, const double* qd, cons
     Ff += wf[i];
     if (i + 1 < n) Fn += rotor[i + 1];  // rotor i+1 rides on link i
     Q[i] = pose.z[i].dot(Fn) + pose.pz[i].dot(Ff) + model.joints[i].ratio * pose.z[i].dot(rotor[i]);
+    if (sensor) sensor[i] = pose.z[i].dot(Fn - tn[i]) + pose.pz[i].dot(Ff - tf[i]);
   }
 }
 
-// Composite rigid bodies about O, with the rotors' spin and its gear coupling.
-void Crba(const JointSpaceModel& model, const Pose& pose, JointMatrix* M) {
+// Composite rigid bodies about O, with the rotors' spin and its gear coupling; with `S`, also
+// the sensors' matrix: M less, in row i, rotor i's spin (γ_i I_m,i z_i·z_l, γ_i² I_m,i) and
+// token mass i (s_i' I_r,i s_l), l ≤ i: what joint i's generalised force has and its sensor not.
+void Crba(const JointSpaceModel& model, const Pose& pose, JointMatrix* M, JointMatrix* S = nullptr) {
   const int n = model.joint_count;
   M->resize(n, n);
   double Cm = 0;
@@ -107,6 +129,18 @@ void Crba(const JointSpaceModel& model, const Pose& pose, JointMatrix* M) {
       (*M)(i, k) = Mki;
     }
     (*M)(i, i) = z.dot(H) + pose.pz[i].dot(L) + g * g * Im;
+  }
+  if (!S) return;
+  *S = *M;
+  for (int i = 0; i < n; ++i) {
+    const double g = model.joints[i].ratio, Im = model.joints[i].rotor_inertia_kg_m2;
+    for (int l = 0; l <= i; ++l) {
+      const Vector3d& z = pose.z[l];
+      const Vector3d H = pose.Ir[i] * z + pose.hr[i].cross(pose.pz[l]);
+      const Vector3d L = pose.mr[i] * pose.pz[l] + z.cross(pose.hr[i]);
+      const double spin = l < i ? g * Im * pose.z[i].dot(z) : g * g * Im;
+      (*S)(i, l) -= pose.z[i].dot(H) + pose.pz[i].dot(L) + spin;
+    }
   }
 }
 
@@ -139,6 +173,8 @@ JointSpaceModel MakeJointSpaceModel(const RigidBodyModel& bodies) {
     j.inertia_kg_m2 = b.inertia_kg_m2 + shift(b.mass_kg, cl - c) + shift(b.rotor_mass_kg, cr - c);
     j.rotor_inertia_kg_m2 = b.rotor_inertia_kg_m2;
     j.ratio = b.ratio;
+    j.rotor_mass_kg = b.rotor_mass_kg;
+    j.rotor_centre_m = cr;
     parent = b.anchor_m;
   }
   return m;
@@ -161,6 +197,14 @@ void MassMatrixAndBias(const JointSpaceModel& model, const double* q, const doub
   MakePose(model, q, &pose);
   Crba(model, pose, M);
   Rnea(model, pose, qd, nullptr, b_Nm);
+}
+
+void MassMatrixBiasAndSensor(const JointSpaceModel& model, const double* q, const double* qd, JointMatrix* M, double* b_Nm,
+                             JointMatrix* S, double* tau0_Nm) {
+  Pose pose;
+  MakePose(model, q, &pose);
+  Crba(model, pose, M, S);
+  Rnea(model, pose, qd, nullptr, b_Nm, tau0_Nm);
 }
 
 void InverseDynamics(const JointSpaceModel& model, const double* q, const double* qd, const double* qdd,

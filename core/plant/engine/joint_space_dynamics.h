@@ -70,6 +70,10 @@ struct JointSpaceJoint {
   // Rotor i's spin inertia: I_m,i E₃, the same in every frame; rides on link i-1.
   double rotor_inertia_kg_m2 = 0;
   double ratio = 1;  // γ_i, rotor turns per joint turn
+  // Rotor i's token mass (lumped into link i above) and its centre in frame i: what the torque
+  // sensor of joint i does not carry (MassMatrixBiasAndSensor).
+  double rotor_mass_kg = 0;
+  Eigen::Vector3d rotor_centre_m = Eigen::Vector3d::Zero();
 };
 
 // Built once from the plant's bodies; immutable, shared read-only.
@@ -87,6 +91,16 @@ void MassMatrix(const JointSpaceModel& model, const double* q, JointMatrix* M);
 void Bias(const JointSpaceModel& model, const double* q, const double* qd, double* b_Nm);
 // Both at one pose (the articulated engine's step, core/plant/engine/articulated_world.h).
 void MassMatrixAndBias(const JointSpaceModel& model, const double* q, const double* qd, JointMatrix* M, double* b_Nm);
+// The same, and the torque sensors' truth as τ = τ0 + S q̈ [N m, link side]: per joint i the
+// torque about z_i that the harmonic drive passes to link i, the plant's TransmittedTorques
+// (core/plant/robot/rigid_body_dynamics.h) at (q, q̇, q̈). Q_i = s_i · F_i + γ_i z_i · I_m,i α_r,i
+// (F_i the wrench of the bodies beyond joint i); the sensor carries s_i · F_i less rotor i's
+// token mass (lumped into link i, yet not beyond its own drive). Both are linear in q̈: τ0 is
+// the sensors' reading at q̈ = 0 (from the bias pass), S (n × n) is M less, in row i, rotor i's
+// spin and token mass (CRBA's terms). So the step needs no second Newton-Euler pass once it
+// knows q̈.
+void MassMatrixBiasAndSensor(const JointSpaceModel& model, const double* q, const double* qd, JointMatrix* M, double* b_Nm,
+                             JointMatrix* S, double* tau0_Nm);
 void ForwardDynamics(const JointSpaceModel& model, const double* q, const double* qd, const double* Q_Nm,
                      double* qdd);
 void InverseDynamics(const JointSpaceModel& model, const double* q, const double* qd, const double* qdd,

@@ -167,6 +167,29 @@ TEST(JointSpaceDynamicsTest, InverseDynamicsIsThePlantsOnChainsOfOneToSevenJoint
   }
 }
 
+// The torque sensors' truth as the articulated step has it, τ0 + S q̈ from its one pose, is the
+// plant's TransmittedTorques, on the presets and on random chains of 1 to 7 joints.
+TEST(JointSpaceDynamicsTest, SensorTruthFromThePoseIsThePlantsTransmittedTorques) {
+  std::mt19937 rng(11);
+  std::vector<std::pair<std::string, RigidBodyModel>> chains = Presets();
+  for (int n = 1; n <= kMaxEngineJoints; ++n) chains.emplace_back(std::to_string(n) + " joints", RandomChain(n, &rng));
+  for (const auto& [name, bodies] : chains) {
+    const JointSpaceModel model = MakeJointSpaceModel(bodies);
+    const int n = model.joint_count;
+    for (int k = 0; k < 12; ++k) {
+      const State s = RandomState(n, &rng);
+      VectorXd ref(n), tau0(n), b(n);
+      TransmittedTorques(bodies, s.q.data(), s.qd.data(), s.qdd.data(), ref.data());
+      JointMatrix M, S;
+      MassMatrixBiasAndSensor(model, s.q.data(), s.qd.data(), &M, b.data(), &S, tau0.data());
+      const VectorXd tau = tau0 + MatrixXd(S) * s.qdd;
+      EXPECT_LT((tau - ref).norm(), 1e-9 * ref.norm()) << name << " state " << k;
+      // The same M and bias as the engine's other calls.
+      EXPECT_LT((MatrixXd(M) - Mass(model, s.q)).norm(), 1e-12 * MatrixXd(M).norm()) << name << " state " << k;
+    }
+  }
+}
+
 // The independent model's mass matrix, gravity and free-motion accelerations (its Coriolis and
 // centrifugal terms from M's derivatives by central differences), on the plant's own ArmModel.
 TEST(JointSpaceDynamicsTest, MatchesTheIndependentModel) {
