@@ -106,6 +106,26 @@ int TuneCommand(const TuneCommandOptions& o) {
     }
     std::printf("90 %% detection at 95 %% confidence, %s: %s\n", family.c_str(), a90_95.c_str());
   }
+  if (r.report.contains("rate_calibration")) {
+    // The sequential decision: the rate each target was set for beside the one measured.
+    std::printf("false alarms per healthy hour, set for -> measured (exact 95 %% interval), detection, median latency:\n");
+    for (const auto& p : r.report["rate_calibration"]["points"]) {
+      const double target = p["target_per_hour"].get<double>();
+      if (p["measured_per_hour"].is_null()) {
+        std::printf("  %g /h: no healthy hours\n", target);
+        continue;
+      }
+      const std::string latency =
+          p["median_latency_s"].is_null() ? "-" : FormatNumber(p["median_latency_s"].get<double>()) + " s";
+      const std::string detection = p["detection_rate"].is_null() ? "-" : FormatNumber(p["detection_rate"].get<double>());
+      std::printf("  %g /h -> %.3g /h [%.3g, %.3g] (%ld in %.3g h: %s the target's 95 %% interval [%ld, %ld]), detection %s, %s\n",
+                  target, p["measured_per_hour"].get<double>(), p["measured_interval_per_hour"][0].get<double>(),
+                  p["measured_interval_per_hour"][1].get<double>(), p["false_alarms"].get<long>(),
+                  p["healthy_hours"].get<double>(), p["consistent"].get<bool>() ? "inside" : "outside",
+                  p["target_count_interval"][0].get<long>(), p["target_count_interval"][1].get<long>(), detection.c_str(),
+                  latency.c_str());
+    }
+  }
   std::printf("campaign %s\n", r.report["campaign_hash"].get<std::string>().c_str());
   std::printf("wrote %s and %s\n", (dir / "tuning.json").string().c_str(), monitor_path.c_str());
   return 0;

@@ -17,10 +17,6 @@
 namespace armfault {
 namespace tune {
 
-namespace {
-
-// The first alarm of a run under the setting k: the same order as Decide() (power monitor) or
-// DecideThresholds() (published statistics).
 Hit Combine(const RunTable& r, const Setting& k, const TuneSpace& space) {
   Hit best = r.event;
   int best_priority = -1;
@@ -40,6 +36,8 @@ Hit Combine(const RunTable& r, const Setting& k, const TuneSpace& space) {
   best.pre = pre;
   return best;
 }
+
+namespace {
 
 // Counts of one setting.
 struct Score {

@@ -66,6 +66,7 @@ struct RunTable {
   double magnitude = 0;
   std::string category;  // magnitude of a family without a numeric one (the stuck lead...)
   double onset_s = 0;
+  double observed_s = 0;  // monitored seconds (the sequential decision's runs: a healthy run's exposure)
   Hit event;
   std::vector<std::vector<std::vector<Hit>>> hits;  // [axis][significance][value]
 };
@@ -76,6 +77,10 @@ Hit DetectorHit(const DecisionStats& s, Detector d, double threshold, double sig
 Hit EventHit(const DecisionStats& s, FamilyTable* families);
 // A run's hits under every setting of a published-statistics space.
 void StatisticHits(const ThresholdStats& stats, const TuneSpace& space, FamilyTable* families, RunTable* r);
+
+// The first alarm of a run under the setting k: the same order as Decide() (power monitor) or
+// DecideThresholds() (published statistics).
+Hit Combine(const RunTable& r, const Setting& k, const TuneSpace& space);
 
 struct Scored {
   nlohmann::json report;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <optional>
 
 #include "campaigns/spec/campaign_spec.h"
@@ -14,6 +15,8 @@
 #include "campaigns/scoring/run_record.h"
 #include "campaigns/scoring/tune_scoring.h"
 #include "core/base/json_input.h"
+#include "core/base/distributions.h"
+#include "core/monitors/sequential_test.h"
 #include "core/monitors/threshold_statistics.h"
 
 namespace armfault {
@@ -246,6 +249,56 @@ TuneSpace PowerSpace(const SweepGrid& grid, const MonitorConfig& base) {
   return space;
 }
 
+// The sequential decision's space (docs/monitor.md, "Sequential decision"): one axis, the arm's
+// target false alarms per hour, which sets every CUSUM's threshold; no significance. A spec
+// "target_false_alarms_per_hour=FROM:TO:STEPS" or "=VALUE" sets its values (items add up:
+// "target_false_alarms_per_hour=1,target_false_alarms_per_hour=10"); the campaign's own target
+// is always one.
+TuneSpace SequentialSpace(const MonitorConfig& base, const std::string& spec) {
+  TuneSpace space;
+  TuneAxis a;
+  a.name = "target_false_alarms_per_hour";
+  a.default_value = base.target_false_alarms_per_hour;
+  std::vector<double> given;  // each item adds its values
+  for (const std::string& item : SplitSpec(spec)) {
+    const size_t eq = item.find('=');
+    if (eq == std::string::npos || item.substr(0, eq) != a.name) {
+      throw InputError("--sweep", "",
+                       "the campaign's monitor decides sequentially: expected target_false_alarms_per_hour=FROM:TO:STEPS or "
+                       "target_false_alarms_per_hour=VALUE, got \"" + item + "\"");
+    }
+    for (double v : ParseValues(item.substr(eq + 1), a.name)) {
+      if (!(v > 0)) throw InputError("--sweep", "", a.name + ": " + FormatNumber(v) + " is not a rate > 0 alarms per hour");
+      given.push_back(v);
+    }
+  }
+  a.values = given.empty() ? std::vector<double>{0.1, 0.3, 1, 2, 3, 5, 10, 20, 50} : given;
+  a.values.push_back(a.default_value);
+  std::sort(a.values.begin(), a.values.end());
+  a.values.erase(std::unique(a.values.begin(), a.values.end()), a.values.end());
+  // A lower target is the larger margin (higher thresholds): ties prefer it.
+  for (double v : a.values) a.thresholds.push_back(1.0 / v);
+  space.axes.push_back(std::move(a));
+  return space;
+}
+
+// The first alarm over the swept detectors (Decide()'s order at one tick: the detectors in
+// order, each at its lower joint) with every CUSUM at its threshold for `target`.
+tune::Hit SequentialHit(const DecisionStats& stats, const MonitorConfig& base, double target, FamilyTable* families) {
+  const DetectorThresholds h = SequentialThresholds(base, stats.sequential_tests, target);
+  tune::Hit best;
+  for (const DetectorInfo& info : Detectors()) {
+    const tune::Hit hit = DetectorHit(stats, info.detector, h[static_cast<int>(info.detector)], kSequentialSignificance, families);
+    best.pre = best.pre || hit.pre;
+    if (hit.t < best.t) {
+      const bool pre = best.pre;
+      best = hit;
+      best.pre = pre;
+    }
+  }
+  return best;
+}
+
 bool SameDeclarations(const std::vector<StatisticInfo>& a, const std::vector<StatisticInfo>& b) {
   if (a.size() != b.size()) return false;
   for (size_t k = 0; k < a.size(); ++k) {
@@ -262,6 +315,7 @@ struct TuneDir {
   std::string dir_name;
   fs::path campaign_path, results_path, decisions_path;
   bool power = false;                 // the power-efficiency monitor: its detectors are swept
+  bool sequential = false;            // power, "decision": "sequential": its target rate is swept
   std::optional<MonitorConfig> base;  // power: its settings as its runs used them (widened, unless commissioned)
   DetectorThresholds thresholds{};    // power: the thresholds of those settings
   std::string cannot_sweep;           // why a monitor that publishes no statistics is not swept
@@ -316,6 +370,22 @@ void AddRunTable(const RunRecord& rec, const nlohmann::json& decision, bool sepa
       stats = DecisionStatsFromJson(decision);
     } catch (const std::exception& e) {
       throw InputError(decision_file, "", where + e.what());
+    }
+    if (td->sequential) {
+      if (stats.sequential_tests <= 0) {
+        throw InputError(decision_file, "", where + "run " + rec.run_id +
+                                                ": no sequential tests stored, but the campaign's monitor decides "
+                                                "sequentially (results of another monitor version?)");
+      }
+      const DecisionOutcome check = Decide(stats, SequentialThresholds(*td->base, stats.sequential_tests), kSequentialSignificance);
+      reproduces(check.alarm_before_onset, check.detected, check.detection_time_s, check.family, check.joint);
+      r.event = EventHit(stats, &td->families);
+      r.observed_s = std::max(0.0, stats.last_tick_s - std::max(0.0, stats.first_tick_s));
+      auto& hits = r.hits.emplace_back();
+      hits.emplace_back();
+      for (double target : td->space.axes[0].values) hits.back().push_back(SequentialHit(stats, *td->base, target, &td->families));
+      td->runs.push_back(std::move(r));
+      return;
     }
     const DecisionOutcome check = Decide(stats, td->thresholds, td->base->significance);
     reproduces(check.alarm_before_onset, check.detected, check.detection_time_s, check.family, check.joint);
@@ -427,7 +497,12 @@ void ReadRunTables(const CaseMatcher& matcher, const std::string& sweep, TuneDir
 // threshold written where it declared it lives (not for a Python monitor passed as a factory).
 void SetTunedMonitor(const TuneDir& td, const Setting& op, const nlohmann::json& monitor_json, const CampaignSpec& campaign,
                      bool python_monitor, TuningResult* result) {
-  if (td.power) {
+  if (td.sequential) {
+    result->tuned = *td.base;
+    result->tuned.target_false_alarms_per_hour = td.space.axes[0].values[op[0]];
+    Validate(result->tuned, "", "<tuned monitor>");
+    result->tuned_monitor = MonitorConfigToJson(result->tuned);
+  } else if (td.power) {
     result->tuned = *td.base;
     for (size_t d = 0; d < td.space.axes.size(); ++d) {
       StateLimits& l = result->tuned.*LimitsOf(Detectors()[d].detector);
@@ -447,6 +522,69 @@ void SetTunedMonitor(const TuneDir& td, const Setting& op, const nlohmann::json&
       result->tuned_monitor[at] = td.space.axes[s].values[op[s]];
     }
   }
+}
+
+// The report's "rate_calibration" (sequential decision): per swept target, the healthy runs'
+// false alarms over their hours to the first alarm (each run counts until it alarms), the rate
+// measured with its exact 95 % interval, the count the target predicts over those hours (its
+// central 95 % interval) and whether the count seen lies inside it; the faulty runs' detection
+// and median latency at that target, overall and per family.
+nlohmann::json RateCalibration(const TuneDir& td) {
+  nlohmann::json points = nlohmann::json::array();
+  const TuneAxis& axis = td.space.axes[0];
+  for (size_t v = 0; v < axis.values.size(); ++v) {
+    const tune::Setting k = {static_cast<int>(v), 0};
+    long alarms = 0, faulty = 0, detected = 0;
+    double exposure_s = 0;
+    std::vector<double> latencies;
+    std::map<std::string, std::vector<double>> family_latencies;
+    std::map<std::string, std::pair<long, long>> family_counts;
+    for (const RunTable& r : td.runs) {
+      const tune::Hit h = tune::Combine(r, k, td.space);
+      if (r.family < 0) {
+          const bool alarm = h.t != tune::kInf;
+        alarms += alarm ? 1 : 0;
+        exposure_s += alarm ? std::min(h.t, r.observed_s) : r.observed_s;
+        continue;
+      }
+      ++faulty;
+      auto& counts = family_counts[td.families.names[r.family]];
+      ++counts.first;
+      if (h.t == tune::kInf || h.pre) continue;
+      ++detected;
+      ++counts.second;
+      latencies.push_back(h.t - r.onset_s);
+      family_latencies[td.families.names[r.family]].push_back(h.t - r.onset_s);
+    }
+    auto median = [](std::vector<double> x) -> nlohmann::json {
+      if (x.empty()) return nullptr;
+      std::sort(x.begin(), x.end());
+      const size_t n = x.size();
+      return n % 2 ? x[n / 2] : 0.5 * (x[n / 2 - 1] + x[n / 2]);
+    };
+    const double target = axis.values[v], hours = exposure_s / 3600.0;
+    nlohmann::json p = {{"target_per_hour", target}, {"healthy_hours", hours}, {"false_alarms", alarms}};
+    if (hours > 0) {
+      const auto [lo, hi] = PoissonCountInterval(target * hours, 0.95);
+      p["measured_per_hour"] = alarms / hours;
+      p["measured_interval_per_hour"] = {PoissonLowerBound(alarms, 0.975) / hours, PoissonUpperBound(alarms, 0.975) / hours};
+      p["target_count_interval"] = {lo, hi};
+      p["consistent"] = alarms >= lo && alarms <= hi;
+    } else {
+      p["measured_per_hour"] = nullptr;
+    }
+    p["faulty_runs"] = faulty;
+    p["detected"] = detected;
+    p["detection_rate"] = faulty > 0 ? nlohmann::json(static_cast<double>(detected) / static_cast<double>(faulty)) : nullptr;
+    p["median_latency_s"] = median(latencies);
+    nlohmann::json families = nlohmann::json::object();
+    for (const auto& [name, c] : family_counts) {
+      families[name] = {{"runs", c.first}, {"detected", c.second}, {"median_latency_s", median(family_latencies[name])}};
+    }
+    p["families"] = families;
+    points.push_back(std::move(p));
+  }
+  return {{"parameter", axis.name}, {"as_run", axis.default_value}, {"points", points}};
 }
 
 }  // namespace
@@ -497,7 +635,9 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
   if (td.power) {
     td.base = PowerEfficiencyConfig(MonitorConfigFromJson(campaign.monitor.settings, "/monitor", campaign.source),
                                     MonitorContextOf(campaign));
-    td.space = PowerSpace(MakeSweepGrid(*td.base, options.sweep), *td.base);
+    td.sequential = td.base->decision == kSequentialDecision;
+    td.space = td.sequential ? SequentialSpace(*td.base, options.sweep)
+                             : PowerSpace(MakeSweepGrid(*td.base, options.sweep), *td.base);
     td.thresholds = ThresholdsOf(*td.base);
   }
 
@@ -528,6 +668,7 @@ TuningResult TuneCampaignDir(const std::string& dir_name, const TuneOptions& opt
   TuningResult result;
   SetTunedMonitor(td, op, monitor_json, campaign, python_monitor, &result);
   result.report = std::move(scored.report);
+  if (td.sequential) result.report["rate_calibration"] = RateCalibration(td);
   // What was left out of every rate, as summary.json counts it.
   result.report["runs"]["not_excited"] = td.not_excited;
   result.report["runs"]["not_excited_included"] = td.include_not_excited;

@@ -9,6 +9,8 @@
 
 #include <boost/math/distributions/chi_squared.hpp>
 #include <boost/math/distributions/normal.hpp>
+#include <boost/math/distributions/poisson.hpp>
+#include <utility>
 
 namespace armfault {
 
@@ -32,6 +34,29 @@ inline double StandardNormalQuantile(double p) {
 inline double PoissonUpperBound(long count, double confidence) {
   return 0.5 * boost::math::quantile(boost::math::chi_squared_distribution<double>(2.0 * (static_cast<double>(count) + 1)),
                                      confidence);
+}
+
+// The exact (Garwood) lower bound on a Poisson mean of which `count` were seen, at one-sided
+// `confidence`: half the chi-squared quantile at 1 - confidence with 2 count degrees of freedom
+// (0 when none were seen). With PoissonUpperBound at the same confidence, the central interval
+// at 2 confidence - 1 (0.975: the 95 % interval).
+inline double PoissonLowerBound(long count, double confidence) {
+  if (count <= 0) return 0.0;
+  return 0.5 * boost::math::quantile(boost::math::chi_squared_distribution<double>(2.0 * static_cast<double>(count)),
+                                     1.0 - confidence);
+}
+
+// The central interval [lo, hi] of a Poisson count of mean `mean` > 0 holding at least
+// `probability` of it: lo the largest count with P(N < lo) <= (1 - probability) / 2, hi the
+// smallest with P(N > hi) <= (1 - probability) / 2.
+inline std::pair<long, long> PoissonCountInterval(double mean, double probability) {
+  const boost::math::poisson_distribution<double> n(mean);
+  const double tail = 0.5 * (1.0 - probability);
+  long lo = 0;
+  while (boost::math::cdf(n, static_cast<double>(lo)) <= tail) ++lo;  // P(N <= lo) > tail: P(N < lo) <= tail
+  long hi = lo;
+  while (boost::math::cdf(boost::math::complement(n, static_cast<double>(hi))) > tail) ++hi;
+  return {lo, hi};
 }
 
 }  // namespace armfault

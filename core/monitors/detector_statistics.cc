@@ -81,12 +81,17 @@ nlohmann::json ToJson(const DecisionStats& s) {
   }
   nlohmann::json events = nlohmann::json::array();
   for (const DecisionStats::Event& e : s.events) events.push_back({{"joint", e.joint}, {"family", e.family}, {"t_s", RoundToMicroseconds(e.t_s)}});
-  return {{"quantum", kStatisticQuantum},
-          {"significance_quantum", kSignificanceQuantum},
-          {"onset_s", s.onset_s},
-          {"first_tick_s", s.first_tick_s < 0 ? s.first_tick_s : RoundToMicroseconds(s.first_tick_s)},
-          {"traces", std::move(traces)},
-          {"events", std::move(events)}};
+  nlohmann::json j = {{"quantum", kStatisticQuantum},
+                      {"significance_quantum", kSignificanceQuantum},
+                      {"onset_s", s.onset_s},
+                      {"first_tick_s", s.first_tick_s < 0 ? s.first_tick_s : RoundToMicroseconds(s.first_tick_s)},
+                      {"traces", std::move(traces)},
+                      {"events", std::move(events)}};
+  if (s.sequential_tests > 0) {
+    j["sequential_tests"] = s.sequential_tests;
+    j["last_tick_s"] = RoundToMicroseconds(s.last_tick_s);
+  }
+  return j;
 }
 
 DecisionStats DecisionStatsFromJson(const nlohmann::json& j) {
@@ -118,6 +123,11 @@ DecisionStats DecisionStatsFromJson(const nlohmann::json& j) {
       }
       s.traces.push_back(std::move(trace));
     }
+    if (j.contains("sequential_tests")) {
+      s.sequential_tests = j.at("sequential_tests").get<int>();
+      if (s.sequential_tests < 1) throw std::runtime_error("decision: \"sequential_tests\" must be >= 1");
+      s.last_tick_s = need(j, "last_tick_s").get<double>();
+    }
     for (const nlohmann::json& e : need(j, "events")) {
       s.events.push_back({need(e, "joint").get<int>(), need(e, "family").get<std::string>(), need(e, "t_s").get<double>()});
     }
@@ -139,6 +149,7 @@ void DecisionRecorder::Record(double t_s, int joint, const DetectorReadings& rea
                               const std::string& structural_family) {
   const bool after = t_s >= stats_.onset_s;
   if (after && stats_.first_tick_s < 0) stats_.first_tick_s = t_s;
+  stats_.last_tick_s = t_s;
   if (!structural_family.empty() && !latched_[joint]) {
     latched_[joint] = true;
     stats_.events.push_back({joint + 1, structural_family, t_s});

@@ -108,6 +108,10 @@ struct DecisionStats {
   double first_tick_s = -1;    // the first monitored tick at or after the onset (-1: none)
   std::vector<Trace> traces;   // only detectors that ever had a statistic
   std::vector<Event> events;   // first latch per joint
+  // "sequential" decision (sequential_test.h): the CUSUMs its rate is split over, from which
+  // tune sets the thresholds of any target; 0 (not written) for the threshold decision.
+  int sequential_tests = 0;
+  double last_tick_s = -1;  // the run's last monitored tick (written with sequential_tests): its exposure
 };
 nlohmann::json ToJson(const DecisionStats& stats);
 // Throws std::runtime_error naming the key on malformed input.
@@ -120,6 +124,7 @@ class DecisionRecorder {
   // joint 0-based; `structural_family` non-empty once a tick-level detector has latched.
   void Record(double t_s, int joint, const DetectorReadings& readings, const std::string& structural_family);
   const DecisionStats& stats() const { return stats_; }
+  void SetSequentialTests(int tests) { stats_.sequential_tests = tests; }
 
  private:
   DecisionStats stats_;

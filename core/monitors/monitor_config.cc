@@ -105,6 +105,21 @@ const std::vector<NumberField>& NumberFields() {
   };
   return f;
 }
+// The sequential decision's fields: read and written only with "decision": "sequential".
+const std::vector<NumberField>& SequentialFields() {
+  static const std::vector<NumberField> f = {
+      // (0, one per tick] is checked on its own: a rate must be > 0, and its upper bound is
+      // the control rate's (MakePowerMonitorModel).
+      {"target_false_alarms_per_hour", &MonitorConfig::target_false_alarms_per_hour, -kInf, kInf},
+      {"sequential_allowance_sd", &MonitorConfig::sequential_allowance_sd, 0.01, 10},
+      {"sequential_look_memories", &MonitorConfig::sequential_look_memories, 0.1, 100},
+      {"kt_model_error", &MonitorConfig::kt_model_error, 0, 10},
+      {"resistance_model_error", &MonitorConfig::resistance_model_error, 0, 10},
+      {"friction_factor_model_error", &MonitorConfig::friction_factor_model_error, 0, 10},
+      {"sensor_drift_model_error_Nm", &MonitorConfig::sensor_drift_model_error_Nm, 0, 1e3},
+  };
+  return f;
+}
 const std::vector<IntField>& IntFields() {
   static const std::vector<IntField> f = {
       {"mechanical_windows", &MonitorConfig::mechanical_windows, 1, 100},
@@ -139,6 +154,21 @@ void RequireChoice(const std::string& value, const std::vector<std::string>& kno
                    near.empty() ? "" : "did you mean \"" + near + "\"?");
 }
 
+void RequireDecision(const std::string& value, const std::string& pointer) {
+  const std::vector<std::string> known = {kThresholdDecision, kSequentialDecision};
+  if (std::find(known.begin(), known.end(), value) != known.end()) return;
+  const std::string near = NearestWord(value, known);
+  throw InputError("", pointer, "unknown decision " + nlohmann::json(value).dump() + " (known: threshold, sequential)",
+                   near.empty() ? "" : "did you mean \"" + near + "\"?");
+}
+
+// A false-alarm rate is a positive number of alarms per hour (no rate validates zero alarms).
+void RequirePositiveRate(double per_hour, const std::string& pointer) {
+  if (!(per_hour > 0 && std::isfinite(per_hour))) {
+    throw InputError("", pointer, FormatNumber(per_hour) + " is not a false-alarm rate: alarms per hour must be > 0");
+  }
+}
+
 // The range checks of Validate(), each on its own, into `errors`. A limit whose object could
 // not be read (in `unread_limits`) is skipped: its defaults would be checked, not the file.
 void CheckRanges(const MonitorConfig& c, const std::string& pointer, const std::set<std::string>& unread_limits,
@@ -151,6 +181,13 @@ void CheckRanges(const MonitorConfig& c, const std::string& pointer, const std::
   });
   for (const auto& f : IntFields()) {
     errors->Try([&] { RequireInRange(c.*f.member, f.min, f.max, PointerJoin(pointer, f.key)); });
+  }
+  errors->Try([&] { RequireDecision(c.decision, PointerJoin(pointer, "decision")); });
+  if (c.decision == kSequentialDecision) {
+    for (const auto& f : SequentialFields()) {
+      errors->Try([&] { RequireInRange(c.*f.member, f.min, f.max, PointerJoin(pointer, f.key)); });
+    }
+    errors->Try([&] { RequirePositiveRate(c.target_false_alarms_per_hour, PointerJoin(pointer, "target_false_alarms_per_hour")); });
   }
   // Fields bounded by others, checked once those are valid: a joint's shown friction is the
   // median of its last blocks, which the envelope's ring must hold, and its first friction is
@@ -212,7 +249,24 @@ MonitorConfig MonitorConfigFromJson(const nlohmann::json& value, const std::stri
     for (const auto& f : IntFields()) keys.push_back(f.key);
     for (const auto& f : LimitFields()) keys.push_back(f.key);
     keys.push_back("friction_reference");
+    keys.push_back("decision");
+    for (const auto& f : SequentialFields()) keys.push_back(f.key);
     errors.Try([&] { reader.AllowOnly(keys); });
+    errors.Try([&] {
+      reader.OptionalString("decision", &c.decision);
+      RequireDecision(c.decision, reader.PointerTo("decision"));
+    });
+    // The sequential decision's fields would be silently unused by another: refused.
+    for (const auto& f : SequentialFields()) {
+      errors.Try([&] {
+        if (!reader.Find(f.key)) return;
+        if (c.decision != kSequentialDecision) {
+          throw InputError("", reader.PointerTo(f.key),
+                           std::string(f.key) + " sets the sequential decision: it needs \"decision\": \"sequential\"");
+        }
+        reader.OptionalNumber(f.key, &(c.*f.member));
+      });
+    }
     errors.Try([&] {
       reader.OptionalString("friction_reference", &c.friction_reference);
       RequireChoice(c.friction_reference, {kFrictionRules, kArmFrictionModel}, reader.PointerTo("friction_reference"));
@@ -246,12 +300,28 @@ void Validate(const MonitorConfig& c, const std::string& pointer, const std::str
   if (!errors.empty()) throw InputError(errors.errors()).WithSource(source);
 }
 
+void ValidateDecisionRate(const MonitorConfig& c, double control_rate_Hz, const std::string& pointer,
+                          const std::string& source) {
+  if (c.decision != kSequentialDecision) return;
+  const double per_tick_per_hour = 3600.0 * control_rate_Hz;
+  if (!(c.target_false_alarms_per_hour <= per_tick_per_hour)) {
+    throw InputError(source, PointerJoin(pointer, "target_false_alarms_per_hour"),
+                     FormatNumber(c.target_false_alarms_per_hour) + " alarms per hour is more than one per controller tick (" +
+                         FormatNumber(per_tick_per_hour) + " per hour at " + FormatNumber(control_rate_Hz) + " Hz)");
+  }
+}
+
 nlohmann::json MonitorConfigToJson(const MonitorConfig& c) {
   nlohmann::json j = nlohmann::json::object();
   j["friction_reference"] = c.friction_reference;
   for (const auto& f : NumberFields()) j[f.key] = c.*f.member;
   for (const auto& f : IntFields()) j[f.key] = c.*f.member;
   for (const auto& f : LimitFields()) j[f.key] = {{"worn", (c.*f.member).worn}, {"defective", (c.*f.member).defective}};
+  // The default decision writes nothing of its own: a threshold monitor's settings read as before.
+  if (c.decision == kSequentialDecision) {
+    j["decision"] = c.decision;
+    for (const auto& f : SequentialFields()) j[f.key] = c.*f.member;
+  }
   return j;
 }
 

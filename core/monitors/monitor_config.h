@@ -23,6 +23,11 @@ struct StateLimits {
 // arm's friction model of friction_model.h.
 inline constexpr const char* kFrictionRules = "rules";
 inline constexpr const char* kArmFrictionModel = "arm_model";
+// How the detectors decide ("decision"): each statistic against its worn limit and a
+// significance, held over the debounce time; or a CUSUM per detector whose threshold follows
+// from a target false-alarm rate (core/monitors/sequential_test.h).
+inline constexpr const char* kThresholdDecision = "threshold";
+inline constexpr const char* kSequentialDecision = "sequential";
 
 struct MonitorConfig {
   // --- which reference the friction statistic is judged against ---
@@ -124,6 +129,20 @@ struct MonitorConfig {
   double zero_balance_time_constant_s = 30.0;   // memory of the zero fit: a work cycle's strokes both ways [s]
   double sensor_zero_time_constant_s = 120.0;   // the zero found follows the zero fit this slowly [s]
   // --- decision ---
+  std::string decision = kThresholdDecision;
+  // "sequential" only (sequential_test.h; docs/monitor.md "Sequential decision"):
+  // the false alarms per healthy hour of the whole arm the thresholds are set for [1/h]
+  double target_false_alarms_per_hour = 1.0;
+  // the CUSUM's allowance k: optimal for a shift of 2k standard deviations [sd]
+  double sequential_allowance_sd = 0.5;
+  // looks this many of a detector's fit memories apart (correlation exp(-2) = 0.14)
+  double sequential_look_memories = 2.0;
+  // each detector's model error: 1 sigma of a healthy deviation beyond its standard error, in
+  // the statistic's units (fitted on healthy runs, docs/assumptions.md)
+  double kt_model_error = 0.05;
+  double resistance_model_error = 0.15;
+  double friction_factor_model_error = 0.25;
+  double sensor_drift_model_error_Nm = 0.3;
   double significance = 3.0;           // (|deviation| - worn margin) / std error must exceed this
   double debounce_s = 0.3;             // a candidate verdict must hold this long to alarm
   StateLimits kt_factor{0.95, 0.75};          // below
@@ -167,5 +186,9 @@ nlohmann::json MonitorConfigToJson(const MonitorConfig& config);
 // Every field in its range, and the fields that bound each other consistent (InputError naming
 // `source` and the field's JSON pointer under `pointer`).
 void Validate(const MonitorConfig& config, const std::string& pointer, const std::string& source);
+// A sequential decision's target rate against the controller's rate: at most one alarm per
+// tick (InputError naming `source` and "<pointer>/target_false_alarms_per_hour").
+void ValidateDecisionRate(const MonitorConfig& config, double control_rate_Hz, const std::string& pointer,
+                          const std::string& source);
 
 }  // namespace armfault

@@ -10,6 +10,7 @@
 #include "core/monitors/electrical_fit.h"
 #include "core/monitors/friction_reference.h"
 #include "core/monitors/linear_solve.h"
+#include "core/monitors/sequential_test.h"
 #include "core/monitors/tick_detectors.h"
 #include "core/plant/drive/torque_sensor.h"
 
@@ -73,11 +74,17 @@ struct TorqueBalance {
 
 // The decision of one joint: the swept detectors' held statistics and the verdicts emitted.
 struct Decision {
-  explicit Decision(long hold_span) {
+  Decision(const MonitorConfig& c, long hold_span) {
     for (SlidingMin& h : held) h = SlidingMin(hold_span);
     for (SlidingMin& h : held_significance) h = SlidingMin(hold_span);
+    const std::array<double, kDetectorCount> looks = SequentialLooks(c);
+    for (int d = 0; d < kDetectorCount; ++d) cusum[d] = Cusum(looks[d], c.sequential_allowance_sd);
+    drift_down = cusum[static_cast<int>(Detector::kSensorDrift)];
   }
   std::array<SlidingMin, kDetectorCount> held, held_significance;
+  // "sequential": a CUSUM per detector, and the drift's second side (its offset falling)
+  std::array<Cusum, kDetectorCount> cusum{Cusum(1, 1), Cusum(1, 1), Cusum(1, 1), Cusum(1, 1)};
+  Cusum drift_down{1, 1};
   DetectorReadings readings;
   Candidate structural;  // latched once a tick-level detector fires
   std::string shown_family = "";  // family of the last verdict emitted ("" healthy)
@@ -91,7 +98,7 @@ struct Decision {
 // One joint's run data: each estimator's own state.
 struct PowerEfficiencyMonitor::JointState {
   JointState(const MonitorConfig& c, const JointKnowledge& k, double dt, long hold_span)
-      : electrical(c, dt, k.constant_power_sd_W), balance(c, k, dt), friction(c, dt), decision(hold_span) {}
+      : electrical(c, dt, k.constant_power_sd_W), balance(c, k, dt), friction(c, dt), decision(c, hold_span) {}
   // this tick (Observe's phases): its terms, whether it closed the window, the verdict shown
   TickTerms tick;
   bool window_closed = false;
@@ -133,8 +140,13 @@ PowerMonitorModel MakePowerMonitorModel(const RobotConfig& robot, const MonitorC
   PowerMonitorModel m;
   m.config = config;
   m.control_dt_s = 1.0 / robot.modules.at(0).controller.rate_Hz;
+  ValidateDecisionRate(config, robot.modules.at(0).controller.rate_Hz, "", "<monitor>");
   m.thresholds = ThresholdsOf(config);
-  m.hold_span = std::lround(config.debounce_s / m.control_dt_s) + 1;
+  m.sequential = config.decision == kSequentialDecision;
+  // The CUSUM is its own memory: no debounce on top of it.
+  m.hold_span = m.sequential ? 1 : std::lround(config.debounce_s / m.control_dt_s) + 1;
+  m.decision_thresholds = m.thresholds;
+  m.decision_significance = config.significance;
   std::vector<std::array<double, 3>> axes;
   for (size_t i = 0; i < robot.modules.size(); ++i) {
     const ModuleParams& p = robot.modules[i];
@@ -178,6 +190,13 @@ PowerMonitorModel MakePowerMonitorModel(const RobotConfig& robot, const MonitorC
     m.joints.push_back(k);
   }
   m.virtual_sensor = MakeVirtualTorqueSensor(robot);
+  if (m.sequential) {
+    int sensed = 0;
+    for (const JointKnowledge& k : m.joints) sensed += k.torque_sensor ? 1 : 0;
+    m.sequential_tests = SequentialTestCount(static_cast<int>(m.joints.size()), sensed);
+    m.decision_thresholds = SequentialThresholds(config, m.sequential_tests);
+    m.decision_significance = kSequentialSignificance;
+  }
   return m;
 }
 
@@ -455,11 +474,36 @@ bool UpdateReadings(const MonitorConfig& c, const JointKnowledge& k, const Detec
     tb.crossed = true;
     tb.since_alarm.Reset();
   }
-  for (int d = 0; d < kDetectorCount; ++d) {
-    dec.readings[d].held_quanta = dec.held[d].Push(Quantize(deviation[d]));
-    dec.readings[d].held_significance_quanta =
-        dec.held_significance[d].Push(Quantize(significance[d], kSignificanceQuantum));
-    dec.readings[d].family = Detectors()[d].family;
+  if (c.decision == kSequentialDecision) {
+    // The whitened innovations (sequential_test.h): the deviation over its standard error and
+    // the model error; the drift signed, both ways.
+    const std::array<double, kDetectorCount> model_error = SequentialModelErrors(c);
+    const std::array<double, kDetectorCount> se = {e.kt_factor_se, e.resistance_factor_se, friction_se, slow.offset_se};
+    const double drift_signed = slow.offset_Nm - tb.offset_base_Nm;
+    for (int d = 0; d < kDetectorCount; ++d) {
+      double statistic = kNoStatistic;
+      if (deviation[d] != kNoStatistic) {
+        const double sd = std::hypot(se[d], model_error[d]);
+        if (d == static_cast<int>(Detector::kSensorDrift)) {
+          const double z = Significance(drift_signed, sd);
+          statistic = std::max(dec.cusum[d].Tick(dt, z), dec.drift_down.Tick(dt, -z));
+        } else if (d == static_cast<int>(Detector::kKtFactor)) {
+          statistic = dec.cusum[d].Tick(dt, KtSignificance(c, deviation[d], sd, s, judge_r, arm));
+        } else {
+          statistic = dec.cusum[d].Tick(dt, Significance(deviation[d], sd));
+        }
+      }
+      dec.readings[d].held_quanta = Quantize(statistic);
+      dec.readings[d].held_significance_quanta = statistic == kNoStatistic ? kNoStatistic : 0.0;
+      dec.readings[d].family = Detectors()[d].family;
+    }
+  } else {
+    for (int d = 0; d < kDetectorCount; ++d) {
+      dec.readings[d].held_quanta = dec.held[d].Push(Quantize(deviation[d]));
+      dec.readings[d].held_significance_quanta =
+          dec.held_significance[d].Push(Quantize(significance[d], kSignificanceQuantum));
+      dec.readings[d].family = Detectors()[d].family;
+    }
   }
   // A dragging brake: the whole friction beyond what wear makes of it.
   const bool drag = e.friction_torque_factor > c.brake_drag_friction_factor;
@@ -469,8 +513,8 @@ bool UpdateReadings(const MonitorConfig& c, const JointKnowledge& k, const Detec
 
 // The joint's verdict before debounce: a latched tick-level alarm, else the first alarming
 // detector (healthy when none alarms). `drag`: the friction is a dragging brake.
-Candidate ShownCandidate(const MonitorConfig& c, const JointKnowledge& k, const DetectorThresholds& thresholds,
-                         bool drag, const JointState& s) {
+Candidate ShownCandidate(const MonitorConfig& c, const JointKnowledge& k, const DetectorThresholds& decision_thresholds,
+                         double significance, bool drag, const JointState& s) {
   Candidate shown;
   if (s.decision.structural.structural) {
     shown = s.decision.structural;
@@ -480,7 +524,7 @@ Candidate ShownCandidate(const MonitorConfig& c, const JointKnowledge& k, const 
   auto confidence = [](double margin, double se) { return se > 0 ? NormalCdf(margin / se) : 1.0; };
   for (int d = 0; d < kDetectorCount && shown.state == HealthState::kHealthy; ++d) {
     const DetectorReading& r = s.decision.readings[d];
-    if (!Alarms(r.held_quanta, r.held_significance_quanta, thresholds[d], c.significance)) continue;
+    if (!Alarms(r.held_quanta, r.held_significance_quanta, decision_thresholds[d], significance)) continue;
     switch (static_cast<Detector>(d)) {
       case Detector::kKtFactor:
         shown = {e.kt_factor < c.kt_factor.defective ? HealthState::kDefective : HealthState::kWorn, "kt_degradation",
@@ -613,7 +657,7 @@ void PowerEfficiencyMonitor::Observe(double t_s, const std::vector<JointSignals>
 
     // --- parametric detectors: deviation statistics, held over the debounce time ---
     const bool drag = UpdateReadings(c, k, model_.thresholds, dt, arm, &s);
-    s.shown = ShownCandidate(c, k, model_.thresholds, drag, s);
+    s.shown = ShownCandidate(c, k, model_.decision_thresholds, model_.decision_significance, drag, s);
   }
   // 4. The outputs, in joint order: closed windows, then the joints' verdicts.
   for (int j = 0; j < n; ++j) {
@@ -645,7 +689,9 @@ namespace {
 class PowerEfficiencyTap : public DecisionTap {
  public:
   PowerEfficiencyTap(const PowerEfficiencyMonitor& monitor, const PowerMonitorModel& model, double onset_s)
-      : monitor_(monitor), model_(model), recorder_(monitor.joint_count(), onset_s) {}
+      : monitor_(monitor), model_(model), recorder_(monitor.joint_count(), onset_s) {
+    recorder_.SetSequentialTests(model.sequential_tests);
+  }
   void AfterObserve(double t_s) override {
     for (int j = 0; j < monitor_.joint_count(); ++j) {
       recorder_.Record(t_s, j, monitor_.readings(j), monitor_.structural_family(j));
@@ -663,8 +709,8 @@ class PowerEfficiencyTap : public DecisionTap {
     std::vector<PublishedStatistic> published;
     for (const DetectorInfo& d : Detectors()) {
       published.push_back({std::string(d.parameter) + "_deviation", d.family,
-                           model_.thresholds[static_cast<size_t>(d.detector)], false});
-      published.push_back({std::string(d.parameter) + "_significance", d.family, model_.config.significance, true});
+                           model_.decision_thresholds[static_cast<size_t>(d.detector)], false});
+      published.push_back({std::string(d.parameter) + "_significance", d.family, model_.decision_significance, true});
     }
     values_.assign(published.size() * static_cast<size_t>(monitor_.joint_count()), 0.0);
     observer_->Declare(published, monitor_.joint_count());
@@ -677,7 +723,7 @@ class PowerEfficiencyTap : public DecisionTap {
     d.detection_time_s = score.detection_time_s;
     d.joint = score.joint;
     d.family = score.family;
-    return ExplainOutcome(recorder_.stats(), model_.thresholds, model_.config.significance, d, family, joint,
+    return ExplainOutcome(recorder_.stats(), model_.decision_thresholds, model_.decision_significance, d, family, joint,
                           model_.config);
   }
   const DecisionStats& stats() const { return recorder_.stats(); }

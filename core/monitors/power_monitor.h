@@ -93,8 +93,15 @@ struct PowerMonitorModel {
   MonitorConfig config;
   std::vector<JointKnowledge> joints;
   double control_dt_s = 0;
-  DetectorThresholds thresholds{};  // from the config's worn limits
-  long hold_span = 1;               // ticks a statistic must hold: debounce_s / control_dt_s + 1
+  DetectorThresholds thresholds{};  // from the config's worn limits (where the magnitude fit starts)
+  // What the held statistics alarm against (detector_statistics.h, Alarms): "threshold", the
+  // worn limits' thresholds and the significance; "sequential", each CUSUM's h
+  // (sequential_test.h) and kSequentialSignificance, over `sequential_tests` CUSUMs.
+  bool sequential = false;
+  DetectorThresholds decision_thresholds{};
+  double decision_significance = 0;
+  int sequential_tests = 0;
+  long hold_span = 1;               // ticks a statistic must hold: debounce_s / control_dt_s + 1 (1: sequential)
   VirtualTorqueSensor virtual_sensor;  // the readings of the joints without a torque sensor
 };
 PowerMonitorModel MakePowerMonitorModel(const RobotConfig& robot, const MonitorConfig& config);

@@ -182,6 +182,7 @@ nlohmann::json ParsePowerEfficiencySettings(const nlohmann::json& object, const 
 std::shared_ptr<const MonitorModel> BuildPowerEfficiencyModel(const nlohmann::json& settings,
                                                               const MonitorContext& context, const std::string& pointer) {
   const MonitorConfig as_given = MonitorConfigFromJson(settings, pointer, context.input.source);
+  ValidateDecisionRate(as_given, context.robot.modules.at(0).controller.rate_Hz, pointer, context.input.source);
   return std::make_shared<PowerEfficiencyModel>(as_given, MakePowerMonitorModel(context.robot, PowerEfficiencyConfig(as_given, context)));
 }
 

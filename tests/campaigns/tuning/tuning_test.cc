@@ -414,6 +414,87 @@ TEST(Tune, ARerunWithTheTunedMonitorGivesThePredictedRates) {
   }
 }
 
+// The sequential decision: tune sweeps the target rate, reports the rate measured beside each
+// target, and a rerun at the chosen target gives the rates it predicted.
+TEST(Tune, TheSequentialDecisionSweepsItsTargetRateAndARerunGivesThePrediction) {
+  ScratchDir dir("tune_sequential");
+  auto campaign = [](const json& monitor) {
+    json j = KtCampaign(monitor);
+    j["duration_s"] = 40;
+    j["faults"][0]["kt_factor"] = {0.9, 0.7};
+    j["faults"][0]["onset_s"] = 10;
+    return j;
+  };
+  const json monitor = {{"decision", "sequential"}};
+  RunnerOptions o;
+  o.output_dir = (dir.path() / "first").string();
+  RunCampaign(CampaignFromJson(campaign(monitor), "seq.json", dir.path().string()), o);
+
+  TuneOptions options;
+  options.sweep = "target_false_alarms_per_hour=0.01,target_false_alarms_per_hour=100,target_false_alarms_per_hour=1e4";
+  options.rule.false_alarm_ceiling = 1.0;
+  const TuningResult t = TuneCampaignDir(o.output_dir, options);
+  const json& cal = t.report["rate_calibration"];
+  EXPECT_EQ(cal["parameter"], "target_false_alarms_per_hour");
+  EXPECT_EQ(cal["as_run"], 1.0);
+  ASSERT_EQ(cal["points"].size(), 4u);
+  long previous_alarms = -1, previous_detected = -1;
+  for (const json& p : cal["points"]) {
+    // A higher target lowers every threshold: never fewer alarms, never fewer detections.
+    EXPECT_GE(p["false_alarms"].get<long>(), previous_alarms);
+    EXPECT_GE(p["detected"].get<long>(), previous_detected);
+    previous_alarms = p["false_alarms"];
+    previous_detected = p["detected"];
+    EXPECT_GT(p["healthy_hours"].get<double>(), 0.0);
+    EXPECT_LE(p["healthy_hours"].get<double>(), 3 * 40 / 3600.0 + 1e-9);
+    const json& in = p["measured_interval_per_hour"];
+    EXPECT_LE(in[0].get<double>(), p["measured_per_hour"].get<double>());
+    EXPECT_GE(in[1].get<double>(), p["measured_per_hour"].get<double>());
+    EXPECT_EQ(p["faulty_runs"], 4);
+  }
+  // 1e4 per hour over these 2 healthy minutes predicts 298 to 370 alarms; the runs show none
+  // (their innovations are smaller than the residual model says): reported as outside.
+  EXPECT_EQ(cal["points"][3]["target_count_interval"], json::array({298, 370}));
+  EXPECT_EQ(cal["points"][3]["false_alarms"], 0);
+  EXPECT_FALSE(cal["points"][3]["consistent"].get<bool>());
+  EXPECT_TRUE(cal["points"][1]["consistent"].get<bool>());
+  // Faster at a higher target: the K_T faults' median latency falls from 4.3 s at 1 /h to 2.8 s.
+  EXPECT_LT(cal["points"][3]["median_latency_s"].get<double>(), cal["points"][1]["median_latency_s"].get<double>());
+  EXPECT_FALSE(t.report["parameters"].empty());
+  EXPECT_TRUE(t.tuned_monitor.contains("target_false_alarms_per_hour"));
+  EXPECT_EQ(t.tuned_monitor["decision"], "sequential");
+
+  // Rerun with the tuned monitor: its own records give the operating point's rates.
+  const json& op = t.report["operating_point"];
+  RunnerOptions o2 = o;
+  o2.output_dir = (dir.path() / "second").string();
+  RunCampaign(CampaignFromJson(campaign(t.tuned_monitor), "seq.json", dir.path().string()), o2);
+  long detected = 0, false_alarms = 0;
+  for (const RunRecord& r : ReadRecords(dir.path() / "second" / "results.jsonl")) {
+    (r.family.empty() ? false_alarms : detected) += r.detected;
+  }
+  EXPECT_EQ(detected, op["detection_rate"]["count"].get<long>());
+  EXPECT_EQ(false_alarms, op["false_alarm_rate"]["count"].get<long>());
+}
+
+TEST(Tune, ASequentialSweepOfAnotherParameterIsRefused) {
+  ScratchDir dir("tune_sequential_spec");
+  json j = KtCampaign({{"decision", "sequential"}});
+  j["healthy"] = 1;
+  j["repetitions"] = 1;
+  j["faults"][0]["kt_factor"] = 0.9;
+  RunnerOptions o;
+  o.output_dir = (dir.path() / "out").string();
+  RunCampaign(CampaignFromJson(j, "seq.json", dir.path().string()), o);
+  TuneOptions options;
+  options.sweep = "kt_factor.worn=0.9";
+  const InputError e = ErrorOf([&] { TuneCampaignDir(o.output_dir, options); });
+  EXPECT_EQ(e.source(), "--sweep");
+  EXPECT_THAT(e.message(), HasSubstr("target_false_alarms_per_hour="));
+  options.sweep = "target_false_alarms_per_hour=0";
+  EXPECT_THAT(ErrorOf([&] { TuneCampaignDir(o.output_dir, options); }).message(), HasSubstr("not a rate > 0"));
+}
+
 void WriteLines(const std::filesystem::path& path, const std::vector<std::string>& lines) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
   for (const std::string& l : lines) out << l << "\n";

@@ -47,5 +47,16 @@ TEST(StandardNormalTest, ProbabilitiesOutsideTheOpenUnitIntervalThrow) {
   EXPECT_THROW(StandardNormalQuantile(0.0), std::overflow_error);
 }
 
+TEST(Distributions, PoissonIntervalsHaveTheirTabulatedValues) {
+  // Garwood's exact 95 % interval for 2 events: 0.2422 to 7.2247 (half of chi2 0.025 at 4
+  // degrees of freedom, 0.4844, and of chi2 0.975 at 6, 14.449).
+  EXPECT_NEAR(PoissonLowerBound(2, 0.975), 0.24218, 1e-4);
+  EXPECT_NEAR(PoissonUpperBound(2, 0.975), 7.22467, 1e-4);
+  EXPECT_EQ(PoissonLowerBound(0, 0.975), 0.0);
+  // A mean of 10: P(N <= 3) = 0.0103, P(N <= 4) = 0.0293; P(N > 16) = 0.0270, P(N > 17) = 0.0143.
+  EXPECT_EQ(PoissonCountInterval(10.0, 0.95), std::make_pair(4L, 17L));
+  EXPECT_EQ(PoissonCountInterval(0.01, 0.95), std::make_pair(0L, 0L));  // P(N > 0) = 0.00995
+}
+
 }  // namespace
 }  // namespace armfault
