@@ -85,7 +85,7 @@ class SummaryJsonOutput : public RecordOutput {
     if (const fs::path alarms_path = dir_ / run_dir::kAlarmsPerHour; fs::exists(alarms_path)) {
       summary["alarms_per_hour"] = ReadJsonFile(alarms_path.string());
     } else {
-      summary["healthy_operation"] = HealthyOperationOf(all, campaign_.duration_s).ToJson();
+      summary["healthy_operation"] = HealthyOperationOf(all, campaign_.duration_s, StatedFalseAlarmsPerHour(campaign_)).ToJson();
     }
     WriteAtomically(dir_ / run_dir::kSummary, summary.dump(2) + "\n");
   }

@@ -64,7 +64,7 @@ FinishedRunDir FinishRunDirectory(const fs::path& dir, const CampaignSpec& campa
   }
   // `replay` prints its own, over the hours it replayed (alarms_per_hour.json).
   if (builder.healthy_runs() > 0 && !fs::exists(dir / run_dir::kAlarmsPerHour)) {
-    std::printf("%s (summary.json healthy_operation)\n", HealthyOperationOf(builder, campaign.duration_s).Line().c_str());
+    std::printf("%s (summary.json healthy_operation)\n", HealthyOperationOf(builder, campaign.duration_s, StatedFalseAlarmsPerHour(campaign)).Line().c_str());
   }
   bool all_met = true;
   for (const FloorVerdict& v : out.written.verdicts) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <cstdio>
 #include <iterator>
 #include <stdexcept>
@@ -350,8 +351,9 @@ long SummaryBuilder::healthy_alarms() const {
   return n;
 }
 
-HealthyOperation HealthyOperationOf(const SummaryBuilder& builder, double duration_s) {
+HealthyOperation HealthyOperationOf(const SummaryBuilder& builder, double duration_s, double set_for_per_hour) {
   HealthyOperation h;
+  h.set_for_per_hour = set_for_per_hour;
   h.runs = builder.healthy_runs();
   h.false_alarms = builder.healthy_alarms();
   h.hours = static_cast<double>(h.runs) * duration_s / 3600.0;
@@ -360,7 +362,7 @@ HealthyOperation HealthyOperationOf(const SummaryBuilder& builder, double durati
 
 nlohmann::json HealthyOperation::ToJson() const {
   const bool any = hours > 0;
-  return {{"healthy_runs", runs},
+  nlohmann::json j = {{"healthy_runs", runs},
           {"false_alarms", false_alarms},
           {"hours", hours},
           {"per_hour", any ? nlohmann::json(static_cast<double>(false_alarms) / hours) : nlohmann::json(nullptr)},
@@ -368,6 +370,8 @@ nlohmann::json HealthyOperation::ToJson() const {
           {"counted",
            "healthy runs that alarmed, over the healthy runs' hours (each lasting the campaign's duration_s); upper "
            "bound one-sided 95 % (Poisson, chi-squared)"}};
+  if (set_for_per_hour > 0) j["set_for_per_hour"] = set_for_per_hour;
+  return j;
 }
 
 std::string HealthyOperation::Line() const {
@@ -377,6 +381,10 @@ std::string HealthyOperation::Line() const {
                   "healthy operation: %ld runs, %.4g h, %ld false alarm%s: %.3g per hour (95 %% upper bound %.3g)", runs,
                   hours, false_alarms, false_alarms == 1 ? "" : "s", static_cast<double>(false_alarms) / hours,
                   PoissonUpperBound(false_alarms, 0.95) / hours);
+    if (set_for_per_hour > 0) {
+      const size_t n = std::strlen(buf);
+      std::snprintf(buf + n, sizeof buf - n, ", set for %g per hour", set_for_per_hour);
+    }
   } else {
     std::snprintf(buf, sizeof buf, "healthy operation: no healthy runs scored, no rate per hour");
   }

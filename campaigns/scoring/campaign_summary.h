@@ -240,13 +240,16 @@ struct HealthyOperation {
   long runs = 0;
   long false_alarms = 0;
   double hours = 0;
+  double set_for_per_hour = 0;  // the rate the monitor states it was set for (0: none stated)
   // {"healthy_runs", "false_alarms", "hours", "per_hour", "per_hour_upper_95" (both null
   // without hours), "counted"}
   nlohmann::json ToJson() const;
   // "healthy operation: 120 runs, 20.0 h, 0 false alarms: 0 per hour (95 % upper bound 0.150)"
   std::string Line() const;
 };
-HealthyOperation HealthyOperationOf(const SummaryBuilder& builder, double duration_s);
+// `set_for_per_hour` > 0: written beside the measured rate ("set_for_per_hour"; the line's
+// ", set for N per hour").
+HealthyOperation HealthyOperationOf(const SummaryBuilder& builder, double duration_s, double set_for_per_hour = 0);
 
 // 95 % Wilson score interval (z = 1.959963984540054) of successes / trials.
 struct RateInterval {

@@ -449,6 +449,12 @@ CampaignSpec CampaignSpecFromJson(const nlohmann::json& value, const std::string
   return c;
 }
 
+double StatedFalseAlarmsPerHour(const CampaignSpec& c) {
+  if (c.monitor.type != "power_efficiency") return 0.0;
+  const MonitorConfig m = MonitorConfigFromJson(c.monitor.settings, "/monitor", c.source);
+  return m.decision == kSequentialDecision ? m.target_false_alarms_per_hour : 0.0;
+}
+
 long CaseCount(const CampaignSpec& c) {
   if (c.search.has_runs) return static_cast<long>(c.search.runs.size());
   long per_trajectory = c.healthy;

@@ -179,6 +179,9 @@ CampaignSpec CampaignSpecFromJson(const nlohmann::json& value, const std::string
 
 // The number of cases (campaigns/spec/cases.h), without expanding.
 long CaseCount(const CampaignSpec& campaign);
+// The false alarms per healthy hour the campaign's monitor states it was set for: the power
+// monitor's target with "decision": "sequential" (docs/monitor.md); 0 when it states none.
+double StatedFalseAlarmsPerHour(const CampaignSpec& campaign);
 
 // A magnitude on the entry's lattice (the search's magnitudes are multiples of it).
 double SearchLatticeValue(const SearchEntryRange& range, double magnitude);

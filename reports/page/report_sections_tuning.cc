@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <set>
 
@@ -92,6 +93,40 @@ std::string OperatingPointSection(const ReportData& d) {
     }
     o += "<div><h3>Per family at the operating point</h3>" +
          HtmlTable({"family", "detection", "isolation", "latency median", "latency p95"}, frows) + "</div>";
+  }
+  // A sequential monitor: each target rate beside the one its healthy runs measured.
+  if (const json* cal = Field(t, "rate_calibration"); cal != nullptr) {
+    auto g3 = [](double x) {  // three significant digits
+      char buf[32];
+      std::snprintf(buf, sizeof buf, "%.3g", x);
+      return std::string(buf);
+    };
+    std::vector<std::vector<std::string>> crows;
+    const json* points = Field(*cal, "points");
+    for (const json& p : points != nullptr && points->is_array() ? *points : json::array()) {
+      const json* in = Field(p, "measured_interval_per_hour");
+      const json* counts = Field(p, "target_count_interval");
+      const std::optional<double> measured = Num(p, "measured_per_hour");
+      const std::optional<double> rate = Num(p, "detection_rate");
+      crows.push_back(
+          {Escape(FormatNumber(Num(p, "target_per_hour").value_or(0))), Escape(g3(Num(p, "healthy_hours").value_or(0))),
+           std::to_string(Count(p, "false_alarms")),
+           measured && in && in->is_array() && in->size() == 2
+               ? Escape(g3(*measured) + " (" + g3((*in)[0].get<double>()) + " to " + g3((*in)[1].get<double>()) + ")")
+               : "–",
+           counts && counts->is_array() && counts->size() == 2
+               ? Escape(counts->at(0).dump() + " to " + counts->at(1).dump())
+               : "–",
+           Field(p, "consistent") && Field(p, "consistent")->is_boolean() ? (p["consistent"].get<bool>() ? "inside" : "outside")
+                                                                            : "–",
+           rate ? Escape(Pct(*rate)) : "–", lat(p, "median_latency_s")});
+    }
+    o += "<div><h3>Set for and measured: false alarms per healthy hour</h3>" +
+         HtmlTable({"set for [/h]", "healthy hours", "false alarms", "measured [/h] (exact 95 %)", "the target's 95 % count",
+                    "the count seen", "detection", "median latency"},
+                   crows) +
+         "<p>The sequential decision's thresholds follow its target rate (docs/monitor.md, \"Sequential "
+         "decision\"); each healthy run counts until its first alarm.</p></div>";
   }
   return o + "</div></section>";
 }

@@ -237,6 +237,11 @@ TEST(CampaignSummaryTest, FalseAlarmsPerHourOfHealthyOperation) {
   EXPECT_NEAR(q.at("per_hour_upper_95").get<double>(), 2.995732273553991 / 20.0, 1e-12);
   EXPECT_EQ(HealthyOperationOf(quiet, 600.0).Line(),
             "healthy operation: 120 runs, 20 h, 0 false alarms: 0 per hour (95 % upper bound 0.15)");
+  EXPECT_FALSE(q.contains("set_for_per_hour"));
+  // A monitor that states its rate (the sequential decision) has it written beside the measured one.
+  EXPECT_EQ(HealthyOperationOf(quiet, 600.0, 0.5).ToJson().at("set_for_per_hour"), 0.5);
+  EXPECT_EQ(HealthyOperationOf(quiet, 600.0, 0.5).Line(),
+            "healthy operation: 120 runs, 20 h, 0 false alarms: 0 per hour (95 % upper bound 0.15), set for 0.5 per hour");
   // No healthy run: no rate.
   const nlohmann::json none = HealthyOperationOf(SummaryBuilder(), 600.0).ToJson();
   EXPECT_TRUE(none.at("per_hour").is_null());

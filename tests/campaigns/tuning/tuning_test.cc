@@ -428,7 +428,12 @@ TEST(Tune, TheSequentialDecisionSweepsItsTargetRateAndARerunGivesThePrediction) 
   const json monitor = {{"decision", "sequential"}};
   RunnerOptions o;
   o.output_dir = (dir.path() / "first").string();
-  RunCampaign(CampaignFromJson(campaign(monitor), "seq.json", dir.path().string()), o);
+  const Campaign first = CampaignFromJson(campaign(monitor), "seq.json", dir.path().string());
+  RunCampaign(first, o);
+  // The summary states the rate the monitor was set for beside the one measured (none for the
+  // threshold decision).
+  EXPECT_EQ(StatedFalseAlarmsPerHour(first), 1.0);
+  EXPECT_EQ(StatedFalseAlarmsPerHour(CampaignFromJson(campaign(json::object()), "t.json", dir.path().string())), 0.0);
 
   TuneOptions options;
   options.sweep = "target_false_alarms_per_hour=0.01,target_false_alarms_per_hour=100,target_false_alarms_per_hour=1e4";
