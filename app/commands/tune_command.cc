@@ -115,9 +115,14 @@ int TuneCommand(const TuneCommandOptions& o) {
         std::printf("  %g /h: no healthy hours\n", target);
         continue;
       }
-      const std::string latency =
-          p["median_latency_s"].is_null() ? "-" : FormatNumber(p["median_latency_s"].get<double>()) + " s";
-      const std::string detection = p["detection_rate"].is_null() ? "-" : FormatNumber(p["detection_rate"].get<double>());
+      auto g3 = [](const nlohmann::json& x, const char* unit) {
+        if (x.is_null()) return std::string("-");
+        char buf[48];
+        std::snprintf(buf, sizeof buf, "%.3g%s", x.get<double>(), unit);
+        return std::string(buf);
+      };
+      const std::string latency = g3(p["median_latency_s"], " s");
+      const std::string detection = g3(p["detection_rate"], "");
       std::printf("  %g /h -> %.3g /h [%.3g, %.3g] (%ld in %.3g h: %s the target's 95 %% interval [%ld, %ld]), detection %s, %s\n",
                   target, p["measured_per_hour"].get<double>(), p["measured_interval_per_hour"][0].get<double>(),
                   p["measured_interval_per_hour"][1].get<double>(), p["false_alarms"].get<long>(),

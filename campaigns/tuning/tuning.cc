@@ -550,7 +550,7 @@ nlohmann::json RateCalibration(const TuneDir& td) {
       ++faulty;
       auto& counts = family_counts[td.families.names[r.family]];
       ++counts.first;
-      if (h.t == tune::kInf || h.pre) continue;
+      if (h.t == tune::kInf) continue;  // detected as summary.json and the scores count it (an earlier alarm too)
       ++detected;
       ++counts.second;
       latencies.push_back(h.t - r.onset_s);
