@@ -240,7 +240,10 @@ std::string SummaryOf(const std::vector<std::string>& lines, std::optional<PyCam
   nlohmann::json summary = pc ? builder.Build(pc->campaign->floors, pc->campaign->resolved, ARMFAULT_VERSION)
                               : builder.Build(Floors{}, nullptr, ARMFAULT_VERSION);
   // as `run` writes it (campaigns/running/run_dir.cc): the hours need the campaign's duration
-  if (pc) summary["healthy_operation"] = HealthyOperationOf(builder, pc->campaign->duration_s).ToJson();
+  if (pc) {
+    summary["healthy_operation"] =
+        HealthyOperationOf(builder, pc->campaign->duration_s, StatedFalseAlarmsPerHour(*pc->campaign)).ToJson();
+  }
   return summary.dump();
 }
 

@@ -709,6 +709,18 @@ TEST(PowerMonitorOrder, UpdatingTheJointsInReverseChangesNoVerdict) {
   }
 }
 
+// The sequential decision (docs/monitor.md, "Sequential decision") on the same run: its CUSUMs
+// find the wear on the wrist after its onset, and the joints' update order changes nothing.
+TEST(PowerMonitorOrder, TheSequentialDecisionIsTheSameInReverseAndFindsTheWear) {
+  json run = UrClassThermalRun(Fault({{"family", "friction_increase"}, {"friction_factor", 1.5}}, 4, 8.0), 30);
+  run["monitor"] = {{"decision", "sequential"}};
+  const MonitoredRun forward = RunMonitored(run, -1, false, 1, 0, 3, 3.0, ThermalStart::kCold, true, false);
+  const MonitoredRun reverse = RunMonitored(run, -1, false, 1, 0, 3, 3.0, ThermalStart::kCold, true, true);
+  ASSERT_TRUE(forward.result.ok);
+  ExpectDiagnosis(forward, "friction_increase", 4, 8.0, 22.0);
+  EXPECT_EQ(ToJson(forward.output).dump(), ToJson(reverse.output).dump());
+}
+
 // A warm start at 40 degC: the gear's lubricant is thin and the wrist's friction under its
 // calibrated curve, so that friction 1.5x stays under the limit against the calibration. The
 // reference follows the top of the fast factor's swing down once a minute of motion has shown
