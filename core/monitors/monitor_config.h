@@ -137,11 +137,12 @@ struct MonitorConfig {
   double sequential_allowance_sd = 0.5;
   // looks this many of a detector's fit memories apart (correlation exp(-2) = 0.14)
   double sequential_look_memories = 2.0;
-  // each detector's model error: 1 sigma of a healthy deviation beyond its standard error, in
-  // the statistic's units (fitted on healthy runs, docs/assumptions.md)
-  double kt_model_error = 0.05;
-  double resistance_model_error = 0.15;
-  double friction_factor_model_error = 0.25;
+  // each detector's model error: the bound on a healthy deviation's bias, beyond which the
+  // CUSUM counts in standard errors, in the statistic's units (fitted on healthy runs,
+  // docs/assumptions.md)
+  double kt_model_error = 0.03;
+  double resistance_model_error = 0.10;
+  double friction_factor_model_error = 0.15;
   double sensor_drift_model_error_Nm = 0.3;
   double significance = 3.0;           // (|deviation| - worn margin) / std error must exceed this
   double debounce_s = 0.3;             // a candidate verdict must hold this long to alarm

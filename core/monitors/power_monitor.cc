@@ -483,14 +483,16 @@ bool UpdateReadings(const MonitorConfig& c, const JointKnowledge& k, const Detec
     for (int d = 0; d < kDetectorCount; ++d) {
       double statistic = kNoStatistic;
       if (deviation[d] != kNoStatistic) {
-        const double sd = std::hypot(se[d], model_error[d]);
+        // The model error bounds a healthy deviation's bias: only what lies beyond it counts,
+        // in the estimate's own standard errors.
+        const double band = model_error[d];
         if (d == static_cast<int>(Detector::kSensorDrift)) {
-          const double z = Significance(drift_signed, sd);
-          statistic = std::max(dec.cusum[d].Tick(dt, z), dec.drift_down.Tick(dt, -z));
+          statistic = std::max(dec.cusum[d].Tick(dt, Significance(drift_signed - band, se[d])),
+                               dec.drift_down.Tick(dt, Significance(-drift_signed - band, se[d])));
         } else if (d == static_cast<int>(Detector::kKtFactor)) {
-          statistic = dec.cusum[d].Tick(dt, KtSignificance(c, deviation[d], sd, s, judge_r, arm));
+          statistic = dec.cusum[d].Tick(dt, KtSignificance(c, deviation[d] - band, se[d], s, judge_r, arm));
         } else {
-          statistic = dec.cusum[d].Tick(dt, Significance(deviation[d], sd));
+          statistic = dec.cusum[d].Tick(dt, Significance(deviation[d] - band, se[d]));
         }
       }
       dec.readings[d].held_quanta = Quantize(statistic);

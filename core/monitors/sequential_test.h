@@ -4,13 +4,13 @@
 // healthy hour of the arm.
 //
 // Residual model. At a look (every L_d seconds in which detector d has a statistic) the
-// detector's deviation b (detector_statistics.h, in its units) is, on a healthy unit,
-//     b ~ N(0, se^2 + sigma_m^2)
-// se the estimate's own standard error, sigma_m the model error (the part of a healthy
-// deviation the fit's covariance does not know: the reference's form is not the plant's),
-// fitted on healthy runs (docs/assumptions.md). The innovation z = b / sqrt(se^2 + sigma_m^2)
-// is then N(0, 1), and looks L_d apart, L_d = look_memories x the memory of the fit behind b,
-// are nearly independent (correlation exp(-look_memories)).
+// detector's signed deviation b (detector_statistics.h, in its units) is, on a healthy unit,
+//     b = beta + e,  |beta| <= m,  e ~ N(0, se^2)
+// se the estimate's own standard error, beta a bias the fit's covariance does not know (the
+// reference's form is not the plant's: a warm-up, a lubricant it does not follow), bounded by
+// the model error m, fitted on healthy runs (docs/assumptions.md). The innovation
+// z = (b - m) / se then has a mean <= 0, and looks L_d apart, L_d = look_memories x the memory of
+// the fit behind b, are nearly independent (correlation exp(-look_memories)).
 //
 // Test. S_0 = 0, S_n = max(0, S_{n-1} + z_n - k) (Page's CUSUM; k = allowance_sd, optimal for a
 // shift of 2k standard deviations); alarm when S > h. The sensor drift is signed: two CUSUMs
@@ -19,8 +19,9 @@
 //     ARL0(h, k) = (exp(2 k b) - 2 k b - 1) / (2 k^2),  b = h + 1.166,
 // sets h: the arm's target rate lambda [1/h] is split equally over its N CUSUMs (per joint: K_T,
 // resistance, friction, and two for the drift where a torque sensor is read), so each must
-// have ARL0 = (3600 / L_d) N / lambda looks. A CUSUM that looks less than continuously alarms
-// less: the measured rate is at most the target when the residual model holds.
+// have ARL0 = (3600 / L_d) N / lambda looks. Innovations of mean <= 0 run at least that long, and
+// a CUSUM that looks less than continuously alarms less: the measured rate is at most the
+// target when the residual model holds (a bound, not a prediction).
 #pragma once
 
 #include <array>
@@ -42,7 +43,7 @@ double CusumThreshold(double arl_looks, double k);
 
 // Seconds between looks of each detector (Detectors() order): look_memories x its fit's memory.
 std::array<double, kDetectorCount> SequentialLooks(const MonitorConfig& config);
-// 1 sigma of each detector's model error (Detectors() order), in its units.
+// Each detector's model error m, the bound on a healthy deviation's bias (Detectors() order), in its units.
 std::array<double, kDetectorCount> SequentialModelErrors(const MonitorConfig& config);
 // The CUSUMs of an arm of `joints` joints of which `sensed` read a torque sensor.
 int SequentialTestCount(int joints, int sensed);

