@@ -366,6 +366,25 @@ expect_input_error "$tmp/diff_d/results.jsonl: line 53: "
 run diff_bad_alpha "$armfault" diff "$tmp/diff_a" "$tmp/diff_a" --alpha 2
 expect_input_error "--alpha: 2 is outside (0, 1]"
 
+# The sequential decision's target rate: > 0, at most one per controller tick, only with it.
+seq_campaign() {  # seq_campaign NAME MONITOR_JSON
+  printf '{"name": "seq", "duration_s": 1, "trajectories": [{"name": "t", "joints": {"3": {"type": "sine_pair", "amplitude_deg": 10, "omega_rad_s": 1}}}], "faults": [], "healthy": 1, "monitor": %s}\n' "$2" >"$tmp/$1.json"
+}
+seq_campaign seq_zero '{"decision": "sequential", "target_false_alarms_per_hour": 0}'
+run seq_zero "$armfault" validate "$tmp/seq_zero.json"
+expect_input_error "$tmp/seq_zero.json: /monitor/target_false_alarms_per_hour: 0 is not a false-alarm rate: alarms per hour must be > 0"
+seq_campaign seq_negative '{"decision": "sequential", "target_false_alarms_per_hour": -1}'
+run seq_negative "$armfault" validate "$tmp/seq_negative.json"
+expect_input_error "$tmp/seq_negative.json: /monitor/target_false_alarms_per_hour: -1 is not a false-alarm rate"
+seq_campaign seq_per_tick '{"decision": "sequential", "target_false_alarms_per_hour": 2e9}'
+run seq_per_tick "$armfault" validate "$tmp/seq_per_tick.json"
+expect_input_error "$tmp/seq_per_tick.json: /monitor/target_false_alarms_per_hour: 2000000000 alarms per hour is more than one per controller tick (1800000 per hour at 500 Hz)"
+seq_campaign seq_alone '{"target_false_alarms_per_hour": 1}'
+run seq_alone "$armfault" validate "$tmp/seq_alone.json"
+expect_input_error "$tmp/seq_alone.json: /monitor/target_false_alarms_per_hour: target_false_alarms_per_hour sets the sequential decision: it needs \"decision\": \"sequential\""
+seq_campaign seq_typo '{"decision": "sequental"}'
+run seq_typo "$armfault" validate "$tmp/seq_typo.json"
+expect_input_error "$tmp/seq_typo.json: /monitor/decision: unknown decision \"sequental\" (known: threshold, sequential); did you mean \"sequential\"?"
 
 echo "$passed passed, $failed failed"
 [[ $failed -eq 0 ]]
