@@ -191,6 +191,14 @@ std::string RenderReportMarkdown(const ReportData& d) {
                    {"isolation", RateText(TuningRate(Field(op, "isolation_accuracy")))},
                    {"latency median / p95",
                     SecondsText(Num(op, "latency_median_s")) + " / " + SecondsText(Num(op, "latency_p95_s"))}});
+    if (const auto rows = report::RateCalibrationRows(t); !rows.empty()) {
+      std::vector<std::vector<std::string>> md_rows = rows;
+      for (auto& row : md_rows) {
+        for (std::string& cell : row) cell = MdText(cell);
+      }
+      md += "\nFalse alarms per healthy hour, set for and measured (the sequential decision):\n\n" +
+            MdTable(report::RateCalibrationHead(), md_rows);
+    }
   }
   md += "\n## Smallest reliably detected fault (a90/95)\n\n";
   const std::vector<std::vector<std::string>> a90 = A90Rows(d);

@@ -19,6 +19,10 @@ std::string LatencyDistributionSection(const ReportData& d);
 
 // tuning.json (report_sections_tuning.cc); each says what to run when there is none.
 std::string OperatingPointSection(const ReportData& d);
+// tuning.json's "rate_calibration" (a sequential monitor's target rates beside the measured
+// ones) as text cells, for the page and report.md; no rows without it.
+std::vector<std::string> RateCalibrationHead();
+std::vector<std::vector<std::string>> RateCalibrationRows(const nlohmann::json& tuning);
 std::string RocSection(const ReportData& d);
 std::string LatencyThresholdSection(const ReportData& d);
 

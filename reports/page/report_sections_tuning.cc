@@ -23,6 +23,40 @@ std::string TuneFirst(const ReportData& d) {
 
 }  // namespace
 
+std::vector<std::string> RateCalibrationHead() {
+  return {"set for [/h]", "healthy hours", "false alarms", "measured [/h] (exact 95 %)", "the target's 95 % count",
+          "the count seen", "detection", "median latency"};
+}
+
+std::vector<std::vector<std::string>> RateCalibrationRows(const json& tuning) {
+  auto g3 = [](double x) {  // three significant digits
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.3g", x);
+    return std::string(buf);
+  };
+  std::vector<std::vector<std::string>> rows;
+  const json* cal = Field(tuning, "rate_calibration");
+  const json* points = cal != nullptr ? Field(*cal, "points") : nullptr;
+  if (points == nullptr || !points->is_array()) return rows;
+  for (const json& p : *points) {
+    const json* in = Field(p, "measured_interval_per_hour");
+    const json* counts = Field(p, "target_count_interval");
+    const json* consistent = Field(p, "consistent");
+    const std::optional<double> measured = Num(p, "measured_per_hour");
+    const std::optional<double> rate = Num(p, "detection_rate");
+    const bool has_in = measured && in && in->is_array() && in->size() == 2 && (*in)[0].is_number() && (*in)[1].is_number();
+    const bool has_counts = counts && counts->is_array() && counts->size() == 2;
+    rows.push_back({FormatNumber(Num(p, "target_per_hour").value_or(0)), g3(Num(p, "healthy_hours").value_or(0)),
+                    std::to_string(Count(p, "false_alarms")),
+                    has_in ? g3(*measured) + " (" + g3((*in)[0].get<double>()) + " to " + g3((*in)[1].get<double>()) + ")"
+                           : "–",
+                    has_counts ? counts->at(0).dump() + " to " + counts->at(1).dump() : "–",
+                    consistent && consistent->is_boolean() ? (consistent->get<bool>() ? "inside" : "outside") : "–",
+                    rate ? Pct(*rate) : "–", SecondsText(Num(p, "median_latency_s"))});
+  }
+  return rows;
+}
+
 std::string OperatingPointSection(const ReportData& d) {
   std::string o = "<section id=\"operating-point\"><h2>Operating point</h2>";
   if (!d.tuning) return o + TuneFirst(d) + "</section>";
@@ -95,36 +129,12 @@ std::string OperatingPointSection(const ReportData& d) {
          HtmlTable({"family", "detection", "isolation", "latency median", "latency p95"}, frows) + "</div>";
   }
   // A sequential monitor: each target rate beside the one its healthy runs measured.
-  if (const json* cal = Field(t, "rate_calibration"); cal != nullptr) {
-    auto g3 = [](double x) {  // three significant digits
-      char buf[32];
-      std::snprintf(buf, sizeof buf, "%.3g", x);
-      return std::string(buf);
-    };
-    std::vector<std::vector<std::string>> crows;
-    const json* points = Field(*cal, "points");
-    for (const json& p : points != nullptr && points->is_array() ? *points : json::array()) {
-      const json* in = Field(p, "measured_interval_per_hour");
-      const json* counts = Field(p, "target_count_interval");
-      const std::optional<double> measured = Num(p, "measured_per_hour");
-      const std::optional<double> rate = Num(p, "detection_rate");
-      crows.push_back(
-          {Escape(FormatNumber(Num(p, "target_per_hour").value_or(0))), Escape(g3(Num(p, "healthy_hours").value_or(0))),
-           std::to_string(Count(p, "false_alarms")),
-           measured && in && in->is_array() && in->size() == 2
-               ? Escape(g3(*measured) + " (" + g3((*in)[0].get<double>()) + " to " + g3((*in)[1].get<double>()) + ")")
-               : "–",
-           counts && counts->is_array() && counts->size() == 2
-               ? Escape(counts->at(0).dump() + " to " + counts->at(1).dump())
-               : "–",
-           Field(p, "consistent") && Field(p, "consistent")->is_boolean() ? (p["consistent"].get<bool>() ? "inside" : "outside")
-                                                                            : "–",
-           rate ? Escape(Pct(*rate)) : "–", lat(p, "median_latency_s")});
+  if (Field(t, "rate_calibration") != nullptr) {
+    std::vector<std::vector<std::string>> crows = RateCalibrationRows(t);
+    for (auto& row : crows) {
+      for (std::string& cell : row) cell = Escape(cell);
     }
-    o += "<div><h3>Set for and measured: false alarms per healthy hour</h3>" +
-         HtmlTable({"set for [/h]", "healthy hours", "false alarms", "measured [/h] (exact 95 %)", "the target's 95 % count",
-                    "the count seen", "detection", "median latency"},
-                   crows) +
+    o += "<div><h3>Set for and measured: false alarms per healthy hour</h3>" + HtmlTable(RateCalibrationHead(), crows) +
          "<p>The sequential decision's thresholds follow its target rate (docs/monitor.md, \"Sequential "
          "decision\"); each healthy run counts until its first alarm.</p></div>";
   }

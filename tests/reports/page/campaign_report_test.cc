@@ -338,6 +338,21 @@ TEST_F(CampaignReportTest, EveryEmptyPlotSaysWhy) {
   EXPECT_THAT(html, HasSubstr("kt_degradation: one threshold value only (kt_factor.worn not swept): no curve."));
 }
 
+// A sequential monitor's tuning: the page and report.md show each target rate beside the one
+// measured, and whether the count seen lies inside the target's interval.
+TEST_F(CampaignReportTest, ASequentialMonitorsRatesAreShownSetForBesideMeasured) {
+  ReportData d = *data_;
+  ASSERT_TRUE(d.tuning.has_value());
+  EXPECT_EQ(RenderReportMarkdown(d).find("set for and measured"), std::string::npos);  // none without it
+  (*d.tuning)["rate_calibration"] = json::parse(R"({"parameter": "target_false_alarms_per_hour", "as_run": 1,
+    "points": [{"target_per_hour": 1, "healthy_hours": 19.9, "false_alarms": 1, "measured_per_hour": 0.0503,
+                "measured_interval_per_hour": [0.00127, 0.281], "target_count_interval": [12, 29], "consistent": false,
+                "faulty_runs": 36, "detected": 36, "detection_rate": 1.0, "median_latency_s": 3.63, "families": {}}]})");
+  const std::string md = RenderReportMarkdown(d);
+  EXPECT_THAT(md, HasSubstr("| 1 | 19.9 | 1 | 0.0503 (0.00127 to 0.281) | 12 to 29 | outside | 100.0 % | 3.630 s |"));
+  EXPECT_THAT(RenderReportHtml(d), HasSubstr("<td>0.0503 (0.00127 to 0.281)</td><td>12 to 29</td><td>outside</td>"));
+}
+
 TEST_F(CampaignReportTest, ExplainsEveryMetricAndItsInterval) {
   const std::string md = RenderReportMarkdown(*data_);
   for (const char* metric : {"detection rate", "false-alarm rate", "alarm-before-onset rate", "isolation accuracy",
