@@ -137,9 +137,25 @@ struct MonitorConfig {
   double sequential_allowance_sd = 0.5;
   // looks this many of a detector's fit memories apart (correlation exp(-2) = 0.14)
   double sequential_look_memories = 2.0;
-  // each detector's model error: the bound on a healthy deviation's bias, beyond which the
-  // CUSUM counts in standard errors, in the statistic's units (fitted on healthy runs,
-  // docs/assumptions.md)
+  // each detector's scale s of its deviation's standard error in the residual model: the
+  // healthy innovations' standard deviation in the fit's own standard errors (the fit's
+  // covariance is not the plant's noise; fitted on healthy runs, docs/assumptions.md)
+  double kt_se_scale = 0.125;
+  double resistance_se_scale = 0.072;
+  double friction_factor_se_scale = 0.355;
+  double sensor_drift_se_scale = 0.103;
+  // each detector's time T in which a healthy bias may wander over its whole model error [s]
+  // (fitted on healthy runs, docs/assumptions.md)
+  double kt_bias_wander_s = 300.0;
+  double resistance_bias_wander_s = 150.0;
+  double friction_factor_bias_wander_s = 1200.0;
+  double sensor_drift_bias_wander_s = 6000.0;
+  // the seconds of a detector's statistic in which its bias may sit anywhere inside its model
+  // error: the reference is still settling (fitted on healthy runs, docs/assumptions.md)
+  double sequential_settle_s = 120.0;
+  // each detector's model error m: the bound on a healthy deviation's bias, which the bias
+  // filter follows up to and the innovation counts beyond, in the statistic's units (fitted on
+  // healthy runs, docs/assumptions.md)
   double kt_model_error = 0.03;
   double resistance_model_error = 0.10;
   double friction_factor_model_error = 0.15;

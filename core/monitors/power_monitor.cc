@@ -78,13 +78,17 @@ struct Decision {
     for (SlidingMin& h : held) h = SlidingMin(hold_span);
     for (SlidingMin& h : held_significance) h = SlidingMin(hold_span);
     const std::array<double, kDetectorCount> looks = SequentialLooks(c);
-    for (int d = 0; d < kDetectorCount; ++d) cusum[d] = Cusum(looks[d], c.sequential_allowance_sd);
-    drift_down = cusum[static_cast<int>(Detector::kSensorDrift)];
+    const std::array<double, kDetectorCount> model_error = SequentialModelErrors(c);
+    const std::array<double, kDetectorCount> se_scale = SequentialSeScales(c);
+    const std::array<double, kDetectorCount> wander = SequentialWanders(c);
+    for (int d = 0; d < kDetectorCount; ++d) {
+      sequential[d] = SequentialTest(looks[d], c.sequential_allowance_sd, model_error[d], wander[d],
+                                     c.sequential_settle_s, se_scale[d], d == static_cast<int>(Detector::kSensorDrift));
+    }
   }
   std::array<SlidingMin, kDetectorCount> held, held_significance;
-  // "sequential": a CUSUM per detector, and the drift's second side (its offset falling)
-  std::array<Cusum, kDetectorCount> cusum{Cusum(1, 1), Cusum(1, 1), Cusum(1, 1), Cusum(1, 1)};
-  Cusum drift_down{1, 1};
+  // "sequential": a bias filter and CUSUM per detector (the drift's both ways)
+  std::array<SequentialTest, kDetectorCount> sequential;
   DetectorReadings readings;
   Candidate structural;  // latched once a tick-level detector fires
   std::string shown_family = "";  // family of the last verdict emitted ("" healthy)
@@ -475,25 +479,19 @@ bool UpdateReadings(const MonitorConfig& c, const JointKnowledge& k, const Detec
     tb.since_alarm.Reset();
   }
   if (c.decision == kSequentialDecision) {
-    // The whitened innovations (sequential_test.h): the deviation over its standard error and
-    // the model error; the drift signed, both ways.
-    const std::array<double, kDetectorCount> model_error = SequentialModelErrors(c);
+    // The whitened innovations (sequential_test.h): each deviation against the healthy bias
+    // its filter follows; the drift signed, both ways.
     const std::array<double, kDetectorCount> se = {e.kt_factor_se, e.resistance_factor_se, friction_se, slow.offset_se};
-    const double drift_signed = slow.offset_Nm - tb.offset_base_Nm;
+    const std::array<double, kDetectorCount> signed_deviation = {deviation[0], deviation[1], deviation[2],
+                                                                 slow.offset_Nm - tb.offset_base_Nm};
+    const auto whiten = [](double nu, double sd) { return Significance(nu, sd); };
+    const auto whiten_kt = [&](double nu, double sd) { return KtSignificance(c, nu, sd, s, judge_r, arm); };
     for (int d = 0; d < kDetectorCount; ++d) {
       double statistic = kNoStatistic;
       if (deviation[d] != kNoStatistic) {
-        // The model error bounds a healthy deviation's bias: only what lies beyond it counts,
-        // in the estimate's own standard errors.
-        const double band = model_error[d];
-        if (d == static_cast<int>(Detector::kSensorDrift)) {
-          statistic = std::max(dec.cusum[d].Tick(dt, Significance(drift_signed - band, se[d])),
-                               dec.drift_down.Tick(dt, Significance(-drift_signed - band, se[d])));
-        } else if (d == static_cast<int>(Detector::kKtFactor)) {
-          statistic = dec.cusum[d].Tick(dt, KtSignificance(c, deviation[d] - band, se[d], s, judge_r, arm));
-        } else {
-          statistic = dec.cusum[d].Tick(dt, Significance(deviation[d] - band, se[d]));
-        }
+        statistic = d == static_cast<int>(Detector::kKtFactor)
+                        ? dec.sequential[d].Tick(dt, signed_deviation[d], se[d], whiten_kt)
+                        : dec.sequential[d].Tick(dt, signed_deviation[d], se[d], whiten);
       }
       dec.readings[d].held_quanta = Quantize(statistic);
       dec.readings[d].held_significance_quanta = statistic == kNoStatistic ? kNoStatistic : 0.0;

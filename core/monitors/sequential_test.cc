@@ -34,6 +34,15 @@ std::array<double, kDetectorCount> SequentialModelErrors(const MonitorConfig& c)
   return {c.kt_model_error, c.resistance_model_error, c.friction_factor_model_error, c.sensor_drift_model_error_Nm};
 }
 
+std::array<double, kDetectorCount> SequentialSeScales(const MonitorConfig& c) {
+  return {c.kt_se_scale, c.resistance_se_scale, c.friction_factor_se_scale, c.sensor_drift_se_scale};
+}
+
+std::array<double, kDetectorCount> SequentialWanders(const MonitorConfig& c) {
+  return {c.kt_bias_wander_s, c.resistance_bias_wander_s, c.friction_factor_bias_wander_s,
+          c.sensor_drift_bias_wander_s};
+}
+
 int SequentialTestCount(int joints, int sensed) { return 3 * joints + 2 * sensed; }
 
 DetectorThresholds SequentialThresholds(const MonitorConfig& config, int tests, double target_per_hour) {
@@ -50,14 +59,50 @@ DetectorThresholds SequentialThresholds(const MonitorConfig& config, int tests) 
   return SequentialThresholds(config, tests, config.target_false_alarms_per_hour);
 }
 
-double Cusum::Tick(double dt, double z) {
+bool Cusum::Advance(double dt) {
   since_look_s_ += dt;
   // A tick's rounding must not skip a look: a look is due within a microsecond of L.
-  if (since_look_s_ + 1e-6 >= look_s_) {
-    since_look_s_ = std::max(0.0, since_look_s_ - look_s_);
-    s_ = std::max(0.0, s_ + z - k_);
-  }
+  if (since_look_s_ + 1e-6 < look_s_) return false;
+  since_look_s_ = std::max(0.0, since_look_s_ - look_s_);
+  return true;
+}
+
+double Cusum::Look(double z) {
+  s_ = std::max(0.0, s_ + z - k_);
   return s_;
 }
+
+double Cusum::Tick(double dt, double z) {
+  if (Advance(dt)) Look(z);
+  return s_;
+}
+
+BiasFilter::BiasFilter(double bound, double wander_s, double settle_s, double se_scale, bool signed_bias)
+    : m_(bound), wander_s_(wander_s), settle_s_(settle_s), scale_(se_scale), signed_(signed_bias), p_(bound * bound) {}
+
+BiasFilter::Innovation BiasFilter::Look(double look_s, double b, double se) {
+  const double m2 = m_ * m_;
+  // The bias may wander, but its variance never exceeds its bound's: |beta| <= m holds a priori.
+  age_s_ += look_s;
+  const double prior = age_s_ <= settle_s_ ? m2 : std::min(p_ + m2 * look_s / wander_s_, m2);
+  const double r = scale_ * se * scale_ * se;
+  const double s = prior + r;
+  Innovation in;
+  in.nu = b - beta_;
+  in.sd = std::sqrt(s);
+  const double gain = s > 0 ? prior / s : 0.0;
+  beta_ += gain * in.nu;
+  p_ = (1.0 - gain) * prior;
+  beta_ = std::min(beta_, m_);
+  if (signed_) beta_ = std::max(beta_, -m_);
+  return in;
+}
+
+SequentialTest::SequentialTest(double look_s, double allowance_sd, double bound, double wander_s, double settle_s,
+                               double se_scale, bool two_sided)
+    : up_(look_s, allowance_sd),
+      down_(look_s, allowance_sd),
+      bias_(bound, wander_s, settle_s, se_scale, two_sided),
+      two_sided_(two_sided) {}
 
 }  // namespace armfault

@@ -4,8 +4,10 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
+#include <string>
 
 #include "core/monitors/monitor_config.h"
 #include "core/monitors/sequential_test.h"
@@ -74,6 +76,99 @@ TEST(SequentialTest, ACusumLooksOnlyOnceALookHasPassed) {
   EXPECT_EQ(cusum.statistic(), 0.0);
 }
 
+// A healthy residual as the model states it: a bias that wanders (clamped at its bound), seen
+// through white noise of a known standard error. The walks below use a bound of 10 that the
+// bias never reaches, walking 0.019 per look as a bias bound at 0.15 wandering over it in 60 s:
+// the filter is then the exact Kalman filter of the walk, and its innovations are white.
+struct Residual {
+  double bound, wander_s, se, look_s;
+  std::mt19937_64 rng;
+  double beta = 0;
+  double Next() {
+    std::normal_distribution<double> n(0.0, 1.0);
+    beta = std::clamp(beta + bound * std::sqrt(look_s / wander_s) * n(rng), -bound, bound);
+    return beta + se * n(rng);
+  }
+};
+
+TEST(SequentialTest, TheBiasFiltersInnovationsOfAHealthyResidualAreWhite) {
+  Residual r{10.0, 60.0 * (10.0 / 0.15) * (10.0 / 0.15), 0.02, 1.0, std::mt19937_64(11)};
+  BiasFilter filter(r.bound, r.wander_s, 0.0, 1.0, false);
+  const int looks = 200000;
+  double sum = 0, sum2 = 0, lag = 0, last = 0;
+  for (int i = 0; i < looks; ++i) {
+    const BiasFilter::Innovation in = filter.Look(r.look_s, r.Next(), r.se);
+    const double z = in.nu / in.sd;
+    sum += z;
+    sum2 += z * z;
+    lag += z * last;
+    last = z;
+  }
+  const double mean = sum / looks;
+  EXPECT_NEAR(mean, 0.0, 0.02);
+  EXPECT_NEAR(std::sqrt(sum2 / looks - mean * mean), 1.0, 0.05);
+  EXPECT_NEAR(lag / looks, 0.0, 0.03);
+}
+
+// Looks until alarm of the full test (filter and CUSUM) on a healthy residual, against the
+// CUSUM's own run length on white noise: the target rate holds through the filter.
+TEST(SequentialTest, TheFilteredCusumOnAHealthyResidualRunsAsLongAsSiegmundSays) {
+  const double h = 4.0;
+  double total = 0;
+  const int runs = 2000;
+  for (int k = 0; k < runs; ++k) {
+    Residual r{10.0, 60.0 * (10.0 / 0.15) * (10.0 / 0.15), 0.02, 1.0, std::mt19937_64(100 + static_cast<uint64_t>(k))};
+    SequentialTest test(1.0, 0.5, r.bound, r.wander_s, 0.0, 1.0, false);
+    const auto whiten = [](double nu, double sd) { return nu / sd; };
+    long looks = 0;
+    do ++looks;
+    while (test.Tick(1.0, r.Next(), r.se, whiten) <= h && looks < 100000);
+    total += static_cast<double>(looks);
+  }
+  EXPECT_NEAR(total / runs, SiegmundArl(h, 0.5), 0.12 * SiegmundArl(h, 0.5));
+}
+
+// Wear is never learned away: the bias may follow a deviation only up to its bound, so friction
+// worn 1.5x from the start, a 1.5x reached over five minutes, and an abrupt 1.1x K_T loss are
+// each found, while the bias estimate never passes m.
+TEST(SequentialTest, WearBeyondTheBoundIsFoundHoweverItComes) {
+  const auto whiten = [](double nu, double sd) { return nu / sd; };
+  const double h = 8.0;  // an arm's threshold at about 1 alarm per hour
+  struct Case {
+    const char* name;
+    double bound, se, onset_s, ramp_s, size;
+    double max_latency_s;
+  };
+  for (const Case& w : {Case{"from the start", 0.15, 0.03, 0, 0, 0.5, 10}, Case{"ramp", 0.15, 0.03, 60, 300, 0.5, 300},
+                        Case{"abrupt", 0.03, 0.01, 60, 0, 0.1, 3}}) {
+    SequentialTest test(1.0, 0.5, w.bound, 60.0, 60.0, 1.0, false);
+    std::mt19937_64 rng(5);
+    std::normal_distribution<double> n(0.0, w.se);
+    double found_s = -1;
+    for (int i = 1; i <= 1200 && found_s < 0; ++i) {
+      const double t = i;
+      const double share = t < w.onset_s ? 0.0 : (w.ramp_s > 0 ? std::min(1.0, (t - w.onset_s) / w.ramp_s) : 1.0);
+      if (test.Tick(1.0, w.size * share + n(rng), w.se, whiten) > h) found_s = t;
+      EXPECT_LE(test.bias().bias(), w.bound + 1e-12) << w.name;
+    }
+    EXPECT_GE(found_s, w.onset_s) << w.name;
+    EXPECT_LE(found_s, w.onset_s + w.ramp_s + w.max_latency_s) << w.name;
+  }
+}
+
+// The drift's bias is signed: the filter holds it inside [-m, m], and both of its CUSUMs see
+// an offset beyond.
+TEST(SequentialTest, TheSignedDriftIsBoundedBothWays) {
+  const auto whiten = [](double nu, double sd) { return nu / sd; };
+  for (double offset : {-1.0, 1.0}) {
+    SequentialTest test(8.0, 0.5, 0.3, 60.0, 60.0, 1.0, true);
+    double s = 0;
+    for (int i = 0; i < 20; ++i) s = test.Tick(8.0, offset, 0.05, whiten);
+    EXPECT_NEAR(test.bias().bias(), 0.3 * offset, 1e-12) << offset;
+    EXPECT_GT(s, 50.0) << offset;
+  }
+}
+
 TEST(SequentialTest, ThresholdsSplitTheArmsRateOverItsTests) {
   MonitorConfig c;
   c.decision = kSequentialDecision;
@@ -122,6 +217,19 @@ TEST(SequentialSettings, ABadRateOrAMisplacedFieldNamesItsPointer) {
   const InputError typo = ErrorOf([] { MonitorConfigFromJson(json{{"decision", "sequental"}}, "/monitor", "c.json"); });
   EXPECT_EQ(typo.pointer(), "/monitor/decision");
   EXPECT_THAT(typo.message(), HasSubstr("sequential"));
+  // The residual model's constants have their ranges: a scale of 0 or a wander time of 0 would
+  // make every innovation infinite or the bias stand still.
+  for (const char* key : {"kt_se_scale", "friction_factor_bias_wander_s", "sequential_settle_s"}) {
+    const InputError range = ErrorOf([&] {
+      MonitorConfigFromJson(json{{"decision", "sequential"}, {key, key == std::string("sequential_settle_s") ? -1.0 : 0.0}},
+                            "/monitor", "c.json");
+    });
+    EXPECT_EQ(range.source(), "c.json");
+    EXPECT_EQ(range.pointer(), std::string("/monitor/") + key);
+  }
+  const InputError misplaced =
+      ErrorOf([] { MonitorConfigFromJson(json{{"sensor_drift_se_scale", 0.1}}, "/monitor", "c.json"); });
+  EXPECT_EQ(misplaced.pointer(), "/monitor/sensor_drift_se_scale");
   // More than one alarm per controller tick is no rate a test can have.
   MonitorConfig c;
   c.decision = kSequentialDecision;
